@@ -1,0 +1,258 @@
+//! The operations of the tape: each forward formula sits next to its local partial
+//! derivatives in one `match`, so the two can be audited side by side.
+//!
+//! Non-smooth operations (`abs`, `min`, `max`, `hypot` at the origin) return a
+//! subgradient: the derivative of one of the pieces that meet at the kink.
+
+/// One operation of an expression graph or compiled tape.
+///
+/// Leaves (`Var`, `Param`, `Const`) carry no arguments; unary operations one, binary
+/// operations two, and `Sum` any number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum Op {
+    /// The variable with this index.
+    Var(u32),
+    /// The parameter with this index.
+    Param(u32),
+    /// A constant, stored as its bit pattern so the op can be hashed.
+    Const(u64),
+    Neg,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    /// `a²`, kept apart from `Powi(2)` because sums of squares are the common case.
+    Square,
+    /// `aᵏ` for an integer `k`.
+    Powi(i32),
+    /// `aᵖ` for a constant real `p` (stored as bits).
+    Powf(u64),
+    /// `aᵇ` with both operands expressions.
+    Pow,
+    Sqrt,
+    Exp,
+    Ln,
+    Sin,
+    Cos,
+    Tan,
+    /// `atan2(y, x)` with the arguments in that order.
+    Atan2,
+    Abs,
+    Hypot,
+    Min,
+    Max,
+    /// The n-ary sum of its arguments.
+    Sum,
+}
+
+impl Op {
+    /// Computes the value of the op from its argument values and, when `partials` is
+    /// given, writes ∂value/∂argᵢ into `partials[i]`.
+    ///
+    /// `args` and `partials` have the op's arity. Leaves are not evaluated here.
+    #[inline]
+    pub(crate) fn apply(self, args: &[f64], partials: Option<&mut [f64]>) -> f64 {
+        // Unary and binary arguments, read once; `Sum` reads the whole slice.
+        let a = args.first().copied().unwrap_or(0.0);
+        let b = args.get(1).copied().unwrap_or(0.0);
+        macro_rules! out {
+            ($value:expr, [$($d:expr),*]) => {{
+                let value = $value;
+                if let Some(p) = partials {
+                    let ds = [$($d),*];
+                    p[..ds.len()].copy_from_slice(&ds);
+                }
+                value
+            }};
+        }
+        match self {
+            Self::Var(_) | Self::Param(_) => 0.0,
+            Self::Const(bits) => f64::from_bits(bits),
+            Self::Neg => out!(-a, [-1.0]),
+            Self::Add => out!(a + b, [1.0, 1.0]),
+            Self::Sub => out!(a - b, [1.0, -1.0]),
+            Self::Mul => out!(a * b, [b, a]),
+            Self::Div => {
+                let v = a / b;
+                out!(v, [1.0 / b, -v / b])
+            }
+            Self::Square => out!(a * a, [2.0 * a]),
+            Self::Powi(k) => match k {
+                0 => out!(1.0, [0.0]),
+                1 => out!(a, [1.0]),
+                _ => out!(a.powi(k), [f64::from(k) * a.powi(k - 1)]),
+            },
+            Self::Powf(bits) => {
+                let p = f64::from_bits(bits);
+                out!(a.powf(p), [p * a.powf(p - 1.0)])
+            }
+            Self::Pow => {
+                let v = a.powf(b);
+                // d/db aᵇ = aᵇ·ln a; at a = 0 the limit from the right is 0.
+                let db = if v == 0.0 { 0.0 } else { v * a.ln() };
+                out!(v, [b * a.powf(b - 1.0), db])
+            }
+            Self::Sqrt => {
+                let s = a.sqrt();
+                out!(s, [0.5 / s])
+            }
+            Self::Exp => {
+                let e = a.exp();
+                out!(e, [e])
+            }
+            Self::Ln => out!(a.ln(), [1.0 / a]),
+            Self::Sin => out!(a.sin(), [a.cos()]),
+            Self::Cos => out!(a.cos(), [-a.sin()]),
+            Self::Tan => {
+                let t = a.tan();
+                out!(t, [1.0 + t * t])
+            }
+            Self::Atan2 => {
+                // y = a, x = b.
+                let r2 = a * a + b * b;
+                let (dy, dx) = if r2 == 0.0 {
+                    (0.0, 0.0)
+                } else {
+                    (b / r2, -a / r2)
+                };
+                out!(a.atan2(b), [dy, dx])
+            }
+            Self::Abs => {
+                let s = if a > 0.0 {
+                    1.0
+                } else if a < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                };
+                out!(a.abs(), [s])
+            }
+            Self::Hypot => {
+                let h = a.hypot(b);
+                let (da, db) = if h == 0.0 { (0.0, 0.0) } else { (a / h, b / h) };
+                out!(h, [da, db])
+            }
+            Self::Min => {
+                if a <= b {
+                    out!(a, [1.0, 0.0])
+                } else {
+                    out!(b, [0.0, 1.0])
+                }
+            }
+            Self::Max => {
+                if a >= b {
+                    out!(a, [1.0, 0.0])
+                } else {
+                    out!(b, [0.0, 1.0])
+                }
+            }
+            Self::Sum => {
+                if let Some(p) = partials {
+                    p.fill(1.0);
+                }
+                args.iter().sum()
+            }
+        }
+    }
+
+    /// The number of arguments the op takes, or `None` for the n-ary `Sum`.
+    pub(crate) fn arity(self) -> Option<usize> {
+        match self {
+            Self::Var(_) | Self::Param(_) | Self::Const(_) => Some(0),
+            Self::Neg
+            | Self::Square
+            | Self::Powi(_)
+            | Self::Powf(_)
+            | Self::Sqrt
+            | Self::Exp
+            | Self::Ln
+            | Self::Sin
+            | Self::Cos
+            | Self::Tan
+            | Self::Abs => Some(1),
+            Self::Add
+            | Self::Sub
+            | Self::Mul
+            | Self::Div
+            | Self::Pow
+            | Self::Atan2
+            | Self::Hypot
+            | Self::Min
+            | Self::Max => Some(2),
+            Self::Sum => None,
+        }
+    }
+
+    /// Whether the op is a leaf of the graph.
+    pub(crate) fn is_leaf(self) -> bool {
+        matches!(self, Self::Var(_) | Self::Param(_) | Self::Const(_))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Op;
+
+    /// Central difference of one argument of an op.
+    fn central_difference(op: Op, args: &[f64], i: usize) -> f64 {
+        let h = 1e-6 * args[i].abs().max(1.0);
+        let mut plus = args.to_vec();
+        let mut minus = args.to_vec();
+        plus[i] += h;
+        minus[i] -= h;
+        (op.apply(&plus, None) - op.apply(&minus, None)) / (2.0 * h)
+    }
+
+    #[test]
+    fn partials_match_central_differences_at_smooth_points() {
+        let cases: Vec<(Op, Vec<f64>)> = vec![
+            (Op::Neg, vec![0.7]),
+            (Op::Add, vec![0.7, -1.3]),
+            (Op::Sub, vec![0.7, -1.3]),
+            (Op::Mul, vec![0.7, -1.3]),
+            (Op::Div, vec![0.7, -1.3]),
+            (Op::Square, vec![-1.3]),
+            (Op::Powi(3), vec![-1.3]),
+            (Op::Powi(-2), vec![1.3]),
+            (Op::Powf(2.5_f64.to_bits()), vec![1.3]),
+            (Op::Pow, vec![1.3, 0.4]),
+            (Op::Sqrt, vec![1.3]),
+            (Op::Exp, vec![0.3]),
+            (Op::Ln, vec![1.3]),
+            (Op::Sin, vec![0.3]),
+            (Op::Cos, vec![0.3]),
+            (Op::Tan, vec![0.3]),
+            (Op::Atan2, vec![0.3, -0.8]),
+            (Op::Abs, vec![-0.3]),
+            (Op::Hypot, vec![0.3, -0.8]),
+            (Op::Min, vec![0.3, -0.8]),
+            (Op::Max, vec![0.3, -0.8]),
+            (Op::Sum, vec![0.3, -0.8, 2.0, 4.0]),
+        ];
+        for (op, args) in cases {
+            let mut partials = vec![0.0; args.len()];
+            op.apply(&args, Some(&mut partials));
+            for (i, d) in partials.iter().enumerate() {
+                let fd = central_difference(op, &args, i);
+                assert!(
+                    (d - fd).abs() <= 1e-6 * fd.abs().max(1.0),
+                    "{op:?} arg {i}: tape {d}, finite difference {fd}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn kinks_return_a_subgradient() {
+        let mut p = [9.0; 2];
+        assert!(Op::Abs.apply(&[0.0], Some(&mut p[..1])).abs() < f64::EPSILON);
+        assert!(p[0].abs() < f64::EPSILON, "abs'(0) is 0, a subgradient");
+        Op::Hypot.apply(&[0.0, 0.0], Some(&mut p));
+        assert!(p.iter().all(|d| d.abs() < f64::EPSILON), "hypot at origin");
+        Op::Min.apply(&[1.0, 1.0], Some(&mut p));
+        assert!(
+            (p[0] + p[1] - 1.0).abs() < f64::EPSILON,
+            "min tie picks one side"
+        );
+    }
+}

@@ -1,0 +1,7 @@
+//! The product, pure: geometry, numerics and the document, with no GUI, GPU, filesystem
+//! or clock (time comes in through [`solve::Clock`]).
+//!
+//! Layers, each depending only on those before it: [`ad`] ← [`solve`].
+
+pub mod ad;
+pub mod solve;

@@ -1,0 +1,53 @@
+//! geosnap: sketch-based 3D modelling with geosemantic snapping.
+//!
+//! A designer draws strokes over a reference image, drags primitives (cylinders, cones,
+//! spheres, boxes, generalized cylinders) onto the drawing, and each primitive snaps to
+//! the strokes while it is dragged. On release, geosnap infers relations between the
+//! parts and solves one global constrained problem so the model becomes consistent.
+//!
+//! # Layers
+//!
+//! ```text
+//! app ──► render ──► core          core: ad ◄─ solve ◄─ geom ◄─ sketch, primitive
+//!  │  └─► io ──────► core                        ◄─ snap, relation ◄─ model
+//!  └──────────────► core           cli ──► io, core
+//! ```
+//!
+//! - [`core`]: the product, pure (no GUI, GPU, filesystem or clock): today
+//!   [`core::ad`], reverse-mode automatic differentiation, and [`core::solve`], the
+//!   augmented-Lagrangian solver.
+//! - [`clock`]: the real clock handed to solves.
+//! - `cli` (binary only): the command line.
+//! - `render`, `app`: the desktop application, behind the default `gui` feature.
+//!
+//! # Example
+//!
+//! Minimise a sum of squared residuals on a constraint surface: the point of the plane
+//! x + y + z = 1 closest to (1, 2, 3), with the AD expressions and the solver.
+//!
+//! ```
+//! use geosnap::core::ad::{Graph, Vec3};
+//! use geosnap::core::solve::{solve, AugLagSettings, Problem};
+//!
+//! let g = Graph::new();
+//! let p = Vec3::new_vars(&g);
+//! let target = Vec3::constant(&g, glam::DVec3::new(1.0, 2.0, 3.0));
+//! let mut problem = Problem::builder(&g, (p - target).norm_squared())
+//!     .equality("plane", p.x + p.y + p.z - 1.0)
+//!     .build();
+//! let report = solve(&mut problem, &[0.0; 3], &AugLagSettings::default())?;
+//! assert!(report.termination.is_converged());
+//! let expected = [-2.0 / 3.0, 1.0 / 3.0, 4.0 / 3.0];
+//! for (x, e) in report.x.iter().zip(expected) {
+//!     assert!((x - e).abs() < 1e-7);
+//! }
+//! # Ok::<(), geosnap::core::solve::SolveError>(())
+//! ```
+//!
+//! # Features
+//!
+//! - `gui` (default): the egui/eframe desktop application with its wgpu viewport.
+//!   `cargo test --no-default-features` builds and tests everything else.
+
+pub mod clock;
+pub mod core;
