@@ -28,6 +28,10 @@ pub(crate) struct Node {
 /// a node is created after its arguments).
 #[derive(Default, Debug)]
 pub(crate) struct Nodes {
+    #[expect(
+        clippy::struct_field_names,
+        reason = "the node list of the node storage"
+    )]
     pub(crate) nodes: Vec<Node>,
     pub(crate) args: Vec<NodeId>,
     /// Hash-consing table from `(op, arguments)` to the node already built for them.
@@ -88,17 +92,15 @@ impl Nodes {
     fn simplify(&self, op: Op, args: &[NodeId]) -> Option<NodeId> {
         let is = |id: NodeId, v: f64| self.constant_value(id) == Some(v);
         match (op, args) {
-            (Op::Add, &[a, b]) if is(b, 0.0) => Some(a),
-            (Op::Add, &[a, b]) if is(a, 0.0) => Some(b),
-            (Op::Sub, &[a, b]) if is(b, 0.0) => Some(a),
+            (Op::Add | Op::Sub, &[a, b]) if is(b, 0.0) => Some(a),
             (Op::Mul | Op::Div, &[a, b]) if is(b, 1.0) => Some(a),
+            (Op::Add, &[a, b]) if is(a, 0.0) => Some(b),
             (Op::Mul, &[a, b]) if is(a, 1.0) => Some(b),
-            (Op::Powi(1), &[a]) => Some(a),
+            (Op::Powi(1) | Op::Sum, &[a]) => Some(a),
             (Op::Neg, &[a]) => match self.nodes[a as usize].op {
                 Op::Neg => Some(self.args[self.nodes[a as usize].args_start as usize]),
                 _ => None,
             },
-            (Op::Sum, &[a]) => Some(a),
             _ => None,
         }
     }
@@ -237,6 +239,7 @@ impl Graph {
 /// A handle to one node of a [`Graph`]: cheap to copy, combined with `+ − × ÷` and the
 /// methods below into new nodes of the same graph.
 #[derive(Clone, Copy)]
+#[must_use = "an expression does nothing until it is used in an output"]
 pub struct Expr<'g> {
     pub(crate) graph: &'g Graph,
     pub(crate) id: NodeId,
@@ -381,8 +384,8 @@ binary_operator!(Sub, sub, Op::Sub);
 binary_operator!(Mul, mul, Op::Mul);
 binary_operator!(Div, div, Op::Div);
 
-impl<'g> Neg for Expr<'g> {
-    type Output = Expr<'g>;
+impl Neg for Expr<'_> {
+    type Output = Self;
     fn neg(self) -> Self::Output {
         self.unary(Op::Neg)
     }

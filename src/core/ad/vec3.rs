@@ -23,6 +23,7 @@ use super::graph::{Expr, Graph};
 /// assert!(tape.eval(&[0.0, -2.0, 0.0])[0].abs() < 1e-15);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[must_use = "a vector expression does nothing until it is used in an output"]
 pub struct Vec3<'g> {
     /// The x component.
     pub x: Expr<'g>,
@@ -93,21 +94,21 @@ impl<'g> Vec3<'g> {
     }
 }
 
-impl<'g> Add for Vec3<'g> {
+impl Add for Vec3<'_> {
     type Output = Self;
     fn add(self, rhs: Self) -> Self {
         Self::new(self.x + rhs.x, self.y + rhs.y, self.z + rhs.z)
     }
 }
 
-impl<'g> Sub for Vec3<'g> {
+impl Sub for Vec3<'_> {
     type Output = Self;
     fn sub(self, rhs: Self) -> Self {
         Self::new(self.x - rhs.x, self.y - rhs.y, self.z - rhs.z)
     }
 }
 
-impl<'g> Neg for Vec3<'g> {
+impl Neg for Vec3<'_> {
     type Output = Self;
     fn neg(self) -> Self {
         Self::new(-self.x, -self.y, -self.z)
@@ -121,7 +122,7 @@ impl<'g> Mul<Expr<'g>> for Vec3<'g> {
     }
 }
 
-impl<'g> Mul<f64> for Vec3<'g> {
+impl Mul<f64> for Vec3<'_> {
     type Output = Self;
     fn mul(self, s: f64) -> Self {
         Self::new(self.x * s, self.y * s, self.z * s)

@@ -9,18 +9,20 @@
 //!
 //! with L-BFGS from the previous x (the inequality term is the Powell–Hestenes–Rockafellar
 //! form, Nocedal & Wright §17.4), then updates λᵢ ← λᵢ + μcᵢ(x), νⱼ ← max(0, νⱼ − μgⱼ(x)),
-//! and then, with V the violation measure below: if ΣV² < C_max then C_max ← C_max/μ^α,
-//! else μ ← min(βμ, μ_max) and C_max ← 1/μ^α.
+//! and then, with V the violation measure below: if ΣV² < `C_max` then `C_max` ← `C_max`/μ^α,
+//! else μ ← min(βμ, `μ_max`) and `C_max` ← 1/μ^α.
 //!
 //! The violation measure is |cᵢ| for equalities and |min(gⱼ, νⱼ/μ)| for inequalities
 //! (Birgin & Martínez), which is zero exactly when gⱼ ≥ 0 and νⱼgⱼ = 0.
 //!
 //! Unlike the original code every solve ends: caps on outer iterations, inner iterations,
 //! evaluations (which bound every line search) and time; a cancel flag; NaN detection;
-//! and two tests for hopeless cases. *Infeasible*: at the largest penalty the point is a
-//! stationary point of the violation ½‖c‖² with the constraints still violated, measured
-//! scale-free as ‖Σcᵢ∇cᵢ‖ ≤ 10⁻⁶·Σ|cᵢ|‖∇cᵢ‖. *Stalled*: at the largest penalty the
-//! violation has not fallen by 1 % over five outer iterations.
+//! and a restoration phase for hopeless-looking cases: when, at the largest penalty, the
+//! violation has not fallen by 1 % over three outer iterations, the violation
+//! ½Σcᵢ² + ½Σmin(0, gⱼ)² alone is minimised from the current point. If it cannot be
+//! brought within the tolerance the problem is *infeasible* (the point is a non-zero
+//! local minimum of the violation); otherwise the solve goes on from the restored point,
+//! and a solve that needs more than two restorations is *stalled*.
 
 use std::time::Duration;
 
@@ -32,30 +34,35 @@ use super::report::{
 };
 use super::settings::{AugLagSettings, InnerSolver};
 use super::{Problem, SolveError};
+use crate::core::ad::Tape;
 
 /// Outer iterations at the largest penalty over which the violation must fall by 1 %.
-const STALL_WINDOW: usize = 5;
-/// The relative size of ‖Jᵀc‖ below which a violated point counts as a stationary
-/// point of the violation.
-const INFEASIBLE_RATIO: f64 = 1e-6;
+const STALL_WINDOW: usize = 3;
+/// Restoration phases one solve may run before it is declared stalled.
+const MAX_RESTORATIONS: usize = 2;
 
-/// The augmented Lagrangian of a problem for fixed multipliers and penalty, as an
-/// [`InnerFunction`], with the solve's caps checked before every evaluation.
-struct Lagrangian<'a> {
-    problem: &'a mut Problem,
-    lambda: &'a [f64],
-    nu: &'a [f64],
-    mu: f64,
-    seeds: Vec<f64>,
-    evaluations: &'a mut u64,
+/// The termination an aborted evaluation leads to.
+fn stop_reason(abort: Abort) -> Termination {
+    match abort {
+        Abort::Cancelled => Termination::Cancelled,
+        Abort::TimeLimit => Termination::TimeLimit,
+        Abort::EvaluationLimit => Termination::MaxEvaluations,
+        Abort::NonFinite => Termination::NumericalFailure,
+    }
+}
+
+/// The caps every evaluation checks first: cancel flag, time limit, evaluation count.
+struct Budget<'a> {
+    evaluations: u64,
     max_evaluations: u64,
     cancel: Option<&'a CancelFlag>,
     clock: Option<&'a dyn Clock>,
     time_limit: Option<Duration>,
 }
 
-impl InnerFunction for Lagrangian<'_> {
-    fn eval(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, Abort> {
+impl Budget<'_> {
+    /// Counts one evaluation, or says why there may be none.
+    fn spend(&mut self) -> Result<(), Abort> {
         if self.cancel.is_some_and(CancelFlag::is_cancelled) {
             return Err(Abort::Cancelled);
         }
@@ -64,33 +71,95 @@ impl InnerFunction for Lagrangian<'_> {
                 return Err(Abort::TimeLimit);
             }
         }
-        if *self.evaluations >= self.max_evaluations {
+        if self.evaluations >= self.max_evaluations {
             return Err(Abort::EvaluationLimit);
         }
-        *self.evaluations += 1;
-        let values = self.problem.tape.forward(x);
-        let ne = self.lambda.len();
-        let mu = self.mu;
-        let mut l = values[0];
-        self.seeds[0] = 1.0;
-        for (i, (&c, &lambda)) in values[1..=ne].iter().zip(self.lambda).enumerate() {
-            l += lambda * c + 0.5 * mu * c * c;
-            self.seeds[1 + i] = lambda + mu * c;
-        }
-        for (j, (&g, &nu)) in values[1 + ne..].iter().zip(self.nu).enumerate() {
-            let t = (nu - mu * g).max(0.0);
-            l += (t * t - nu * nu) / (2.0 * mu);
-            self.seeds[1 + ne + j] = -t;
-        }
-        if !l.is_finite() {
-            return Err(Abort::NonFinite);
-        }
-        self.problem.tape.reverse(&self.seeds, grad);
-        if grad.iter().any(|g| !g.is_finite()) {
-            return Err(Abort::NonFinite);
-        }
-        Ok(l)
+        self.evaluations += 1;
+        Ok(())
     }
+}
+
+/// The augmented Lagrangian of a problem for fixed multipliers and penalty, as an
+/// [`InnerFunction`].
+struct Lagrangian<'p, 'b, 'c> {
+    problem: &'p mut Problem,
+    lambda: &'p [f64],
+    nu: &'p [f64],
+    mu: f64,
+    seeds: Vec<f64>,
+    budget: &'b mut Budget<'c>,
+}
+
+impl InnerFunction for Lagrangian<'_, '_, '_> {
+    fn eval(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, Abort> {
+        self.budget.spend()?;
+        augmented(
+            self.problem,
+            x,
+            (self.lambda, self.nu, self.mu),
+            &mut self.seeds,
+            grad,
+        )
+    }
+}
+
+/// L(x; λ, ν, μ) and its gradient (see the module docs).
+fn augmented(
+    problem: &mut Problem,
+    x: &[f64],
+    (lambda, nu, mu): (&[f64], &[f64], f64),
+    seeds: &mut [f64],
+    grad: &mut [f64],
+) -> Result<f64, Abort> {
+    let ne = lambda.len();
+    let values = problem.tape.forward(x);
+    let mut l = values[0];
+    seeds[0] = 1.0;
+    for (i, (&c, &lambda)) in values[1..=ne].iter().zip(lambda).enumerate() {
+        l += lambda * c + 0.5 * mu * c * c;
+        seeds[1 + i] = lambda + mu * c;
+    }
+    for (j, (&g, &nu)) in values[1 + ne..].iter().zip(nu).enumerate() {
+        let t = (nu - mu * g).max(0.0);
+        l += (t * t - nu * nu) / (2.0 * mu);
+        seeds[1 + ne + j] = -t;
+    }
+    finish(&mut problem.tape, seeds, l, grad)
+}
+
+/// The violation ½Σcᵢ² + ½Σmin(0, gⱼ)² alone, minimised by the restoration phase.
+struct Violation2<'p, 'b, 'c> {
+    problem: &'p mut Problem,
+    seeds: Vec<f64>,
+    budget: &'b mut Budget<'c>,
+}
+
+impl InnerFunction for Violation2<'_, '_, '_> {
+    fn eval(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, Abort> {
+        self.budget.spend()?;
+        let ne = self.problem.equality_count();
+        let values = self.problem.tape.forward(x);
+        let mut v = 0.0;
+        self.seeds[0] = 0.0;
+        for (k, &c) in values[1..].iter().enumerate() {
+            let r = if k < ne { c } else { c.min(0.0) };
+            v += 0.5 * r * r;
+            self.seeds[1 + k] = r;
+        }
+        finish(&mut self.problem.tape, &self.seeds, v, grad)
+    }
+}
+
+/// The reverse sweep and the finiteness checks shared by the inner functions.
+fn finish(tape: &mut Tape, seeds: &[f64], value: f64, grad: &mut [f64]) -> Result<f64, Abort> {
+    if !value.is_finite() {
+        return Err(Abort::NonFinite);
+    }
+    tape.reverse(seeds, grad);
+    if grad.iter().any(|g| !g.is_finite()) {
+        return Err(Abort::NonFinite);
+    }
+    Ok(value)
 }
 
 /// Constraint state at a point: violation, complementarity-aware measure and the worst.
@@ -185,17 +254,23 @@ pub(crate) fn run(
     let mut c_max = 1.0 / mu.powf(settings.alpha());
     let mut x = start.x.clone();
     let mut grad = vec![0.0; n];
-    let mut evaluations = 0u64;
+    let mut seeds = vec![0.0; 1 + ne + ni];
+    let mut budget = Budget {
+        evaluations: 0,
+        max_evaluations: settings.max_evaluations(),
+        cancel,
+        clock,
+        time_limit: settings.time_limit(),
+    };
     let mut inner_iterations = 0u64;
     let mut outer = 0usize;
     let mut minimizer: Box<dyn Minimizer> = match settings.inner_solver() {
         InnerSolver::Argmin => Box::new(ArgminLbfgs),
         InnerSolver::Bounded => Box::new(BoundedLbfgs::default()),
     };
-    // The inner gradient tolerance starts loose and tightens by 10× per outer iteration.
-    let mut inner_tol: Option<f64> = None;
+    // Violations at the largest penalty, for the stall test.
     let mut history: Vec<f64> = Vec::new();
-    let mut infeasible_strikes = 0;
+    let mut restorations = 0;
 
     let termination = loop {
         if outer >= settings.max_outer_iterations() {
@@ -204,44 +279,30 @@ pub(crate) fn run(
         outer += 1;
         // The inner tolerance must also resolve the constraints: moving cᵢ by the
         // constraint tolerance changes ∇L by about μ·tol·|∇cᵢ|, so ask for a tenth of that.
-        let tol = inner_tol
-            .get_or_insert(settings.gradient_tol())
-            .min(0.1 * mu * settings.constraint_tol());
+        let limits = InnerLimits {
+            gradient_tol: settings
+                .gradient_tol()
+                .min(0.1 * mu * settings.constraint_tol()),
+            max_iterations: settings.max_inner_iterations(),
+            memory: settings.lbfgs_memory(),
+        };
         let mut lagrangian = Lagrangian {
             problem: &mut *problem,
             lambda: &multipliers.equality,
             nu: &multipliers.inequality,
             mu,
             seeds: vec![0.0; 1 + ne + ni],
-            evaluations: &mut evaluations,
-            max_evaluations: settings.max_evaluations(),
-            cancel,
-            clock,
-            time_limit: settings.time_limit(),
+            budget: &mut budget,
         };
-        let outcome = minimizer.minimize(
-            &mut lagrangian,
-            &mut x,
-            InnerLimits {
-                gradient_tol: tol,
-                max_iterations: settings.max_inner_iterations(),
-                memory: settings.lbfgs_memory(),
-            },
-        );
+        let outcome = minimizer.minimize(&mut lagrangian, &mut x, limits);
         inner_iterations += outcome.iterations;
         if let InnerStatus::Aborted(abort) = outcome.status {
-            break match abort {
-                Abort::Cancelled => Termination::Cancelled,
-                Abort::TimeLimit => Termination::TimeLimit,
-                Abort::EvaluationLimit => Termination::MaxEvaluations,
-                Abort::NonFinite => Termination::NumericalFailure,
-            };
+            break stop_reason(abort);
         }
-        // Re-evaluate at the accepted point: its gradient is ∇ₓ of the Lagrangian with
-        // the updated multipliers, and the tape then holds c(x) and its partials.
-        // This evaluation is not counted against the cap, so it cannot fail on it.
-        lagrangian.max_evaluations = u64::MAX;
-        if lagrangian.eval(&x, &mut grad).is_err() {
+        // Re-evaluate at the accepted point (outside the budget): its gradient is ∇ₓ of
+        // the Lagrangian with the updated multipliers, and the tape holds c(x).
+        let parts = (&multipliers.equality[..], &multipliers.inequality[..], mu);
+        if augmented(problem, &x, parts, &mut seeds, &mut grad).is_err() {
             break Termination::NumericalFailure;
         }
         let values = problem.tape.output_values().to_vec();
@@ -272,9 +333,9 @@ pub(crate) fn run(
         if feasible && stationary {
             break Termination::Converged;
         }
-        if feasible && outcome.status == InnerStatus::NoProgress && tol <= settings.gradient_tol() {
-            // The line search cannot improve a feasible point at the tightest tolerance:
-            // the gradient norm is at the round-off floor of this problem.
+        if feasible && outcome.status == InnerStatus::NoProgress {
+            // The line search cannot improve a feasible point: the gradient norm is at
+            // the round-off floor of this problem.
             break Termination::Stalled;
         }
 
@@ -285,25 +346,42 @@ pub(crate) fn run(
             mu = (mu * settings.beta()).min(settings.mu_max());
             c_max = 1.0 / mu.powf(settings.alpha());
         }
-        inner_tol = Some((tol * 0.1).max(settings.gradient_tol()));
 
-        if !feasible && mu >= settings.mu_max() {
-            if violation_is_stationary(problem, &values[1..], ne) {
-                infeasible_strikes += 1;
-                if infeasible_strikes >= 2 {
-                    break Termination::Infeasible;
-                }
-            } else {
-                infeasible_strikes = 0;
-            }
-            history.push(v.measure_max);
-            if history.len() > STALL_WINDOW {
-                let old = history[history.len() - 1 - STALL_WINDOW];
-                if v.measure_max > 0.99 * old {
-                    break Termination::Stalled;
-                }
-            }
+        // At the largest penalty, a violation that stopped falling calls for the
+        // restoration phase, which tells an infeasible problem from a slow one.
+        if feasible || mu < settings.mu_max() {
+            history.clear();
+            continue;
         }
+        history.push(v.max);
+        let stalled = history.len() > STALL_WINDOW
+            && v.max > 0.99 * history[history.len() - 1 - STALL_WINDOW];
+        if !stalled {
+            continue;
+        }
+        if restorations == MAX_RESTORATIONS {
+            break Termination::Stalled;
+        }
+        restorations += 1;
+        history.clear();
+        let mut phase = Violation2 {
+            problem: &mut *problem,
+            seeds: vec![0.0; 1 + ne + ni],
+            budget: &mut budget,
+        };
+        let restored = minimizer.minimize(&mut phase, &mut x, limits);
+        inner_iterations += restored.iterations;
+        if let InnerStatus::Aborted(abort) = restored.status {
+            break stop_reason(abort);
+        }
+        let values = problem.tape.eval(&x).to_vec();
+        let after = violation(&values[1..], ne, &multipliers.inequality, mu).max;
+        if after > settings.constraint_tol() {
+            // Even minimising the violation alone leaves it violated: a (local)
+            // minimum of the violation that is not zero.
+            break Termination::Infeasible;
+        }
+        // Feasible after all: go on from the restored point.
     };
 
     // The final point's values (the tape may hold a line-search trial point).
@@ -320,7 +398,7 @@ pub(crate) fn run(
         penalty: mu,
         outer_iterations: outer,
         inner_iterations,
-        evaluations,
+        evaluations: budget.evaluations,
         elapsed: elapsed(),
         termination,
     })
@@ -333,33 +411,4 @@ fn lagrangian_gradient(problem: &mut Problem, m: &Multipliers, grad: &mut [f64])
     seeds.extend(m.inequality.iter().map(|nu| -nu));
     problem.tape.reverse(&seeds, grad);
     grad.iter().fold(0.0, |acc: f64, g| acc.max(g.abs()))
-}
-
-/// Whether the point (after a forward sweep there) is a stationary point of the
-/// violation ½Σcᵢ² + ½Σmin(0, gⱼ)² while violated; see the module docs.
-fn violation_is_stationary(problem: &mut Problem, constraints: &[f64], ne: usize) -> bool {
-    let n = problem.var_count();
-    let residual: Vec<f64> = constraints
-        .iter()
-        .enumerate()
-        .map(|(k, &c)| if k < ne { c } else { c.min(0.0) })
-        .collect();
-    let mut seeds = vec![0.0];
-    seeds.extend(&residual);
-    let mut direction = vec![0.0; n];
-    problem.tape.reverse(&seeds, &mut direction);
-    let combined = direction.iter().map(|d| d * d).sum::<f64>().sqrt();
-    // Σ|rₖ|·‖∇cₖ‖, one reverse sweep per violated constraint.
-    let mut bound = 0.0;
-    let mut row = vec![0.0; n];
-    for (k, &r) in residual.iter().enumerate() {
-        if r == 0.0 {
-            continue;
-        }
-        seeds.fill(0.0);
-        seeds[1 + k] = 1.0;
-        problem.tape.reverse(&seeds, &mut row);
-        bound += r.abs() * row.iter().map(|d| d * d).sum::<f64>().sqrt();
-    }
-    combined <= INFEASIBLE_RATIO * bound || bound == 0.0
 }

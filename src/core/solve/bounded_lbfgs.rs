@@ -130,7 +130,7 @@ impl LineSearch<'_> {
             if self.accept(s) {
                 return Search::Accepted(s.value);
             }
-            if !self.decrease_ok(s) || !(s.slope < 0.0) {
+            if !self.decrease_ok(s) || s.slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
                 return self.zoom(lo, s, MAX_LINE_SEARCH - i - 1);
             }
             // Still descending with an acceptable value: expand.
@@ -216,10 +216,10 @@ impl BoundedLbfgs {
                 *di *= gamma;
             }
         }
-        for k in 0..m {
+        for (k, a) in alpha.iter().enumerate().take(m) {
             let b = self.rho[k] * dot(&self.y[k], d);
             for (di, si) in d.iter_mut().zip(&self.s[k]) {
-                *di += (alpha[k] - b) * si;
+                *di += (a - b) * si;
             }
         }
     }
@@ -260,7 +260,7 @@ impl Minimizer for BoundedLbfgs {
             }
             self.direction(&g, &mut d, &mut alpha);
             let mut slope = dot(&g, &d);
-            if !(slope < 0.0) {
+            if slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
                 // Not a descent direction (curvature information went stale): restart.
                 self.s.clear();
                 self.y.clear();

@@ -23,8 +23,9 @@ pub enum Termination {
     TimeLimit,
     /// The cancel flag was raised.
     Cancelled,
-    /// The constraints cannot be satisfied: the solve reached a stationary point of the
-    /// constraint violation with the constraints still violated.
+    /// The constraints cannot be satisfied from where the solve got to: minimising the
+    /// violation alone ends at a local minimum where the constraints are still violated
+    /// (contradictory constraints, or a region with no feasible point nearby).
     Infeasible,
     /// No more progress: the violation stopped decreasing at the largest penalty, or
     /// the inner solver could not improve a point that is not yet optimal.
@@ -47,7 +48,10 @@ impl Termination {
             Self::MaxEvaluations => "stopped at the evaluation cap",
             Self::TimeLimit => "stopped at the time limit",
             Self::Cancelled => "cancelled",
-            Self::Infeasible => "infeasible: the constraints cannot all be satisfied",
+            Self::Infeasible => {
+                "infeasible: the constraints cannot all be satisfied (the violation has a \
+                 non-zero local minimum here)"
+            }
             Self::Stalled => "stalled: no further progress was possible",
             Self::NumericalFailure => "numerical failure: a value became NaN or infinite",
         }

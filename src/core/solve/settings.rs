@@ -79,7 +79,7 @@ pub struct AugLagSettings {
 }
 
 impl Default for AugLagSettings {
-    /// μ₀ = 10, μ_max = 1000, α = 0.5, β = 2 (seed 002); ‖c‖∞ ≤ 1e-9 and
+    /// μ₀ = 10, `μ_max` = 1000, α = 0.5, β = 2 (seed 002); ‖c‖∞ ≤ 1e-9 and
     /// ‖∇L‖∞ ≤ 1e-7; at most 200 outer iterations, 1000 inner iterations per outer
     /// iteration and 200 000 evaluations; no time limit; L-BFGS memory 10.
     fn default() -> Self {
@@ -121,7 +121,7 @@ fn at_least_one<T: Into<u64> + Copy>(name: &'static str, value: T) -> Result<T, 
 }
 
 impl AugLagSettings {
-    /// The penalty schedule's start μ₀ and cap μ_max (`0 < μ₀ ≤ μ_max`).
+    /// The penalty schedule's start μ₀ and cap `μ_max` (`0 < μ₀ ≤ μ_max`).
     ///
     /// # Errors
     ///
@@ -268,7 +268,7 @@ impl AugLagSettings {
     pub fn mu0(&self) -> f64 {
         self.mu0
     }
-    /// μ_max.
+    /// `μ_max`.
     pub fn mu_max(&self) -> f64 {
         self.mu_max
     }
