@@ -189,7 +189,7 @@ fn cancelling_stops_within_one_inner_iteration() {
         // A time limit makes the solver read the clock before every evaluation.
         let settings = AugLagSettings::default()
             .with_inner_solver(inner)
-            .with_time_limit(Duration::from_secs(3600))
+            .with_time_limit(Duration::from_hours(1))
             .unwrap();
         let cancel = CancelFlag::new();
         // Raise the flag from inside the solve: after the clock has been read 50 times

@@ -51,6 +51,10 @@ impl Op {
     ///
     /// `args` and `partials` have the op's arity. Leaves are not evaluated here.
     #[inline]
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one match holds every op's formula and partials side by side, by design"
+    )]
     pub(crate) fn apply(self, args: &[f64], partials: Option<&mut [f64]>) -> f64 {
         // Unary and binary arguments, read once; `Sum` reads the whole slice.
         let a = args.first().copied().unwrap_or(0.0);
@@ -80,7 +84,13 @@ impl Op {
             Self::Powi(k) => match k {
                 0 => out!(1.0, [0.0]),
                 1 => out!(a, [1.0]),
-                _ => out!(a.powi(k), [f64::from(k) * a.powi(k - 1)]),
+                _ => {
+                    // k − 1 overflows only for k = i32::MIN, where powf is exact enough.
+                    let below = k
+                        .checked_sub(1)
+                        .map_or_else(|| a.powf(f64::from(k) - 1.0), |k1| a.powi(k1));
+                    out!(a.powi(k), [f64::from(k) * below])
+                }
             },
             Self::Powf(bits) => {
                 let p = f64::from_bits(bits);
@@ -240,6 +250,17 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn extreme_integer_powers_do_not_overflow() {
+        let mut p = [0.0];
+        let v = Op::Powi(i32::MIN).apply(&[1.0], Some(&mut p));
+        assert!((v - 1.0).abs() < f64::EPSILON, "1^k = 1");
+        assert!(
+            (p[0] - f64::from(i32::MIN)).abs() < 1.0,
+            "d/da a^k at 1 is k"
+        );
     }
 
     #[test]
