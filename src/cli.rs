@@ -1,15 +1,23 @@
 //! The command line: `geosnap [COMMAND]`.
 //!
-//! Today the numerical core is in place; the snapping, relations, export and the desktop
-//! application arrive in later releases. `geosnap selftest` runs the solver on the
-//! Hock–Schittkowski problems and prints how each went.
+//! - `geosnap run SCRIPT --out MODEL [--overlay PNG]`: a placement script, headless.
+//! - `geosnap check FILE…`: loads sketches, scripts or models and reports problems.
+//! - `geosnap selftest`: the solver on the Hock–Schittkowski problems.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use geosnap::clock::MonotonicClock;
+use geosnap::core::model::{run_steps, Step, StepOutcome};
+use geosnap::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass};
+use geosnap::core::snap::SnapSettings;
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
+use geosnap::io::model_file::{load_model, save_model};
+use geosnap::io::overlay::{save_overlay, OverlayItem};
+use geosnap::io::script::{load_script, ScriptStep};
+use geosnap::io::sketch_file::load_sketch;
 
 /// Sketch-based 3D modelling with geosemantic snapping.
 #[derive(Debug, Parser)]
@@ -21,6 +29,28 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Run a placement script headless and write the model (and an overlay PNG).
+    Run {
+        /// The script (`*.script.json`).
+        script: PathBuf,
+        /// The model file to write (`*.model.json`).
+        #[arg(long)]
+        out: PathBuf,
+        /// An overlay PNG to write: strokes, fitted primitives and their strokes.
+        #[arg(long)]
+        overlay: Option<PathBuf>,
+    },
+    /// Write the built-in sample sketch and its script into a folder.
+    Sample {
+        /// The folder (created if missing).
+        dir: PathBuf,
+    },
+    /// Load sketches, scripts or models and report problems.
+    Check {
+        /// The files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+    },
     /// Solve the built-in Hock–Schittkowski test problems and report each result.
     Selftest {
         /// Print the reports as JSON lines instead of a table.
@@ -37,6 +67,13 @@ pub(crate) fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Selftest { json, argmin }) => selftest(json, argmin),
+        Some(Command::Run {
+            script,
+            out,
+            overlay,
+        }) => run(&script, &out, overlay.as_deref()),
+        Some(Command::Check { files }) => check(&files),
+        Some(Command::Sample { dir }) => sample(&dir),
         None => Ok(no_command()),
     };
     match result {
@@ -51,9 +88,10 @@ pub(crate) fn main() -> ExitCode {
 #[expect(clippy::print_stdout, reason = "CLI output")]
 fn no_command() -> ExitCode {
     println!(
-        "geosnap {}: the numerical core (automatic differentiation and the constrained \
-         solver) is in place; the desktop application is not built yet.\n\
-         Try `geosnap selftest`, or `geosnap --help`.",
+        "geosnap {}: snapping runs headless from placement scripts; the desktop \
+         application is not built yet.\n\
+         Try `geosnap run sketches/vase.script.json --out vase.model.json --overlay vase.png`, \
+         `geosnap selftest`, or `geosnap --help`.",
         env!("CARGO_PKG_VERSION")
     );
     ExitCode::SUCCESS
@@ -107,5 +145,176 @@ fn selftest(json: bool, argmin: bool) -> Result<ExitCode> {
     if failures > 0 {
         anyhow::bail!("{failures} problem(s) did not reach f* within 1e-6 and |c| within 1e-8");
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The sketch path to write into a model file: relative to the model's folder when the
+/// sketch lies in it, as resolved otherwise.
+fn sketch_reference(sketch: &Path, model: &Path) -> String {
+    let folder = model.parent().unwrap_or(Path::new(""));
+    sketch
+        .strip_prefix(folder)
+        .unwrap_or(sketch)
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCode> {
+    let script = load_script(script_path)
+        .with_context(|| format!("reading script {}", script_path.display()))?;
+    let loaded = load_sketch(&script.sketch)
+        .with_context(|| format!("loading the sketch of {}", script_path.display()))?;
+    for warning in &loaded.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let steps: Vec<Step> = script
+        .steps
+        .iter()
+        .map(|s| match s {
+            ScriptStep::Place { kind, placement } => Step::Place {
+                kind: *kind,
+                placement: placement.clone(),
+            },
+            ScriptStep::Invalid { reason } => Step::Invalid {
+                reason: reason.clone(),
+            },
+        })
+        .collect();
+    let clock = MonotonicClock::start();
+    let (document, outcomes) = run_steps(&loaded.sketch, &steps, &SnapSettings::default());
+    let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
+    save_model(out, &document, &sketch_reference(&script.sketch, out))
+        .with_context(|| format!("writing {}", out.display()))?;
+    println!(
+        "{}: {} strokes, {} steps",
+        script_path.display(),
+        loaded.sketch.strokes.len(),
+        steps.len()
+    );
+    for (index, outcome) in outcomes.iter().enumerate() {
+        match outcome {
+            StepOutcome::Placed { id, snap } => println!(
+                "  step {index}: {} #{} snapped to {} strokes, rms {:.2} ({:.1} % of its size), {} evaluations, {}",
+                snap.primitive.kind().name(),
+                id.0,
+                snap.assignment.stroke_ids().len(),
+                snap.rms,
+                100.0 * snap.rms / snap.primitive.size(),
+                snap.evaluations,
+                snap.termination
+            ),
+            StepOutcome::Skipped(s) => println!("  step {index}: skipped: {}", s.reason),
+        }
+    }
+    println!(
+        "{} primitives, {} skipped, relations: none yet; {:.1} ms; wrote {}",
+        document.len(),
+        document.skipped.len(),
+        elapsed.as_secs_f64() * 1e3,
+        out.display()
+    );
+    if let Some(png) = overlay {
+        let items: Vec<OverlayItem<'_>> = document
+            .primitives()
+            .map(|(_, placed)| OverlayItem {
+                primitive: &placed.primitive,
+                strokes: &placed.fit.strokes,
+            })
+            .collect();
+        save_overlay(png, &loaded.sketch, &items)
+            .with_context(|| format!("writing the overlay {}", png.display()))?;
+        println!("overlay: {}", png.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn check(files: &[PathBuf]) -> Result<ExitCode> {
+    let mut failures = 0;
+    for file in files {
+        match check_one(file) {
+            Ok(report) => println!("{}: ok: {report}", file.display()),
+            Err(error) => {
+                failures += 1;
+                println!("{}: error: {error:#}", file.display());
+            }
+        }
+    }
+    if failures > 0 {
+        bail!("{failures} of {} file(s) have problems", files.len());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Checks one file by what it holds: a script, a model, or a sketch.
+fn check_one(file: &Path) -> Result<String> {
+    let name = file.to_string_lossy();
+    if name.ends_with(".script.json") {
+        let script = load_script(file)?;
+        let invalid: Vec<String> = script
+            .steps
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| match s {
+                ScriptStep::Invalid { reason } => Some(format!("step {i}: {reason}")),
+                ScriptStep::Place { .. } => None,
+            })
+            .collect();
+        let sketch = load_sketch(&script.sketch)
+            .with_context(|| format!("its sketch {}", script.sketch.display()))?;
+        if !invalid.is_empty() {
+            bail!("{} invalid step(s): {}", invalid.len(), invalid.join("; "));
+        }
+        return Ok(format!(
+            "script with {} steps over {} strokes",
+            script.steps.len(),
+            sketch.sketch.strokes.len()
+        ));
+    }
+    if name.ends_with(".model.json") {
+        let model = load_model(file)?;
+        return Ok(format!(
+            "model with {} primitives, {} skipped steps",
+            model.document.len(),
+            model.document.skipped.len()
+        ));
+    }
+    let loaded = load_sketch(file)?;
+    if loaded.sketch.strokes.is_empty() {
+        bail!("the sketch has no strokes");
+    }
+    let classes = classify_sketch(&loaded.sketch, &ClassifyOptions::default());
+    let features = classes
+        .iter()
+        .filter(|c| c.class == StrokeClass::Feature)
+        .count();
+    let mut report = format!(
+        "sketch with {} strokes ({features} feature, {} silhouette)",
+        loaded.sketch.strokes.len(),
+        classes.len() - features
+    );
+    for warning in &loaded.warnings {
+        report.push_str("; warning: ");
+        report.push_str(warning);
+    }
+    Ok(report)
+}
+
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn sample(dir: &Path) -> Result<ExitCode> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let svg = dir.join("vase.svg");
+    let script = dir.join("vase.script.json");
+    geosnap::io::write_atomic(&svg, geosnap::samples::VASE_SVG.as_bytes())
+        .with_context(|| format!("writing {}", svg.display()))?;
+    geosnap::io::write_atomic(&script, geosnap::samples::VASE_SCRIPT.as_bytes())
+        .with_context(|| format!("writing {}", script.display()))?;
+    println!(
+        "wrote {} and {}\ntry: geosnap run {} --out vase.model.json --overlay vase.png",
+        svg.display(),
+        script.display(),
+        script.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -16,6 +16,8 @@
 //! - [`core`]: the product, pure (no GUI, GPU, filesystem or clock): today
 //!   [`core::ad`], reverse-mode automatic differentiation, and [`core::solve`], the
 //!   augmented-Lagrangian solver.
+//! - [`io`]: files (may use `std::fs`, never the GUI): SVG import into sketch space, the
+//!   native sketch file, and atomic writes.
 //! - [`clock`]: the real clock handed to solves.
 //! - `cli` (binary only): the command line.
 //! - `render`, `app`: the desktop application, behind the default `gui` feature.
@@ -51,3 +53,5 @@
 
 pub mod clock;
 pub mod core;
+pub mod io;
+pub mod samples;

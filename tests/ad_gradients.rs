@@ -238,7 +238,7 @@ fn dvec(v: &[f64], at: usize) -> DVec3 {
     DVec3::new(v[at], v[at + 1], v[at + 2])
 }
 
-fn evec<'g>(v: &[Expr<'g>], at: usize) -> Vec3<'g> {
+fn evec<'g>(v: &[Expr<'g>], at: usize) -> Vec3<Expr<'g>> {
     Vec3::new(v[at], v[at + 1], v[at + 2])
 }
 

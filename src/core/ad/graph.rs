@@ -7,9 +7,10 @@
 //! applied while building.
 
 use std::cell::RefCell;
-use std::collections::HashMap;
 use std::fmt;
 use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use rustc_hash::FxHashMap;
 
 use super::ops::Op;
 
@@ -34,8 +35,9 @@ pub(crate) struct Nodes {
     )]
     pub(crate) nodes: Vec<Node>,
     pub(crate) args: Vec<NodeId>,
-    /// Hash-consing table from `(op, arguments)` to the node already built for them.
-    interned: HashMap<(Op, Vec<NodeId>), NodeId>,
+    /// Hash-consing table from `(op, arguments)` to the node already built for them,
+    /// for ops of at most two arguments (n-ary nodes are rarely repeated exactly).
+    interned: FxHashMap<(Op, [NodeId; 2]), NodeId>,
     pub(crate) var_count: u32,
     pub(crate) param_names: Vec<String>,
     pub(crate) param_defaults: Vec<f64>,
@@ -63,18 +65,27 @@ impl Nodes {
             args.len()
         );
         // Fold operations whose arguments are all constants.
-        if !op.is_leaf() && !args.is_empty() {
-            let values: Option<Vec<f64>> = args.iter().map(|&a| self.constant_value(a)).collect();
-            if let Some(values) = values {
-                let value = op.apply(&values, None);
-                return self.intern(Op::Const(value.to_bits()), &[]);
-            }
+        if !op.is_leaf()
+            && !args.is_empty()
+            && args.iter().all(|&a| self.constant_value(a).is_some())
+        {
+            let values: Vec<f64> = args
+                .iter()
+                .filter_map(|&a| self.constant_value(a))
+                .collect();
+            let value = op.apply(&values, None);
+            return self.intern(Op::Const(value.to_bits()), &[]);
         }
         if let Some(simpler) = self.simplify(op, args) {
             return simpler;
         }
-        let key = (op, args.to_vec());
-        if let Some(&id) = self.interned.get(&key) {
+        let key = match *args {
+            [] => Some((op, [u32::MAX; 2])),
+            [a] => Some((op, [a, u32::MAX])),
+            [a, b] => Some((op, [a, b])),
+            _ => None,
+        };
+        if let Some(&id) = key.as_ref().and_then(|k| self.interned.get(k)) {
             return id;
         }
         let id = u32::try_from(self.nodes.len()).expect("an expression graph holds < 2³² nodes");
@@ -84,7 +95,9 @@ impl Nodes {
             args_len: args.len() as u32,
         });
         self.args.extend_from_slice(args);
-        self.interned.insert(key, id);
+        if let Some(key) = key {
+            self.interned.insert(key, id);
+        }
         id
     }
 
@@ -228,6 +241,33 @@ impl Graph {
             ids.push(c.id);
         }
         self.node(Op::Sum, &ids)
+    }
+
+    /// The distance from the fixed point `p` to the ellipse c + A·cos θ + B·sin θ (A, B
+    /// conjugate semi-diameters; a flat ellipse is a segment), as one node whose gradient
+    /// follows the closest point (envelope theorem). Arguments are `[x, y]` pairs.
+    pub fn ellipse_distance<'g>(
+        &'g self,
+        center: [Expr<'g>; 2],
+        a: [Expr<'g>; 2],
+        b: [Expr<'g>; 2],
+        p: glam::DVec2,
+    ) -> Expr<'g> {
+        let (px, py) = (self.constant(p.x), self.constant(p.y));
+        let ids = [center[0], center[1], a[0], a[1], b[0], b[1], px, py].map(|e| e.id);
+        self.node(Op::EllipseDistance, &ids)
+    }
+
+    /// The distance from the fixed point `p` to the segment from `a` to `b`, as one node.
+    pub fn segment_distance<'g>(
+        &'g self,
+        a: [Expr<'g>; 2],
+        b: [Expr<'g>; 2],
+        p: glam::DVec2,
+    ) -> Expr<'g> {
+        let (px, py) = (self.constant(p.x), self.constant(p.y));
+        let ids = [a[0], a[1], b[0], b[1], px, py].map(|e| e.id);
+        self.node(Op::SegmentDistance, &ids)
     }
 
     /// The number of nodes built so far (after sharing and folding).

@@ -25,9 +25,24 @@
 
 mod graph;
 mod ops;
+mod real;
 mod tape;
 mod vec3;
 
 pub use graph::{Expr, Graph};
+pub use real::Real;
 pub use tape::{ParamId, Tape};
-pub use vec3::Vec3;
+
+/// The distance from `p` to the ellipse c + a·cos θ + b·sin θ, and the θ of the closest
+/// point: the plain-number twin of [`Graph::ellipse_distance`].
+pub fn ellipse_distance(
+    c: glam::DVec2,
+    a: glam::DVec2,
+    b: glam::DVec2,
+    p: glam::DVec2,
+) -> (f64, f64) {
+    let theta = ops::closest_ellipse_angle(c.to_array(), a.to_array(), b.to_array(), p.to_array());
+    let q = c + a * theta.cos() + b * theta.sin();
+    (q.distance(p), theta)
+}
+pub use vec3::{Vec2, Vec3};

@@ -43,6 +43,12 @@ pub(crate) enum Op {
     Max,
     /// The n-ary sum of its arguments.
     Sum,
+    /// The Euclidean distance from a point p to the ellipse E(θ) = c + A·cos θ + B·sin θ
+    /// (A, B conjugate semi-diameters). Arguments: cₓ, c_y, Aₓ, A_y, Bₓ, B_y, pₓ, p_y.
+    EllipseDistance,
+    /// The Euclidean distance from a point p to the segment from a to b. Arguments:
+    /// aₓ, a_y, bₓ, b_y, pₓ, p_y.
+    SegmentDistance,
 }
 
 impl Op {
@@ -51,20 +57,36 @@ impl Op {
     ///
     /// `args` and `partials` have the op's arity. Leaves are not evaluated here.
     #[inline]
+    pub(crate) fn apply(self, args: &[f64], partials: Option<&mut [f64]>) -> f64 {
+        match partials {
+            Some(p) => self.eval::<true>(args, p),
+            None => self.eval::<false>(args, &mut []),
+        }
+    }
+
+    /// [`Op::apply`] specialised at compile time: with `PARTIALS` it writes the local
+    /// derivatives into `partials`, without it `partials` is not touched (it may be
+    /// empty) and the derivative formulas are compiled away. Inlined into the tape's
+    /// sweeps, so each op costs a jump and its arithmetic.
+    #[inline(always)]
+    #[expect(
+        clippy::inline_always,
+        reason = "inlining into the two sweeps removes the per-op call; measured in benches/ad.rs"
+    )]
     #[expect(
         clippy::too_many_lines,
         reason = "one match holds every op's formula and partials side by side, by design"
     )]
-    pub(crate) fn apply(self, args: &[f64], partials: Option<&mut [f64]>) -> f64 {
+    pub(crate) fn eval<const PARTIALS: bool>(self, args: &[f64], partials: &mut [f64]) -> f64 {
         // Unary and binary arguments, read once; `Sum` reads the whole slice.
         let a = args.first().copied().unwrap_or(0.0);
         let b = args.get(1).copied().unwrap_or(0.0);
         macro_rules! out {
             ($value:expr, [$($d:expr),*]) => {{
                 let value = $value;
-                if let Some(p) = partials {
+                if PARTIALS {
                     let ds = [$($d),*];
-                    p[..ds.len()].copy_from_slice(&ds);
+                    partials[..ds.len()].copy_from_slice(&ds);
                 }
                 value
             }};
@@ -157,10 +179,59 @@ impl Op {
                 }
             }
             Self::Sum => {
-                if let Some(p) = partials {
-                    p.fill(1.0);
+                if PARTIALS {
+                    partials.fill(1.0);
                 }
                 args.iter().sum()
+            }
+            // Both distances are minima over a curve parameter, so by the envelope
+            // theorem their gradient is the gradient of |p − q| with the closest point q
+            // held at its parameter: g = (q − p)/|q − p| for q, −g for p.
+            Self::EllipseDistance => {
+                let (c, a_vec, b_vec, p) = (
+                    [args[0], args[1]],
+                    [args[2], args[3]],
+                    [args[4], args[5]],
+                    [args[6], args[7]],
+                );
+                let theta = closest_ellipse_angle(c, a_vec, b_vec, p);
+                let (sin, cos) = theta.sin_cos();
+                let q = [
+                    c[0] + a_vec[0] * cos + b_vec[0] * sin,
+                    c[1] + a_vec[1] * cos + b_vec[1] * sin,
+                ];
+                let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+                let (gx, gy) = if d > 0.0 {
+                    ((q[0] - p[0]) / d, (q[1] - p[1]) / d)
+                } else {
+                    (0.0, 0.0)
+                };
+                out!(
+                    d,
+                    [gx, gy, gx * cos, gy * cos, gx * sin, gy * sin, -gx, -gy]
+                )
+            }
+            Self::SegmentDistance => {
+                let (ax, ay, bx, by, px, py) =
+                    (args[0], args[1], args[2], args[3], args[4], args[5]);
+                let (ux, uy) = (bx - ax, by - ay);
+                let len2 = ux * ux + uy * uy;
+                let t = if len2 > 0.0 {
+                    (((px - ax) * ux + (py - ay) * uy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let (qx, qy) = (ax + t * ux, ay + t * uy);
+                let d = (qx - px).hypot(qy - py);
+                let (gx, gy) = if d > 0.0 {
+                    ((qx - px) / d, (qy - py) / d)
+                } else {
+                    (0.0, 0.0)
+                };
+                out!(
+                    d,
+                    [(1.0 - t) * gx, (1.0 - t) * gy, t * gx, t * gy, -gx, -gy]
+                )
             }
         }
     }
@@ -190,6 +261,8 @@ impl Op {
             | Self::Min
             | Self::Max => Some(2),
             Self::Sum => None,
+            Self::EllipseDistance => Some(8),
+            Self::SegmentDistance => Some(6),
         }
     }
 
@@ -197,6 +270,55 @@ impl Op {
     pub(crate) fn is_leaf(self) -> bool {
         matches!(self, Self::Var(_) | Self::Param(_) | Self::Const(_))
     }
+}
+
+/// The parameter θ of the point of E(θ) = c + A·cos θ + B·sin θ closest to p: the best
+/// of 32 evenly spaced angles, refined by safeguarded Newton steps on |E(θ) − p|².
+pub(crate) fn closest_ellipse_angle(c: [f64; 2], a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
+    const SCAN: usize = 32;
+    let d = [c[0] - p[0], c[1] - p[1]];
+    let h = |theta: f64| {
+        let (s, co) = theta.sin_cos();
+        let e = [d[0] + a[0] * co + b[0] * s, d[1] + a[1] * co + b[1] * s];
+        e[0] * e[0] + e[1] * e[1]
+    };
+    let mut best = 0.0;
+    let mut best_h = f64::INFINITY;
+    for k in 0..SCAN {
+        let theta = std::f64::consts::TAU * k as f64 / SCAN as f64;
+        let v = h(theta);
+        if v < best_h {
+            best_h = v;
+            best = theta;
+        }
+    }
+    let max_step = std::f64::consts::PI / SCAN as f64;
+    for _ in 0..30 {
+        let (s, co) = best.sin_cos();
+        let e = [d[0] + a[0] * co + b[0] * s, d[1] + a[1] * co + b[1] * s];
+        let e1 = [-a[0] * s + b[0] * co, -a[1] * s + b[1] * co];
+        let e2 = [-a[0] * co - b[0] * s, -a[1] * co - b[1] * s];
+        let g = e[0] * e1[0] + e[1] * e1[1];
+        let curvature = e1[0] * e1[0] + e1[1] * e1[1] + e[0] * e2[0] + e[1] * e2[1];
+        let step = if curvature > 0.0 {
+            (-g / curvature).clamp(-max_step, max_step)
+        } else {
+            -g.signum() * max_step * 0.5
+        };
+        // Accept only steps that do not increase the distance (the function is not convex).
+        let candidate = best + step;
+        let v = h(candidate);
+        if v <= best_h {
+            best = candidate;
+            best_h = v;
+        } else {
+            break;
+        }
+        if step.abs() < 1e-13 {
+            break;
+        }
+    }
+    best
 }
 
 #[cfg(test)]
@@ -238,6 +360,16 @@ mod tests {
             (Op::Min, vec![0.3, -0.8]),
             (Op::Max, vec![0.3, -0.8]),
             (Op::Sum, vec![0.3, -0.8, 2.0, 4.0]),
+            (
+                Op::EllipseDistance,
+                vec![0.1, -0.2, 2.0, 0.5, -0.3, 0.8, 3.0, 1.5],
+            ),
+            (
+                Op::EllipseDistance,
+                vec![0.0, 0.0, 2.0, 0.0, 0.0, 1.0, 0.3, 0.2],
+            ),
+            (Op::SegmentDistance, vec![0.0, 0.0, 2.0, 1.0, 0.7, 1.9]),
+            (Op::SegmentDistance, vec![0.0, 0.0, 2.0, 1.0, 3.7, 1.9]),
         ];
         for (op, args) in cases {
             let mut partials = vec![0.0; args.len()];
@@ -250,6 +382,22 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn ellipse_distance_is_the_true_distance() {
+        // Axis-aligned ellipse with semi-axes 3 and 1: the point (0, 3) is 2 from (0, 1);
+        // a point inside, (2.9, 0), is 0.1 from (3, 0).
+        let e = |px: f64, py: f64| {
+            Op::EllipseDistance.apply(&[0.0, 0.0, 3.0, 0.0, 0.0, 1.0, px, py], None)
+        };
+        assert!((e(0.0, 3.0) - 2.0).abs() < 1e-12);
+        assert!((e(2.9, 0.0) - 0.1).abs() < 1e-12);
+        // A degenerate (flat) ellipse is the segment from (−3, 0) to (3, 0).
+        let flat = Op::EllipseDistance.apply(&[0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 1.0, 2.0], None);
+        assert!((flat - 2.0).abs() < 1e-9, "{flat}");
+        let seg = Op::SegmentDistance.apply(&[0.0, 0.0, 2.0, 0.0, 3.0, 4.0], None);
+        assert!((seg - 17f64.sqrt()).abs() < 1e-12);
     }
 
     #[test]

@@ -7,9 +7,7 @@
 //! operations; the gradient of any weighted sum of the outputs is one reverse sweep that
 //! adds `adjoint × partial` along every edge. Nothing is allocated per evaluation.
 
-use std::collections::HashMap;
-
-use super::graph::{Graph, NodeId};
+use super::graph::Graph;
 use super::ops::Op;
 
 /// Identifies a parameter of a compiled [`Tape`]; see [`Tape::param_id`].
@@ -111,19 +109,19 @@ impl Tape {
         ops.extend((0..param_count as u32).map(Op::Param));
         let mut values = vec![0.0; var_count];
         values.extend_from_slice(&nodes.param_defaults);
-        let mut slot_of: HashMap<NodeId, u32> = HashMap::new();
+        let mut slot_of: Vec<u32> = vec![u32::MAX; n_nodes];
 
         // Leaves first: variables and parameters have fixed slots, constants follow.
         for (id, node) in nodes.nodes.iter().enumerate() {
             match node.op {
                 Op::Var(i) => {
-                    slot_of.insert(id as NodeId, i);
+                    slot_of[id] = i;
                 }
                 Op::Param(i) => {
-                    slot_of.insert(id as NodeId, var_count as u32 + i);
+                    slot_of[id] = var_count as u32 + i;
                 }
                 Op::Const(bits) if needed[id] => {
-                    slot_of.insert(id as NodeId, ops.len() as u32);
+                    slot_of[id] = ops.len() as u32;
                     ops.push(node.op);
                     values.push(f64::from_bits(bits));
                 }
@@ -137,13 +135,13 @@ impl Tape {
             if !needed[id] || node.op.is_leaf() {
                 continue;
             }
-            slot_of.insert(id as NodeId, ops.len() as u32);
+            slot_of[id] = ops.len() as u32;
             ops.push(node.op);
             values.push(0.0);
-            args.extend(nodes.args_of(node).iter().map(|a| slot_of[a]));
+            args.extend(nodes.args_of(node).iter().map(|&a| slot_of[a as usize]));
             args_start.push(args.len() as u32);
         }
-        let outputs: Vec<u32> = outputs.iter().map(|o| slot_of[&o.id]).collect();
+        let outputs: Vec<u32> = outputs.iter().map(|o| slot_of[o.id as usize]).collect();
         let slots = ops.len();
         Self {
             partials: vec![0.0; args.len()],
@@ -218,33 +216,27 @@ impl Tape {
 
     /// One forward sweep; with `PARTIALS` it also records the local derivatives.
     fn sweep<const PARTIALS: bool>(&mut self) {
-        let mut scratch = [0.0f64; 2];
-        for slot in self.first_op..self.ops.len() {
-            let start = self.args_start[slot - self.first_op] as usize;
-            let end = self.args_start[slot - self.first_op + 1] as usize;
-            let op = self.ops[slot];
-            let value = if op == Op::Sum {
+        let mut scratch = [0.0f64; 8];
+        let (computed, inputs) = (self.first_op, &self.args_start);
+        for (k, op) in self.ops[computed..].iter().enumerate() {
+            let (start, end) = (inputs[k] as usize, inputs[k + 1] as usize);
+            let args = &self.args[start..end];
+            let value = match *op {
                 // Sums read their arguments straight from the value array.
-                let mut total = 0.0;
-                for &a in &self.args[start..end] {
-                    total += self.values[a as usize];
+                Op::Sum => {
+                    if PARTIALS {
+                        self.partials[start..end].fill(1.0);
+                    }
+                    args.iter().map(|&a| self.values[a as usize]).sum()
                 }
-                if PARTIALS {
-                    self.partials[start..end].fill(1.0);
-                }
-                total
-            } else {
-                let arity = end - start;
-                for (k, &a) in self.args[start..end].iter().enumerate() {
-                    scratch[k] = self.values[a as usize];
-                }
-                if PARTIALS {
-                    op.apply(&scratch[..arity], Some(&mut self.partials[start..end]))
-                } else {
-                    op.apply(&scratch[..arity], None)
+                op => {
+                    for (s, &a) in scratch.iter_mut().zip(args) {
+                        *s = self.values[a as usize];
+                    }
+                    op.eval::<PARTIALS>(&scratch[..args.len()], &mut self.partials[start..end])
                 }
             };
-            self.values[slot] = value;
+            self.values[computed + k] = value;
         }
         for (out, &slot) in self.output_values.iter_mut().zip(&self.outputs) {
             *out = self.values[slot as usize];

@@ -1,0 +1,207 @@
+//! Benchmarks of snapping: one drag-frame update (assignment + warm-started snap) per
+//! kind on a 60-stroke sketch, a cold snap per kind, preparing the sketch (preprocessing
+//! and classification), and the SVG import of the largest shared sketch.
+//!
+//! The 60-stroke sketch is the project's six sample drawings laid out on a 3 × 2 grid
+//! plus short distractor strokes; each kind is dragged over its own drawing along a small
+//! circle (a new pose every frame), through [`SnapSession::update`].
+//!
+//! Run with `cargo bench --no-default-features --bench snap`. The SVG import case reads
+//! `legobrick.svg` from `GEOSNAP_SHARED_SKETCHES` (or `../shared/sketches`) when present.
+
+#![expect(clippy::print_stdout, reason = "benchmark output")]
+
+mod support;
+
+use std::path::{Path, PathBuf};
+
+use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
+use geosnap::core::snap::{snap, SnapContext, SnapSession, SnapSettings};
+use geosnap::io::script::{parse_script, ScriptStep};
+use geosnap::io::svg::{import_svg, SvgOptions};
+use glam::DVec2;
+use support::{timed, Bench, Rng, Table};
+
+/// The sample of each kind and the grid cell it goes to.
+const SAMPLES: [(&str, PrimitiveKind); 6] = [
+    ("cylinders", PrimitiveKind::Cylinder),
+    ("cones", PrimitiveKind::Cone),
+    ("sphere", PrimitiveKind::Sphere),
+    ("box", PrimitiveKind::Cuboid),
+    ("vase", PrimitiveKind::Sgc),
+    ("pipe", PrimitiveKind::Bgc),
+];
+/// The size of a grid cell (the samples' viewBox).
+const CELL: DVec2 = DVec2::new(1200.0, 900.0);
+/// The number of strokes of the scene.
+const STROKES: usize = 60;
+
+/// The scene: the strokes and, per kind, the placement of its first step.
+fn scene() -> (Sketch, Vec<(PrimitiveKind, Placement)>) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sketches");
+    let mut strokes = Vec::new();
+    let mut placements = Vec::new();
+    for (cell, (name, kind)) in SAMPLES.iter().enumerate() {
+        let offset = CELL * DVec2::new((cell % 3) as f64, (cell / 3) as f64);
+        let svg = std::fs::read(dir.join(format!("{name}.svg"))).expect("the samples are there");
+        let import = import_svg(&svg, &SvgOptions::default()).expect("the samples import");
+        for stroke in import.sketch.strokes {
+            strokes.push(Stroke {
+                id: StrokeId(strokes.len() as u32),
+                points: stroke.points.iter().map(|p| *p + offset).collect(),
+                closed: stroke.closed,
+                class_override: None,
+            });
+        }
+        let script = std::fs::read(dir.join(format!("{name}.script.json"))).expect("a script");
+        let script = parse_script(&script, &dir).expect("the scripts parse");
+        let placement = script
+            .steps
+            .iter()
+            .find_map(|s| match s {
+                ScriptStep::Place { kind: k, placement } if k == kind => Some(placement.clone()),
+                _ => None,
+            })
+            .expect("each sample places its kind");
+        placements.push((
+            *kind,
+            Placement {
+                at: placement.at + offset,
+                ..placement
+            },
+        ));
+    }
+    // Distractors: short strokes scattered over the cells' margins.
+    let mut rng = Rng::new(60);
+    while strokes.len() < STROKES {
+        let cell = CELL * DVec2::new(rng.index(3) as f64, rng.index(2) as f64);
+        let start = cell + DVec2::new(rng.uniform(20.0, 250.0), rng.uniform(20.0, 150.0));
+        let dir = DVec2::from_angle(rng.uniform(0.0, std::f64::consts::TAU));
+        let points = (0..12)
+            .map(|k| start + dir * (6.0 * f64::from(k)))
+            .collect();
+        strokes.push(Stroke {
+            id: StrokeId(strokes.len() as u32),
+            points,
+            closed: false,
+            class_override: None,
+        });
+    }
+    let sketch = Sketch {
+        strokes,
+        view_box: Some((DVec2::ZERO, CELL * DVec2::new(3.0, 2.0))),
+    };
+    (sketch, placements)
+}
+
+/// The dropped primitive of frame `frame`: the placement moved along a circle of 6 units.
+fn dragged(
+    kind: PrimitiveKind,
+    placement: &Placement,
+    frame: usize,
+    default_size: f64,
+) -> Primitive {
+    let angle = frame as f64 * 0.35;
+    let moved = Placement {
+        at: placement.at + DVec2::from_angle(angle) * 6.0,
+        ..placement.clone()
+    };
+    Primitive::from_placement(kind, &moved, default_size)
+}
+
+fn shared_legobrick() -> Option<PathBuf> {
+    let dir = std::env::var_os("GEOSNAP_SHARED_SKETCHES").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/sketches"),
+        PathBuf::from,
+    );
+    let path = dir.join("legobrick.svg");
+    path.is_file().then_some(path)
+}
+
+fn main() {
+    let bench = Bench::from_env();
+    bench.print_intro("Snapping benchmarks");
+    let (sketch, placements) = scene();
+    let default_size = CELL.max_element() * 2.0 * DEFAULT_SIZE_FRACTION;
+    let settings = SnapSettings::default();
+
+    let table = Table::new(
+        &format!("Preparing the {}-stroke sketch", sketch.strokes.len()),
+        34,
+        &[],
+    );
+    let prepare = bench.each(|_| timed(|| SnapContext::from_sketch(&sketch)).1);
+    table.row("SnapContext::from_sketch", &prepare, &[]);
+    let context = SnapContext::from_sketch(&sketch);
+
+    let table = Table::new(
+        "Drag frame: assignment + warm-started snap (SnapSession::update)",
+        34,
+        &[("strokes", 8), ("evals", 6), ("rms%", 6)],
+    );
+    for (kind, placement) in &placements {
+        let mut session = SnapSession::new(context.clone(), settings.clone());
+        let mut last = None;
+        let stats = bench.each(|i| {
+            let primitive = dragged(*kind, placement, i, default_size);
+            let (result, time) = timed(|| session.update(&primitive, None));
+            last = result.ok();
+            time
+        });
+        let extras = last.map_or_else(
+            || vec!["-".into(), "-".into(), "fail".into()],
+            |r| {
+                vec![
+                    r.assignment.stroke_ids().len().to_string(),
+                    r.evaluations.to_string(),
+                    format!("{:.2}", 100.0 * r.rms / r.primitive.size()),
+                ]
+            },
+        );
+        table.row(kind.name(), &stats, &extras);
+    }
+
+    let table = Table::new(
+        "Cold snap (assignment + snap from the dropped pose)",
+        34,
+        &[("strokes", 8), ("evals", 6)],
+    );
+    for (kind, placement) in &placements {
+        let primitive = dragged(*kind, placement, 0, default_size);
+        let mut last = None;
+        let stats = bench.each(|_| {
+            let (result, time) = timed(|| snap(&context, &primitive, &settings));
+            last = result.ok();
+            time
+        });
+        let extras = last.map_or_else(
+            || vec!["-".into(), "fail".into()],
+            |r| {
+                vec![
+                    r.assignment.stroke_ids().len().to_string(),
+                    r.evaluations.to_string(),
+                ]
+            },
+        );
+        table.row(kind.name(), &stats, &extras);
+    }
+
+    let table = Table::new("SVG import", 34, &[("strokes", 8)]);
+    if let Some(path) = shared_legobrick() {
+        let data = std::fs::read(&path).expect("readable");
+        let mut strokes = 0;
+        let stats = bench.each(|_| {
+            let (import, time) = timed(|| import_svg(&data, &SvgOptions::default()));
+            strokes = import.map_or(0, |i| i.sketch.strokes.len());
+            time
+        });
+        table.row(
+            "legobrick.svg (largest shared)",
+            &stats,
+            &[strokes.to_string()],
+        );
+    } else {
+        println!("legobrick.svg not found (set GEOSNAP_SHARED_SKETCHES): SVG import skipped");
+    }
+}

@@ -1,0 +1,215 @@
+//! The document: the placed primitives with their fits, addressed by stable ids, and the
+//! steps that could not be placed.
+//!
+//! [`run_steps`] runs a modelling session headless (the script runner's core). Relations
+//! and the global solve join here with the relations work; today a document is the result
+//! of independent per-primitive snaps.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use crate::core::sketch::{Sketch, StrokeId};
+use crate::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+
+/// Identifies a primitive of a [`Document`]; ids are never reused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct PrimitiveId(pub u32);
+
+/// How well a primitive fits its strokes.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Fit {
+    /// The strokes assigned to it.
+    pub strokes: Vec<StrokeId>,
+    /// RMS distance of those strokes to its projected curves, in sketch units.
+    pub rms: f64,
+}
+
+/// A primitive in the document.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Placed {
+    /// The primitive, in model space.
+    pub primitive: Primitive,
+    /// Its fit to the strokes.
+    pub fit: Fit,
+}
+
+/// A step that could not be placed, with the reason.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Skipped {
+    /// The step's index in its script.
+    pub step: usize,
+    /// Why, in words.
+    pub reason: String,
+}
+
+/// The assembled model.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Document {
+    primitives: BTreeMap<PrimitiveId, Placed>,
+    next_id: u32,
+    /// Steps that were skipped.
+    pub skipped: Vec<Skipped>,
+}
+
+impl Document {
+    /// An empty document.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a primitive and returns its new id.
+    pub fn add(&mut self, placed: Placed) -> PrimitiveId {
+        let id = PrimitiveId(self.next_id);
+        self.next_id += 1;
+        self.primitives.insert(id, placed);
+        id
+    }
+
+    /// Adds a snapped primitive with its fit.
+    pub fn add_snapped(&mut self, result: &SnapResult) -> PrimitiveId {
+        self.add(Placed {
+            primitive: result.primitive.clone(),
+            fit: Fit {
+                strokes: result.assignment.stroke_ids(),
+                rms: result.rms,
+            },
+        })
+    }
+
+    /// Inserts a primitive under a given id (loading a file); later ids stay above it.
+    pub fn insert(&mut self, id: PrimitiveId, placed: Placed) {
+        self.next_id = self.next_id.max(id.0 + 1);
+        self.primitives.insert(id, placed);
+    }
+
+    /// Removes a primitive.
+    pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
+        self.primitives.remove(&id)
+    }
+
+    /// The primitive with this id.
+    pub fn get(&self, id: PrimitiveId) -> Option<&Placed> {
+        self.primitives.get(&id)
+    }
+
+    /// The primitives in id order.
+    pub fn primitives(&self) -> impl Iterator<Item = (PrimitiveId, &Placed)> {
+        self.primitives.iter().map(|(id, p)| (*id, p))
+    }
+
+    /// The number of primitives.
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// Whether there are no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+}
+
+/// One step of a modelling session: drop a primitive of `kind` with `placement`, or a
+/// step that cannot be carried out (an unknown kind, a bad value) with the reason.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// Drop and snap a primitive.
+    Place {
+        /// The kind.
+        kind: PrimitiveKind,
+        /// Where and how big.
+        placement: Placement,
+    },
+    /// A step that is skipped, with the reason.
+    Invalid {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// What happened to one step of [`run_steps`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepOutcome {
+    /// The primitive was snapped and added.
+    Placed {
+        /// Its id.
+        id: PrimitiveId,
+        /// The snap.
+        snap: SnapResult,
+    },
+    /// The step was skipped.
+    Skipped(Skipped),
+}
+
+/// Runs steps over a sketch as the interactive tool would (each step: assignment and
+/// snap; relations and the global solve join with the relations work). A step that
+/// cannot be snapped is recorded in [`Document::skipped`] and the run goes on.
+pub fn run_steps(
+    sketch: &Sketch,
+    steps: &[Step],
+    settings: &SnapSettings,
+) -> (Document, Vec<StepOutcome>) {
+    let context = SnapContext::from_sketch(sketch);
+    let default_size = sketch
+        .view_box
+        .map(|(_, size)| size.max_element())
+        .or_else(|| sketch.bounds().map(|(lo, hi)| (hi - lo).max_element()))
+        .unwrap_or(100.0)
+        * DEFAULT_SIZE_FRACTION;
+    let mut document = Document::new();
+    let mut outcomes = Vec::with_capacity(steps.len());
+    for (index, step) in steps.iter().enumerate() {
+        let outcome = match step {
+            Step::Invalid { reason } => Err(reason.clone()),
+            Step::Place { kind, placement } => {
+                let dropped = Primitive::from_placement(*kind, placement, default_size);
+                snap(&context, &dropped, settings).map_err(|e| e.to_string())
+            }
+        };
+        outcomes.push(match outcome {
+            Ok(result) => {
+                let id = document.add_snapped(&result);
+                StepOutcome::Placed { id, snap: result }
+            }
+            Err(reason) => {
+                let skipped = Skipped {
+                    step: index,
+                    reason,
+                };
+                document.skipped.push(skipped.clone());
+                StepOutcome::Skipped(skipped)
+            }
+        });
+    }
+    (document, outcomes)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::{Document, Fit, Placed, PrimitiveId};
+    use crate::core::primitive::{Primitive, Sphere};
+
+    #[test]
+    fn ids_are_stable_and_never_reused() {
+        let placed = Placed {
+            primitive: Primitive::Sphere(Sphere {
+                center: DVec3::ZERO,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        };
+        let mut doc = Document::new();
+        let a = doc.add(placed.clone());
+        let b = doc.add(placed.clone());
+        assert!(doc.remove(a).is_some());
+        let c = doc.add(placed.clone());
+        assert_eq!((a, b, c), (PrimitiveId(0), PrimitiveId(1), PrimitiveId(2)));
+        doc.insert(PrimitiveId(10), placed.clone());
+        assert_eq!(doc.add(placed), PrimitiveId(11));
+        assert_eq!(doc.len(), 4);
+    }
+}

@@ -1,0 +1,258 @@
+//! The cuboid (box).
+//!
+//! Parameters (10): centre c (3), orientation quaternion q = (w, x, y, z) (4, unit by
+//! the constraint |q|² = 1), sizes (width, height, depth) (3, each > 0). The rotation R(q)
+//! maps the box's local axes to model space: local x is the width direction, y the
+//! height, z the depth.
+//!
+//! Projected curves: the 12 edges (matched to straight strokes of either class); an edge
+//! is *visible* when one of its two faces faces the viewer (outward normal z > 0),
+//! judged at the primitive's current orientation. Feature curves: the six faces
+//! [`FACE_NAMES`] as rectangles.
+
+use glam::{DQuat, DVec3};
+use serde::{Deserialize, Serialize};
+
+use super::cylinder::MIN_SIZE_FRACTION;
+use super::mesh::TriMesh;
+use super::{Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape};
+use crate::core::ad::{Real, Vec3};
+use crate::core::geom::projection::view_from_sketch;
+
+/// The faces of a cuboid: outward normals +x, −x, +y, −y, +z, −z of its local frame.
+pub const FACE_NAMES: [&str; 6] = ["right", "left", "top", "bottom", "front", "back"];
+
+/// A box in model space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Cuboid {
+    /// The centre.
+    pub center: DVec3,
+    /// The orientation (local → model).
+    pub rotation: DQuat,
+    /// Width, height and depth along the local x, y and z axes.
+    pub size: DVec3,
+}
+
+/// The rotation matrix columns of the quaternion (w, x, y, z), assumed unit.
+fn rotation_columns<T: Real>(q: [T; 4]) -> [Vec3<T>; 3] {
+    let [w, x, y, z] = q;
+    let one = w.lit(1.0);
+    let two = |v: T| v * 2.0;
+    [
+        Vec3::new(
+            one - two(y * y + z * z),
+            two(x * y + w * z),
+            two(x * z - w * y),
+        ),
+        Vec3::new(
+            two(x * y - w * z),
+            one - two(x * x + z * z),
+            two(y * z + w * x),
+        ),
+        Vec3::new(
+            two(x * z + w * y),
+            two(y * z - w * x),
+            one - two(x * x + y * y),
+        ),
+    ]
+}
+
+/// The edges as (axis along the edge, signs of the other two axes), with the two faces
+/// each edge borders as indices into [`FACE_NAMES`].
+fn edges() -> Vec<(usize, [f64; 3], [usize; 2])> {
+    let mut out = Vec::with_capacity(12);
+    for along in 0..3 {
+        let (i, j) = ((along + 1) % 3, (along + 2) % 3);
+        for (si, sj) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            let mut signs = [0.0; 3];
+            signs[i] = si;
+            signs[j] = sj;
+            let face = |axis: usize, s: f64| 2 * axis + usize::from(s < 0.0);
+            out.push((along, signs, [face(i, si), face(j, sj)]));
+        }
+    }
+    out
+}
+
+impl Cuboid {
+    pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
+        let v = view_from_sketch(p.at);
+        let size = p.size.map_or(DVec3::splat(default_size * 0.6), |s| {
+            DVec3::from_array(s).abs()
+        });
+        // Tilted so three faces show (front, left, top), then rolled so the box's up
+        // follows the placement axis.
+        let up = DVec3::new(p.axis.x, -p.axis.y, 0.0);
+        let roll = if up.length() > 0.0 {
+            (-up.x).atan2(up.y)
+        } else {
+            0.0
+        };
+        let rotation = DQuat::from_rotation_z(roll)
+            * DQuat::from_rotation_x(20f64.to_radians())
+            * DQuat::from_rotation_y(-30f64.to_radians());
+        Self {
+            center: DVec3::new(v.x, v.y, 0.0),
+            rotation,
+            size: size.max(DVec3::splat(1e-9)),
+        }
+    }
+
+    pub(crate) fn params(&self) -> Vec<f64> {
+        let (c, q, s) = (self.center, self.rotation, self.size);
+        vec![c.x, c.y, c.z, q.w, q.x, q.y, q.z, s.x, s.y, s.z]
+    }
+
+    pub(crate) fn with_params(&self, x: &[f64]) -> Self {
+        let q = DQuat::from_xyzw(x[4], x[5], x[6], x[3]);
+        Self {
+            center: DVec3::new(x[0], x[1], x[2]),
+            rotation: match q.length() {
+                len if (len - 1.0).abs() < 1e-12 => q,
+                len if len > 0.0 => q / len,
+                _ => self.rotation,
+            },
+            size: DVec3::new(x[7], x[8], x[9]),
+        }
+    }
+
+    pub(crate) fn center(&self) -> DVec3 {
+        self.center
+    }
+
+    pub(crate) fn size(&self) -> f64 {
+        self.size.max_element()
+    }
+
+    pub(crate) fn transformed(&self, offset: DVec3, factor: f64) -> Self {
+        Self {
+            center: (self.center + offset) * factor,
+            rotation: self.rotation,
+            size: self.size * factor,
+        }
+    }
+
+    /// The local axes in model space.
+    pub fn axes(&self) -> [DVec3; 3] {
+        let m = glam::DMat3::from_quat(self.rotation);
+        [m.x_axis, m.y_axis, m.z_axis]
+    }
+
+    pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
+        let c = Vec3::new(x[0], x[1], x[2]);
+        let axes = rotation_columns([x[3], x[4], x[5], x[6]]);
+        let half = [x[7] * 0.5, x[8] * 0.5, x[9] * 0.5];
+        // Visibility from the current numeric orientation.
+        let numeric_axes = self.axes();
+        let face_faces_viewer = |face: usize| {
+            let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
+            numeric_axes[face / 2].z * sign > 1e-9
+        };
+        let mut curves = Vec::with_capacity(12);
+        for (k, (along, signs, faces)) in edges().into_iter().enumerate() {
+            let mut mid = c;
+            for (axis, s) in signs.iter().enumerate() {
+                if *s != 0.0 {
+                    mid = mid + axes[axis] * (half[axis] * *s);
+                }
+            }
+            let d = axes[along] * half[along];
+            curves.push(ProjectedCurve {
+                name: format!("edge {k}"),
+                class: CurveClass::Edge,
+                visible: faces.iter().any(|f| face_faces_viewer(*f)),
+                curve: Curve2::Polyline(vec![(mid - d).xy(), (mid + d).xy()]),
+            });
+        }
+        let features = FACE_NAMES
+            .iter()
+            .enumerate()
+            .map(|(face, name)| {
+                let axis = face / 2;
+                let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
+                let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+                FeatureCurve {
+                    name,
+                    geometry: FeatureGeometry::Rectangle {
+                        center: c + axes[axis] * (half[axis] * sign),
+                        normal: axes[axis].scale(sign),
+                        half_extents: [(axes[i], half[i]), (axes[j], half[j])],
+                    },
+                }
+            })
+            .collect();
+        let q = Vec3::new(x[4], x[5], x[6]);
+        let min = self.size() * MIN_SIZE_FRACTION;
+        Shape {
+            curves,
+            features,
+            equalities: vec![("unit quaternion", x[3].square() + q.norm_squared() - 1.0)],
+            inequalities: vec![
+                ("positive width", x[7] - min),
+                ("positive height", x[8] - min),
+                ("positive depth", x[9] - min),
+            ],
+            regularizers: Vec::new(),
+        }
+    }
+
+    pub(crate) fn mesh(&self, _segments: usize) -> TriMesh {
+        let axes = self.axes();
+        let half = self.size * 0.5;
+        let mut mesh = TriMesh::default();
+        for face in 0..6usize {
+            let axis = face / 2;
+            let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
+            let n = axes[axis] * sign;
+            // (u, v, n) right-handed so the quad winds counter-clockwise seen from outside.
+            let u = axes[(axis + 1) % 3] * sign;
+            let v = n.cross(u);
+            let (hu, hv) = (half[(axis + 1) % 3], half[(axis + 2) % 3]);
+            let center = self.center + n * half[axis];
+            let base = mesh.positions.len() as u32;
+            for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                mesh.positions.push(center + u * (hu * su) + v * (hv * sv));
+                mesh.normals.push(n);
+            }
+            mesh.triangles.push([base, base + 1, base + 2]);
+            mesh.triangles.push([base, base + 2, base + 3]);
+        }
+        mesh
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec2, DVec3};
+
+    use super::rotation_columns;
+    use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
+
+    #[test]
+    fn quaternion_columns_match_glam() {
+        let q = DQuat::from_euler(glam::EulerRot::YXZ, 0.3, -0.7, 1.1);
+        let cols = rotation_columns([q.w, q.x, q.y, q.z]);
+        let m = glam::DMat3::from_quat(q);
+        for (c, g) in cols.iter().zip([m.x_axis, m.y_axis, m.z_axis]) {
+            assert!((c.to_dvec3() - g).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_placed_box_shows_three_faces_and_nine_edges() {
+        let mut place = Placement::at(DVec2::new(0.0, 0.0));
+        place.size = Some([2.0, 3.0, 4.0]);
+        let p = Primitive::from_placement(PrimitiveKind::Cuboid, &place, 1.0);
+        let shape = p.current_shape();
+        assert_eq!(shape.curves.len(), 12);
+        assert_eq!(shape.curves.iter().filter(|c| c.visible).count(), 9);
+        assert_eq!(p.with_params(&p.params()), p);
+        let v = p.mesh(8).volume();
+        assert!((v - 24.0).abs() < 1e-9, "{v}");
+        let Primitive::Cuboid(b) = p else {
+            panic!("a box")
+        };
+        assert!((b.axes()[0].length() - 1.0).abs() < 1e-12);
+        assert!(b.center == DVec3::ZERO);
+    }
+}

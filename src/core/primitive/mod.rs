@@ -1,0 +1,498 @@
+//! The six primitive kinds: cylinder, truncated cone, sphere, cuboid, straight
+//! generalized cylinder (SGC) and bent generalized cylinder (BGC), one file each.
+//!
+//! Every kind has
+//! - a numeric state in model space (a struct such as [`Cylinder`]) with a flat parameter
+//!   vector for the solver ([`Primitive::params`], [`Primitive::with_params`]);
+//! - a [`Shape`], computed by one generic function for both `f64` and AD expressions
+//!   ([`Real`]): its projected 2D curves (view-plane coordinates, see
+//!   [`geom::projection`](crate::core::geom::projection)) that strokes are matched to,
+//!   its named 3D [`FeatureCurve`]s that relations refer to, and its internal constraints
+//!   C_p (unit axes, orthonormal frames, positive sizes);
+//! - a triangle mesh ([`Primitive::mesh`]) for display and export.
+//!
+//! Canonical frame: the axis of a cylinder, cone or SGC runs from its *bottom* end to its
+//! *top* end; `center` is halfway. Sizes never go to zero: each kind states a positive
+//! lower bound as an inequality constraint relative to the primitive's size.
+
+mod bgc;
+mod cone;
+mod cuboid;
+mod cylinder;
+mod mesh;
+mod sgc;
+mod sphere;
+
+use glam::{DVec2, DVec3};
+use serde::{Deserialize, Serialize};
+
+pub use bgc::Bgc;
+pub use cone::Cone;
+pub use cuboid::{Cuboid, FACE_NAMES};
+pub use cylinder::Cylinder;
+pub use mesh::TriMesh;
+pub use sgc::Sgc;
+pub use sphere::Sphere;
+
+use crate::core::ad::{Real, Vec2, Vec3};
+
+/// The kind of a primitive, as named in scripts and model files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PrimitiveKind {
+    /// A cylinder.
+    Cylinder,
+    /// A truncated cone.
+    Cone,
+    /// A sphere.
+    Sphere,
+    /// A box with an orthonormal frame.
+    Cuboid,
+    /// A straight generalized cylinder: straight axis, radius profile.
+    Sgc,
+    /// A bent generalized cylinder: planar curved spine, radius profile.
+    Bgc,
+}
+
+impl PrimitiveKind {
+    /// Every kind, in palette order.
+    pub const ALL: [Self; 6] = [
+        Self::Cylinder,
+        Self::Cone,
+        Self::Sphere,
+        Self::Cuboid,
+        Self::Sgc,
+        Self::Bgc,
+    ];
+
+    /// The name used in files (`"cylinder"`, `"sgc"`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cylinder => "cylinder",
+            Self::Cone => "cone",
+            Self::Sphere => "sphere",
+            Self::Cuboid => "cuboid",
+            Self::Sgc => "sgc",
+            Self::Bgc => "bgc",
+        }
+    }
+
+    /// The kind called `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+/// Which stroke class a projected curve expects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveClass {
+    /// An end ellipse: matched to feature strokes.
+    Feature,
+    /// An outline of a side: matched to silhouette strokes.
+    Silhouette,
+    /// A box edge: matched to straight strokes of either class.
+    Edge,
+}
+
+/// A 2D curve in view-plane coordinates over a scalar `T`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Curve2<T> {
+    /// The ellipse `center + a·cos θ + b·sin θ` (a, b conjugate semi-diameters).
+    Ellipse {
+        /// The centre.
+        center: Vec2<T>,
+        /// The first semi-diameter.
+        a: Vec2<T>,
+        /// The second semi-diameter.
+        b: Vec2<T>,
+    },
+    /// An open polyline (a segment has two points).
+    Polyline(Vec<Vec2<T>>),
+}
+
+/// A projected curve of a primitive with its role.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProjectedCurve<T> {
+    /// A name for messages and overlays (`"top"`, `"left"`, `"edge 3"`, …).
+    pub name: String,
+    /// Which strokes it takes.
+    pub class: CurveClass,
+    /// Whether a person would draw it in this view (hidden box edges are not).
+    pub visible: bool,
+    /// The geometry.
+    pub curve: Curve2<T>,
+}
+
+/// The geometry of a named 3D feature curve, which relations refer to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FeatureGeometry<T> {
+    /// A circle: an end of a cylinder, cone or generalized cylinder.
+    Circle {
+        /// The centre.
+        center: Vec3<T>,
+        /// The unit normal (along the primitive's axis, outwards at the top).
+        normal: Vec3<T>,
+        /// The radius.
+        radius: T,
+    },
+    /// A rectangle: a face of a cuboid.
+    Rectangle {
+        /// The centre.
+        center: Vec3<T>,
+        /// The unit outward normal.
+        normal: Vec3<T>,
+        /// Half the extents along the face's two in-plane axes, with those axes.
+        half_extents: [(Vec3<T>, T); 2],
+    },
+}
+
+/// A named feature curve (`top`, `bottom`, or a cuboid face name).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureCurve<T> {
+    /// The name.
+    pub name: &'static str,
+    /// The geometry.
+    pub geometry: FeatureGeometry<T>,
+}
+
+/// The geometry of a primitive at some parameters: projected curves, feature curves and
+/// internal constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape<T> {
+    /// The projected curves strokes are matched to.
+    pub curves: Vec<ProjectedCurve<T>>,
+    /// The named 3D feature curves.
+    pub features: Vec<FeatureCurve<T>>,
+    /// Equality constraints c = 0 of the parameterisation, labelled.
+    pub equalities: Vec<(&'static str, T)>,
+    /// Inequality constraints g ≥ 0 (positive sizes), labelled.
+    pub inequalities: Vec<(&'static str, T)>,
+    /// Regularising residuals r whose squares are added to the objective with a small
+    /// weight (smoothness of profiles and spines); empty for most kinds.
+    pub regularizers: Vec<T>,
+}
+
+impl<T> Default for Shape<T> {
+    fn default() -> Self {
+        Self {
+            curves: Vec::new(),
+            features: Vec::new(),
+            equalities: Vec::new(),
+            inequalities: Vec::new(),
+            regularizers: Vec::new(),
+        }
+    }
+}
+
+/// Where and how big a primitive is dropped: the script's step or the palette's drag, in
+/// sketch space (formats.md §2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placement {
+    /// The sketch point the primitive's centre projects to.
+    pub at: DVec2,
+    /// The 2D image direction from bottom to top (default up the page).
+    pub axis: DVec2,
+    /// Projected length along `axis`.
+    pub length: Option<f64>,
+    /// Apparent radius (half the apparent width).
+    pub radius: Option<f64>,
+    /// Cone bottom radius.
+    pub radius_bottom: Option<f64>,
+    /// Cone top radius.
+    pub radius_top: Option<f64>,
+    /// Rough apparent extents of a box.
+    pub size: Option<[f64; 3]>,
+}
+
+impl Placement {
+    /// A placement at `at` with every size defaulted.
+    pub fn at(at: DVec2) -> Self {
+        Self {
+            at,
+            axis: DVec2::new(0.0, -1.0),
+            length: None,
+            radius: None,
+            radius_bottom: None,
+            radius_top: None,
+            size: None,
+        }
+    }
+}
+
+/// A primitive of any kind.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Primitive {
+    /// A cylinder.
+    Cylinder(Cylinder),
+    /// A truncated cone.
+    Cone(Cone),
+    /// A sphere.
+    Sphere(Sphere),
+    /// A cuboid.
+    Cuboid(Cuboid),
+    /// A straight generalized cylinder.
+    Sgc(Sgc),
+    /// A bent generalized cylinder.
+    Bgc(Bgc),
+}
+
+/// Applies `$body` to the inner struct of every variant.
+macro_rules! each_kind {
+    ($value:expr, $inner:ident => $body:expr) => {
+        match $value {
+            Primitive::Cylinder($inner) => $body,
+            Primitive::Cone($inner) => $body,
+            Primitive::Sphere($inner) => $body,
+            Primitive::Cuboid($inner) => $body,
+            Primitive::Sgc($inner) => $body,
+            Primitive::Bgc($inner) => $body,
+        }
+    };
+}
+
+/// Default apparent size of a new primitive, as a fraction of the sketch's larger extent.
+pub const DEFAULT_SIZE_FRACTION: f64 = 0.15;
+
+impl Primitive {
+    /// A primitive of `kind` from a placement, in model space, lying in the view plane
+    /// (depth 0) and facing the viewer as the palette drops it. `default_size` is the
+    /// apparent size used for sizes the placement leaves out.
+    pub fn from_placement(kind: PrimitiveKind, placement: &Placement, default_size: f64) -> Self {
+        match kind {
+            PrimitiveKind::Cylinder => {
+                Self::Cylinder(Cylinder::from_placement(placement, default_size))
+            }
+            PrimitiveKind::Cone => Self::Cone(Cone::from_placement(placement, default_size)),
+            PrimitiveKind::Sphere => Self::Sphere(Sphere::from_placement(placement, default_size)),
+            PrimitiveKind::Cuboid => Self::Cuboid(Cuboid::from_placement(placement, default_size)),
+            PrimitiveKind::Sgc => Self::Sgc(Sgc::from_placement(placement, default_size)),
+            PrimitiveKind::Bgc => Self::Bgc(Bgc::from_placement(placement, default_size)),
+        }
+    }
+
+    /// The kind.
+    pub fn kind(&self) -> PrimitiveKind {
+        match self {
+            Self::Cylinder(_) => PrimitiveKind::Cylinder,
+            Self::Cone(_) => PrimitiveKind::Cone,
+            Self::Sphere(_) => PrimitiveKind::Sphere,
+            Self::Cuboid(_) => PrimitiveKind::Cuboid,
+            Self::Sgc(_) => PrimitiveKind::Sgc,
+            Self::Bgc(_) => PrimitiveKind::Bgc,
+        }
+    }
+
+    /// The flat parameter vector (the layout is documented on each kind).
+    pub fn params(&self) -> Vec<f64> {
+        each_kind!(self, p => p.params())
+    }
+
+    /// The same primitive with new parameters (of the same length as
+    /// [`Primitive::params`]); frames and axes are re-normalised.
+    #[must_use]
+    pub fn with_params(&self, x: &[f64]) -> Self {
+        match self {
+            Self::Cylinder(p) => Self::Cylinder(p.with_params(x)),
+            Self::Cone(p) => Self::Cone(p.with_params(x)),
+            Self::Sphere(p) => Self::Sphere(p.with_params(x)),
+            Self::Cuboid(p) => Self::Cuboid(p.with_params(x)),
+            Self::Sgc(p) => Self::Sgc(p.with_params(x)),
+            Self::Bgc(p) => Self::Bgc(p.with_params(x)),
+        }
+    }
+
+    /// The shape at parameters `x` (for `f64`: [`Primitive::params`] gives the current
+    /// one; for expressions: the solver's variables).
+    pub fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
+        each_kind!(self, p => p.shape(x))
+    }
+
+    /// The shape at the current parameters.
+    pub fn current_shape(&self) -> Shape<f64> {
+        self.shape(&self.params())
+    }
+
+    /// The model-space centre.
+    pub fn center(&self) -> DVec3 {
+        each_kind!(self, p => p.center())
+    }
+
+    /// A characteristic size: the larger of the primitive's length and diameter (its
+    /// largest extent).
+    pub fn size(&self) -> f64 {
+        each_kind!(self, p => p.size())
+    }
+
+    /// The primitive moved by `offset` and scaled by `factor` about the origin: model
+    /// → normalised frame and back.
+    #[must_use]
+    pub fn transformed(&self, offset: DVec3, factor: f64) -> Self {
+        match self {
+            Self::Cylinder(p) => Self::Cylinder(p.transformed(offset, factor)),
+            Self::Cone(p) => Self::Cone(p.transformed(offset, factor)),
+            Self::Sphere(p) => Self::Sphere(p.transformed(offset, factor)),
+            Self::Cuboid(p) => Self::Cuboid(p.transformed(offset, factor)),
+            Self::Sgc(p) => Self::Sgc(p.transformed(offset, factor)),
+            Self::Bgc(p) => Self::Bgc(p.transformed(offset, factor)),
+        }
+    }
+
+    /// A triangle mesh with about `segments` segments around each circle.
+    pub fn mesh(&self, segments: usize) -> TriMesh {
+        each_kind!(self, p => p.mesh(segments.max(3)))
+    }
+
+    /// Whether every parameter is finite.
+    pub fn is_finite(&self) -> bool {
+        self.params().iter().all(|v| v.is_finite())
+    }
+}
+
+/// The two unit vectors spanning the plane ⊥ `axis` used to draw its circles:
+/// `w` horizontal (z = 0) and `k = axis × w`. Their view-plane parts are the projected
+/// ellipse's semi-diameters per unit radius: |w_xy| = 1 and |k_xy| = |axis_z|.
+///
+/// `ρ = √(aₓ² + a_y²)` is regularised by 1e-9 so that an axis pointing straight at the
+/// viewer (where the basis is arbitrary) stays finite.
+pub(crate) fn circle_basis<T: Real>(axis: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
+    let rho = (axis.x.square() + axis.y.square() + 1e-18).sqrt();
+    let zero = axis.x.lit(0.0);
+    let w = Vec3::new(axis.y / rho, -axis.x / rho, zero);
+    let k = axis.cross(w);
+    (w, k)
+}
+
+/// The projected ellipse of the circle (centre, unit normal, radius).
+pub(crate) fn circle_ellipse<T: Real>(center: Vec3<T>, normal: Vec3<T>, radius: T) -> Curve2<T> {
+    let (w, k) = circle_basis(normal);
+    Curve2::Ellipse {
+        center: center.xy(),
+        a: w.xy() * radius,
+        b: k.xy() * radius,
+    }
+}
+
+/// The two contour points (right, left as seen by the viewer when the axis points up the
+/// page) of the circle of radius `r` at `center` on a
+/// surface of revolution about the unit `axis` whose radius changes by `slope` (dr/dh)
+/// along it: where the surface normal e − slope·axis is perpendicular to the view.
+///
+/// With the basis of [`circle_basis`], e = α·w + β·k with β = −slope·a_z/ρ·(… ) reduced to
+/// view-plane offsets: e_xy = ±α·(a_y, −aₓ)/ρ − slope·(a_z²/ρ²)·(aₓ, a_y), α = √(1 − β²),
+/// β = slope·a_z/ρ. When no contour exists (looking down a cone) α is clamped at 0.
+pub(crate) fn contour_points<T: Real>(
+    center: Vec3<T>,
+    axis: Vec3<T>,
+    r: T,
+    slope: T,
+) -> [Vec2<T>; 2] {
+    let rho2 = axis.x.square() + axis.y.square() + 1e-18;
+    let rho = rho2.sqrt();
+    let beta = slope * axis.z / rho;
+    let alpha = (-beta.square() + 1.0).max(beta.lit(1e-12)).sqrt();
+    let side = Vec2::new(axis.y / rho, -axis.x / rho) * alpha;
+    let along = Vec2::new(axis.x, axis.y) * (slope * axis.z.square() / rho2);
+    let c = center.xy();
+    [c + (side - along) * r, c + (-side - along) * r]
+}
+
+/// The tilt towards the viewer that a dropped cylinder, cone or SGC starts with: people
+/// draw such objects from a little above, so their ends show as ellipses rather than
+/// lines, and a starting tilt lets the end ellipses be matched from the first frame.
+pub const DROP_TILT_DEGREES: f64 = 20.0;
+
+/// The starting axis and true length of a dropped solid of revolution: the placement's
+/// image direction tilted by [`DROP_TILT_DEGREES`] towards the viewer, and the projected
+/// length divided by the cosine of that tilt.
+pub(crate) fn dropped_axis(p: &Placement, default_size: f64) -> (DVec3, f64) {
+    let image =
+        crate::core::geom::projection::model_direction_from_sketch(p.axis).unwrap_or(DVec3::Y);
+    let tilt = DROP_TILT_DEGREES.to_radians();
+    let axis = (image * tilt.cos() + DVec3::Z * tilt.sin()).normalize();
+    let length = p.length.unwrap_or(default_size).abs().max(1e-9) / tilt.cos();
+    (axis, length)
+}
+
+/// Sample count of the profiles of generalized cylinders.
+pub const PROFILE_SAMPLES: usize = 8;
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::{circle_ellipse, contour_points, Curve2};
+    use crate::core::ad::Vec3;
+
+    #[test]
+    fn a_circle_facing_the_viewer_projects_to_a_circle() {
+        let c = Vec3::from_dvec3(DVec3::new(1.0, 2.0, 3.0));
+        let n = Vec3::from_dvec3(DVec3::new(0.0, 0.6, 0.8));
+        let Curve2::Ellipse { center, a, b } = circle_ellipse(c, n, 2.0) else {
+            panic!("an ellipse")
+        };
+        assert!((center.x - 1.0).abs() < 1e-12 && (center.y - 2.0).abs() < 1e-12);
+        assert!(
+            (a.norm() - 2.0).abs() < 1e-9,
+            "major semi-axis is the radius"
+        );
+        assert!((b.norm() - 1.6).abs() < 1e-9, "minor is r·|n_z|");
+        assert!(a.dot(b).abs() < 1e-12, "orthogonal semi-axes");
+    }
+
+    #[test]
+    fn cylinder_contours_are_offset_by_the_radius() {
+        let c = Vec3::from_dvec3(DVec3::ZERO);
+        let axis = Vec3::from_dvec3(DVec3::new(0.0, 0.8, 0.6));
+        let [l, r] = contour_points(c, axis, 2.0, 0.0);
+        assert!((l.x - 2.0).abs() < 1e-9 && l.y.abs() < 1e-9, "{l:?}");
+        assert!((r.x + 2.0).abs() < 1e-9 && r.y.abs() < 1e-9, "{r:?}");
+    }
+
+    #[test]
+    fn cone_contours_are_tangent_to_the_end_ellipses() {
+        // A cone seen from above at an angle: the contour points of each end lie on the
+        // projected ellipse of that end, and the contour line is tangent there.
+        let axis = DVec3::new(0.3, 0.8, 0.52).normalize();
+        let (rb, rt, l) = (3.0, 1.0, 5.0);
+        let slope = (rt - rb) / l;
+        let bottom = DVec3::new(0.5, -1.0, 0.2);
+        let top = bottom + axis * l;
+        let a = Vec3::from_dvec3(axis);
+        let pb = contour_points(Vec3::from_dvec3(bottom), a, rb, slope);
+        let pt = contour_points(Vec3::from_dvec3(top), a, rt, slope);
+        for (end, r, pts) in [(bottom, rb, pb), (top, rt, pt)] {
+            let Curve2::Ellipse {
+                center,
+                a: ea,
+                b: eb,
+            } = circle_ellipse(Vec3::from_dvec3(end), a, r)
+            else {
+                panic!("an ellipse")
+            };
+            for p in pts {
+                // On the ellipse: p − c = ea·cos t + eb·sin t for some t.
+                let d = (p - center).to_dvec2();
+                let m = glam::DMat2::from_cols(ea.to_dvec2(), eb.to_dvec2());
+                let cs = m.inverse() * d;
+                assert!((cs.length() - 1.0).abs() < 1e-9, "on the ellipse: {cs:?}");
+            }
+        }
+        // Tangency: the contour line direction is parallel to the ellipse tangent.
+        for side in 0..2 {
+            let dir = (pt[side] - pb[side]).to_dvec2();
+            let Curve2::Ellipse {
+                center,
+                a: ea,
+                b: eb,
+            } = circle_ellipse(Vec3::from_dvec3(bottom), a, rb)
+            else {
+                panic!("an ellipse")
+            };
+            let m = glam::DMat2::from_cols(ea.to_dvec2(), eb.to_dvec2());
+            let cs = m.inverse() * (pb[side] - center).to_dvec2();
+            let tangent = m * glam::DVec2::new(-cs.y, cs.x);
+            assert!(dir.perp_dot(tangent).abs() < 1e-9 * dir.length() * tangent.length());
+        }
+    }
+}

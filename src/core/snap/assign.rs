@@ -1,0 +1,317 @@
+//! Curve assignment: which strokes correspond to which projected curves of a primitive
+//! at a given pose.
+//!
+//! Each stroke is tested against each visible projected curve whose class it suits
+//! (feature strokes for end ellipses, silhouette strokes for outlines, straight strokes
+//! of either class for box edges; a stroke of the other class is still accepted at a
+//! threefold worse score, so a misclassified stroke is not lost). The distances of the
+//! stroke's samples to the curve decide:
+//! - a stroke whose samples lie within the *gate* (a distance relative to the
+//!   primitive's size, never an absolute number of pixels) for at least 80 % is taken
+//!   whole;
+//! - a longer stroke that runs along the curve for at least half the curve's length is
+//!   taken for that part only (one stroke may outline two stacked parts);
+//! - among the curves a stroke qualifies for, the closest wins;
+//! - within a curve, only strokes that fit about as well as its best one stay (twice the
+//!   best score plus a tenth of the gate), so that a neighbouring part's stroke that
+//!   merely passes the gate does not drag the fit.
+//!
+//! Straight strokes must also run within 35° of a straight curve's direction. Several
+//! strokes may share a curve (a silhouette drawn in pieces, gaps are normal), and a stroke
+//! may serve several primitives. The result depends only on the inputs (no hashing, no
+//! threads), so it is deterministic.
+
+use glam::DVec2;
+
+use super::context::{SnapContext, SnapStroke};
+use crate::core::ad::ellipse_distance;
+use crate::core::primitive::{Curve2, CurveClass, ProjectedCurve};
+use crate::core::sketch::{StrokeClass, StrokeId};
+
+/// Samples of one stroke that a curve takes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AssignedStroke {
+    /// The stroke.
+    pub stroke: StrokeId,
+    /// The samples used, in view-plane coordinates (all of the stroke, or the part that
+    /// runs along the curve).
+    pub samples: Vec<DVec2>,
+    /// Mean distance of the samples to the curve at assignment time.
+    pub mean_distance: f64,
+}
+
+/// The strokes assigned to each projected curve of one primitive.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Assignment {
+    /// One entry per projected curve of the primitive's shape, in order.
+    pub curves: Vec<Vec<AssignedStroke>>,
+}
+
+impl Assignment {
+    /// The ids of all assigned strokes, sorted and without repeats.
+    pub fn stroke_ids(&self) -> Vec<StrokeId> {
+        let mut ids: Vec<StrokeId> = self.curves.iter().flatten().map(|a| a.stroke).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        ids
+    }
+
+    /// Whether curve `k` has at least one stroke.
+    pub fn has(&self, k: usize) -> bool {
+        self.curves.get(k).is_some_and(|c| !c.is_empty())
+    }
+
+    /// The same strokes per curve (ignoring samples), for telling whether a re-assignment
+    /// changed anything.
+    pub fn same_strokes(&self, other: &Self) -> bool {
+        self.curves.len() == other.curves.len()
+            && self
+                .curves
+                .iter()
+                .zip(&other.curves)
+                .all(|(a, b)| a.iter().map(|s| s.stroke).eq(b.iter().map(|s| s.stroke)))
+    }
+}
+
+/// The distance from `p` to a numeric curve.
+pub(crate) fn curve_distance(curve: &Curve2<f64>, p: DVec2) -> f64 {
+    match curve {
+        Curve2::Ellipse { center, a, b } => {
+            ellipse_distance(center.to_dvec2(), a.to_dvec2(), b.to_dvec2(), p).0
+        }
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| segment_distance(w[0].to_dvec2(), w[1].to_dvec2(), p))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+pub(crate) fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t).distance(p)
+}
+
+/// The length of a numeric curve (an ellipse's by Ramanujan's approximation).
+pub(crate) fn curve_length(curve: &Curve2<f64>) -> f64 {
+    match curve {
+        Curve2::Ellipse { a, b, .. } => {
+            // Conjugate semi-diameters → semi-axes via the singular values of [a b].
+            let m = glam::DMat2::from_cols(a.to_dvec2(), b.to_dvec2());
+            let (p, q) = singular_values(m);
+            let h = ((p - q) / (p + q + f64::MIN_POSITIVE)).powi(2);
+            std::f64::consts::PI * (p + q) * (1.0 + 3.0 * h / (10.0 + (4.0 - 3.0 * h).sqrt()))
+        }
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| w[0].to_dvec2().distance(w[1].to_dvec2()))
+            .sum(),
+    }
+}
+
+/// The singular values (larger first) of a 2×2 matrix.
+pub(crate) fn singular_values(m: glam::DMat2) -> (f64, f64) {
+    let (a, b, c, d) = (m.x_axis.x, m.y_axis.x, m.x_axis.y, m.y_axis.y);
+    let s1 = (a * a + b * b + c * c + d * d) / 2.0;
+    let s2 = (((a * a + b * b - c * c - d * d) / 2.0).powi(2) + (a * c + b * d).powi(2)).sqrt();
+    ((s1 + s2).max(0.0).sqrt(), (s1 - s2).max(0.0).sqrt())
+}
+
+/// Whether a stroke suits a curve class, and the score factor if it does.
+fn suitability(class: CurveClass, stroke: &SnapStroke) -> Option<f64> {
+    match (class, stroke.class) {
+        (CurveClass::Edge, _) => stroke.straight.then_some(1.0),
+        (CurveClass::Feature, StrokeClass::Feature)
+        | (CurveClass::Silhouette, StrokeClass::Silhouette) => Some(1.0),
+        _ => Some(3.0),
+    }
+}
+
+/// At most this many samples of a stroke are tested and used per curve.
+const MAX_SAMPLES: usize = 32;
+
+/// Evenly chosen samples of a stroke (its end points included).
+fn subsample(points: &[DVec2]) -> Vec<DVec2> {
+    if points.len() <= MAX_SAMPLES {
+        return points.to_vec();
+    }
+    (0..MAX_SAMPLES)
+        .map(|i| points[i * (points.len() - 1) / (MAX_SAMPLES - 1)])
+        .collect()
+}
+
+/// Assigns strokes to the curves of `curves` (a primitive's projected curves at its
+/// current pose), with the gate distance `gate` in view-plane units.
+pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) -> Assignment {
+    let mut assignment = Assignment {
+        curves: vec![Vec::new(); curves.len()],
+    };
+    // Bounds of the primitive's curves, grown by the gate, to skip far strokes quickly.
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for c in curves {
+        let (clo, chi) = curve_bounds(&c.curve);
+        lo = lo.min(clo);
+        hi = hi.max(chi);
+    }
+    lo -= DVec2::splat(gate);
+    hi += DVec2::splat(gate);
+    let lengths: Vec<f64> = curves.iter().map(|c| curve_length(&c.curve)).collect();
+    let mut scored: Vec<Vec<(f64, AssignedStroke)>> = vec![Vec::new(); curves.len()];
+    for stroke in &context.strokes {
+        let (slo, shi) = stroke.bounds;
+        if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
+            continue;
+        }
+        let samples = subsample(&stroke.points);
+        let mut best: Option<(f64, usize, AssignedStroke)> = None;
+        for (k, curve) in curves.iter().enumerate() {
+            if !curve.visible {
+                continue;
+            }
+            let Some(factor) = suitability(curve.class, stroke) else {
+                continue;
+            };
+            if !direction_ok(&curve.curve, stroke) {
+                continue;
+            }
+            let d: Vec<f64> = samples
+                .iter()
+                .map(|p| curve_distance(&curve.curve, *p))
+                .collect();
+            let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
+            let candidate = if near.len() * 5 >= d.len() * 4 {
+                let mean = d.iter().sum::<f64>() / d.len() as f64;
+                Some(AssignedStroke {
+                    stroke: stroke.id,
+                    samples: samples.clone(),
+                    mean_distance: mean,
+                })
+            } else {
+                let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
+                (near.len() >= 4 && near_length >= 0.5 * lengths[k]).then(|| {
+                    let mean = near.iter().map(|i| d[*i]).sum::<f64>() / near.len() as f64;
+                    AssignedStroke {
+                        stroke: stroke.id,
+                        samples: near.iter().map(|i| samples[*i]).collect(),
+                        mean_distance: mean,
+                    }
+                })
+            };
+            if let Some(c) = candidate {
+                let score = c.mean_distance * factor;
+                if best.as_ref().is_none_or(|(s, _, _)| score < *s) {
+                    best = Some((score, k, c));
+                }
+            }
+        }
+        if let Some((score, k, c)) = best {
+            scored[k].push((score, c));
+        }
+    }
+    // Competition within a curve: keep the strokes that fit about as well as its best one
+    // (twice its score plus a tenth of the gate), so a neighbouring part's stroke that
+    // merely passes the gate does not drag the fit.
+    for (k, mut candidates) in scored.into_iter().enumerate() {
+        let best = candidates
+            .iter()
+            .map(|(s, _)| *s)
+            .fold(f64::INFINITY, f64::min);
+        candidates.retain(|(s, _)| *s <= 2.0 * best + 0.1 * gate);
+        assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
+    }
+    assignment
+}
+
+/// Straight strokes must run within 35° of a two-point curve's direction.
+fn direction_ok(curve: &Curve2<f64>, stroke: &SnapStroke) -> bool {
+    match curve {
+        Curve2::Polyline(points) if points.len() == 2 && stroke.straight => {
+            let dir = (points[1].to_dvec2() - points[0].to_dvec2()).normalize_or_zero();
+            dir.dot(stroke.direction).abs() >= 35f64.to_radians().cos()
+        }
+        _ => true,
+    }
+}
+
+/// Axis-aligned bounds of a numeric curve.
+pub(crate) fn curve_bounds(curve: &Curve2<f64>) -> (DVec2, DVec2) {
+    match curve {
+        Curve2::Ellipse { center, a, b } => {
+            let (c, a, b) = (center.to_dvec2(), a.to_dvec2(), b.to_dvec2());
+            let half = DVec2::new(a.x.hypot(b.x), a.y.hypot(b.y));
+            (c - half, c + half)
+        }
+        Curve2::Polyline(points) => points.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p.to_dvec2()), hi.max(p.to_dvec2())),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::{assign, curve_length};
+    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::sketch::{StrokeClass, StrokeId};
+    use crate::core::snap::SnapContext;
+
+    #[test]
+    fn strokes_go_to_the_curves_they_trace() {
+        // A side-on cylinder (axis up, radius 10, length 40 at the origin) drawn as two
+        // vertical lines and the top ellipse; a far stroke is ignored.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let line = |x: f64| -> Vec<DVec2> {
+            (0..=10)
+                .map(|i| DVec2::new(x, -19.0 + 3.8 * f64::from(i)))
+                .collect()
+        };
+        let top: Vec<DVec2> = (0..=24)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 24.0;
+                // Sketch space: y down, so the model top (y ≈ 19.2) is at −19.2.
+                DVec2::new(10.0 * t.cos(), -19.2 + 2.8 * t.sin())
+            })
+            .collect();
+        let far = line(500.0);
+        let strokes = [
+            (StrokeId(0), line(-10.3), StrokeClass::Silhouette),
+            (StrokeId(1), line(9.8), StrokeClass::Silhouette),
+            (StrokeId(2), top, StrokeClass::Feature),
+            (StrokeId(3), far, StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        let names: Vec<(String, Vec<StrokeId>)> = shape
+            .curves
+            .iter()
+            .zip(&a.curves)
+            .map(|(c, s)| (c.name.clone(), s.iter().map(|x| x.stroke).collect()))
+            .collect();
+        assert_eq!(
+            names,
+            vec![
+                ("top".to_owned(), vec![StrokeId(2)]),
+                ("bottom".to_owned(), vec![]),
+                ("left".to_owned(), vec![StrokeId(0)]),
+                ("right".to_owned(), vec![StrokeId(1)]),
+            ]
+        );
+        assert_eq!(a.stroke_ids(), vec![StrokeId(0), StrokeId(1), StrokeId(2)]);
+        assert!((curve_length(&shape.curves[2].curve) - 40.0 * 0.96).abs() < 1e-6);
+    }
+}

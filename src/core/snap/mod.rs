@@ -1,0 +1,357 @@
+//! Snapping: curve assignment and the per-primitive fit, and the session that serves a
+//! drag frame by frame.
+//!
+//! A snap alternates assignment and fitting, as ICP does: strokes are assigned with a
+//! wide gate around the dropped pose (30 % of the primitive's size, which covers the
+//! error of a hand placement), the primitive is fitted, then strokes are re-assigned with
+//! a tight gate (10 %) around the fitted pose and the fit is refined; a third round runs
+//! only if the assignment changed. [`snap`] does one snap; [`SnapSession`] serves a drag,
+//! warm-starting each frame from the last.
+
+mod assign;
+mod context;
+mod objective;
+
+use thiserror::Error;
+
+pub use assign::{assign, AssignedStroke, Assignment};
+pub use context::{SnapContext, SnapStroke};
+pub use objective::{build_problem, fit_rms, Frame};
+
+use crate::core::primitive::{CurveClass, Primitive, PrimitiveKind};
+use crate::core::solve::{
+    AugLagSettings, CancelFlag, Clock, Multipliers, SolveReport, Solver, Start, Termination,
+};
+
+/// Why a primitive could not be snapped.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum SnapError {
+    /// Too few strokes near the primitive to determine it.
+    #[error("not enough strokes near the {kind}: {found}")]
+    NotEnoughStrokes {
+        /// The kind.
+        kind: &'static str,
+        /// What was found, in words.
+        found: String,
+    },
+    /// The placement or the fit is not finite.
+    #[error("the {0} has non-finite parameters")]
+    NonFinite(&'static str),
+    /// The snap was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// Settings of snapping; the defaults are those documented in the module.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapSettings {
+    /// The first, wide assignment gate, relative to the primitive's size.
+    pub wide_gate: f64,
+    /// The refined assignment gate, relative to the primitive's size.
+    pub tight_gate: f64,
+    /// The solver settings of each fit.
+    pub solver: AugLagSettings,
+}
+
+impl Default for SnapSettings {
+    fn default() -> Self {
+        let solver = AugLagSettings::default()
+            .with_constraint_tol(1e-7)
+            .and_then(|s| s.with_gradient_tol(1e-7))
+            .and_then(|s| s.with_max_outer_iterations(40))
+            .and_then(|s| s.with_max_evaluations(4000))
+            .unwrap_or_default();
+        Self {
+            wide_gate: 0.3,
+            tight_gate: 0.1,
+            solver,
+        }
+    }
+}
+
+/// A snapped primitive: the result of a snap or of one drag frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapResult {
+    /// The fitted primitive, in model space.
+    pub primitive: Primitive,
+    /// The strokes assigned to each projected curve (at the fitted pose).
+    pub assignment: Assignment,
+    /// RMS distance of the assigned stroke samples to their curves, in sketch units.
+    pub rms: f64,
+    /// How the last fit ended.
+    pub termination: Termination,
+    /// Solver iterations and evaluations over all rounds.
+    pub evaluations: u64,
+    /// The last fit's multipliers, for a warm start.
+    multipliers: Option<Multipliers>,
+}
+
+/// Checks that an assignment determines the primitive (the original's `CanSnap`, but
+/// checked before every fit rather than ignored on release).
+fn check_enough(primitive: &Primitive, assignment: &Assignment) -> Result<(), SnapError> {
+    let shape = primitive.current_shape();
+    let assigned = |class: CurveClass| {
+        shape
+            .curves
+            .iter()
+            .zip(&assignment.curves)
+            .filter(|(c, a)| c.class == class && !a.is_empty())
+            .count()
+    };
+    let (features, silhouettes, edges) = (
+        assigned(CurveClass::Feature),
+        assigned(CurveClass::Silhouette),
+        assigned(CurveClass::Edge),
+    );
+    let enough = match primitive.kind() {
+        PrimitiveKind::Sphere => features + silhouettes >= 1,
+        PrimitiveKind::Cuboid => edges >= 3,
+        PrimitiveKind::Bgc => silhouettes >= 2,
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => {
+            silhouettes >= 1 && silhouettes + features >= 2 || features >= 2
+        }
+    };
+    if enough {
+        Ok(())
+    } else {
+        Err(SnapError::NotEnoughStrokes {
+            kind: primitive.kind().name(),
+            found: format!(
+                "{features} end ellipse(s), {silhouettes} outline(s), {edges} edge(s) matched"
+            ),
+        })
+    }
+}
+
+/// One fit of `primitive` to the strokes of `assignment`, from `start` multipliers.
+fn fit(
+    primitive: &Primitive,
+    assignment: &Assignment,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> (Primitive, SolveReport) {
+    let frame = Frame::of(primitive);
+    let local = frame.into_frame(primitive);
+    let mut problem = build_problem(&local, assignment, &frame);
+    let start = Start {
+        x: local.params(),
+        multipliers: warm
+            .filter(|m| {
+                m.equality.len() == problem.equality_count()
+                    && m.inequality.len() == problem.inequality_count()
+            })
+            .cloned(),
+        penalty: None,
+    };
+    let mut solver = Solver::new(&settings.solver);
+    if let Some(flag) = cancel {
+        solver = solver.cancel(flag);
+    }
+    if let Some(clock) = clock {
+        solver = solver.clock(clock);
+    }
+    if let Ok(report) = solver.solve(&mut problem, &start) {
+        let fitted = frame.out_of_frame(&local.with_params(&report.x));
+        return (fitted, report);
+    }
+    // Only a non-finite start gets here; keep the primitive as it was.
+    let report = SolveReport {
+        x: start.x,
+        objective: f64::NAN,
+        max_violation: f64::NAN,
+        gradient_norm: f64::NAN,
+        worst_constraint: None,
+        multipliers: Multipliers::default(),
+        penalty: 0.0,
+        outer_iterations: 0,
+        inner_iterations: 0,
+        evaluations: 0,
+        elapsed: std::time::Duration::ZERO,
+        termination: Termination::NumericalFailure,
+    };
+    (primitive.clone(), report)
+}
+
+/// Snaps `primitive` (as dropped) to the strokes of `context`.
+///
+/// # Errors
+///
+/// [`SnapError::NotEnoughStrokes`] when the strokes near it do not determine it,
+/// [`SnapError::NonFinite`] for a non-finite placement, [`SnapError::Cancelled`].
+///
+/// # Examples
+///
+/// ```
+/// use glam::{DVec2, DVec3};
+/// use geosnap::core::primitive::{Cylinder, Primitive};
+/// use geosnap::core::sketch::{StrokeClass, StrokeId};
+/// use geosnap::core::snap::{snap, SnapContext, SnapSettings};
+///
+/// // Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
+/// let line = |x: f64| (0..=20).map(|i| DVec2::new(x, 100.0 + 3.0 * f64::from(i))).collect::<Vec<_>>();
+/// let (a, b) = (line(40.0), line(60.0));
+/// let context = SnapContext::new([
+///     (StrokeId(0), a.as_slice(), StrokeClass::Silhouette),
+///     (StrokeId(1), b.as_slice(), StrokeClass::Silhouette),
+/// ]);
+/// // Dropped a little off, a little too big.
+/// let dropped = Primitive::Cylinder(Cylinder {
+///     center: DVec3::new(52.0, -128.0, 0.0),
+///     axis: DVec3::Y,
+///     length: 70.0,
+///     radius: 12.0,
+/// });
+/// let result = snap(&context, &dropped, &SnapSettings::default())?;
+/// let Primitive::Cylinder(c) = &result.primitive else { unreachable!() };
+/// assert!((c.radius - 10.0).abs() < 0.2 && (c.center.x - 50.0).abs() < 0.2);
+/// assert!((c.length - 60.0).abs() < 1.0);
+/// # Ok::<(), geosnap::core::snap::SnapError>(())
+/// ```
+pub fn snap(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+) -> Result<SnapResult, SnapError> {
+    snap_from(context, primitive, settings, None, None, None)
+}
+
+/// [`snap`] with a warm start, a cancel flag and a clock.
+fn snap_from(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let kind = primitive.kind().name();
+    if !primitive.is_finite() {
+        return Err(SnapError::NonFinite(kind));
+    }
+    let wide = settings.wide_gate * primitive.size();
+    let mut assignment = assign(context, &primitive.current_shape().curves, wide);
+    check_enough(primitive, &assignment)?;
+    let mut current = primitive.clone();
+    let mut multipliers = warm.cloned();
+    let mut evaluations = 0;
+    let mut termination = Termination::Converged;
+    for round in 0..3 {
+        let (fitted, report) = fit(
+            &current,
+            &assignment,
+            settings,
+            multipliers.as_ref(),
+            cancel,
+            clock,
+        );
+        evaluations += report.evaluations;
+        termination = report.termination;
+        if termination == Termination::Cancelled {
+            return Err(SnapError::Cancelled);
+        }
+        if fitted.is_finite() {
+            current = fitted;
+            multipliers = Some(report.multipliers);
+        }
+        let tight = settings.tight_gate * current.size();
+        let next = assign(context, &current.current_shape().curves, tight);
+        let changed = !next.same_strokes(&assignment);
+        if check_enough(&current, &next).is_err() {
+            // The tight gate lost strokes the fit needs: keep the wider assignment.
+            break;
+        }
+        assignment = next;
+        if round >= 1 && !changed {
+            break;
+        }
+    }
+    if !current.is_finite() {
+        return Err(SnapError::NonFinite(kind));
+    }
+    let rms = fit_rms(&current, &assignment);
+    Ok(SnapResult {
+        primitive: current,
+        assignment,
+        rms,
+        termination,
+        evaluations,
+        multipliers,
+    })
+}
+
+/// Snapping while a primitive is dragged: each [`SnapSession::update`] takes the
+/// primitive where the cursor put it and returns the snapped preview, warm-started from
+/// the previous frame.
+///
+/// Threading is the caller's: run updates off the UI thread, keep the newest request and
+/// raise the [`CancelFlag`] of a running update when a newer one arrives.
+#[derive(Clone, Debug)]
+pub struct SnapSession {
+    context: SnapContext,
+    settings: SnapSettings,
+    last: Option<(Primitive, SnapResult)>,
+}
+
+impl SnapSession {
+    /// A session over the strokes of `context`.
+    pub fn new(context: SnapContext, settings: SnapSettings) -> Self {
+        Self {
+            context,
+            settings,
+            last: None,
+        }
+    }
+
+    /// The snapped preview of `dragged` (the primitive where the cursor put it).
+    ///
+    /// When only the position changed since the last frame, the fit starts from the last
+    /// snapped primitive moved by the same offset, with its multipliers; otherwise (a new
+    /// kind, size or axis) from `dragged` itself.
+    ///
+    /// # Errors
+    ///
+    /// As [`snap`]; a failed frame leaves the session's warm start untouched.
+    pub fn update(
+        &mut self,
+        dragged: &Primitive,
+        cancel: Option<&CancelFlag>,
+    ) -> Result<SnapResult, SnapError> {
+        let warm = self.last.as_ref().and_then(|(prev_dragged, prev)| {
+            let offset = dragged.center() - prev_dragged.center();
+            let same_shape = prev_dragged.kind() == dragged.kind()
+                && prev_dragged.transformed(offset, 1.0) == *dragged;
+            same_shape.then(|| {
+                (
+                    prev.primitive.transformed(offset, 1.0),
+                    prev.multipliers.clone(),
+                )
+            })
+        });
+        let result = match &warm {
+            Some((start, multipliers)) => snap_from(
+                &self.context,
+                start,
+                &self.settings,
+                multipliers.as_ref(),
+                cancel,
+                None,
+            )
+            .or_else(|_| snap_from(&self.context, dragged, &self.settings, None, cancel, None)),
+            None => snap_from(&self.context, dragged, &self.settings, None, cancel, None),
+        }?;
+        self.last = Some((dragged.clone(), result.clone()));
+        Ok(result)
+    }
+
+    /// Forgets the previous frame (the next update starts cold).
+    pub fn reset(&mut self) {
+        self.last = None;
+    }
+
+    /// The strokes of the session.
+    pub fn context(&self) -> &SnapContext {
+        &self.context
+    }
+}

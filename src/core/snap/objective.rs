@@ -1,0 +1,185 @@
+//! The per-primitive snapping problem min φ_p s.t. C_p, built with AD expressions in a
+//! normalised frame.
+//!
+//! The frame: model coordinates minus the primitive's starting centre, divided by its
+//! starting size, so that every tolerance and weight below is relative and a sketch
+//! scaled ×10 gives the same problem (and a result ×10).
+//!
+//! φ_p = Σ_curves mean_samples ρ(d) + Σ_ends w_e·ρ(|end − target|) + w_r·Σ regularisers²
+//!
+//! - d is the exact distance of a stroke sample to its assigned projected curve
+//!   (ellipse or polyline);
+//! - ρ(d) = τ²·ln(1 + d²/τ²) is quadratic for small d and grows only logarithmically, so
+//!   an overshoot or a stray sample cannot drag the fit (τ = 5 % of the size);
+//! - end terms pull each end of an outline towards the extreme assigned sample along it,
+//!   which fixes the length when no end ellipse was drawn (weight 0.5, or 0.1 when the
+//!   ellipse at that end is assigned);
+//! - regularisers keep profiles and spines smooth (weight 0.01).
+//!
+//! Each curve's samples are averaged so a long stroke does not outweigh a short ellipse.
+
+use glam::{DVec2, DVec3};
+
+use super::assign::Assignment;
+use crate::core::ad::{Expr, Graph, Real};
+use crate::core::primitive::{Curve2, CurveClass, Primitive};
+use crate::core::solve::Problem;
+
+/// The robust loss scale τ, relative to the primitive's size.
+const TAU: f64 = 0.05;
+/// Weight of an outline end without an assigned end ellipse.
+const END_WEIGHT: f64 = 0.5;
+/// Weight of an outline end whose end ellipse is assigned.
+const END_WEIGHT_WITH_ELLIPSE: f64 = 0.1;
+/// Weight of the regularisers.
+const REGULARIZER_WEIGHT: f64 = 0.01;
+
+/// The normalised frame: `normalised = (model − origin) / scale`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// The model point that becomes the origin.
+    pub origin: DVec3,
+    /// The model length that becomes 1.
+    pub scale: f64,
+}
+
+impl Frame {
+    /// The frame centred on `primitive` with its size as the unit.
+    pub fn of(primitive: &Primitive) -> Self {
+        Self {
+            origin: primitive.center(),
+            scale: primitive.size().max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// A primitive into the frame.
+    pub fn into_frame(&self, primitive: &Primitive) -> Primitive {
+        primitive.transformed(-self.origin, 1.0 / self.scale)
+    }
+
+    /// A primitive out of the frame.
+    pub fn out_of_frame(&self, primitive: &Primitive) -> Primitive {
+        primitive
+            .transformed(DVec3::ZERO, self.scale)
+            .transformed(self.origin, 1.0)
+    }
+
+    /// A view-plane point into the frame.
+    pub fn point(&self, p: DVec2) -> DVec2 {
+        (p - self.origin.truncate()) / self.scale
+    }
+}
+
+/// ρ from the squared distance: τ²·ln(1 + d²/τ²).
+fn robust<T: Real>(d2: T) -> T {
+    let tau2 = TAU * TAU;
+    (d2 / tau2 + 1.0).ln() * tau2
+}
+
+/// The distance expression from a fixed point to a curve of expressions.
+fn distance<'g>(g: &'g Graph, curve: &Curve2<Expr<'g>>, p: DVec2) -> Expr<'g> {
+    match curve {
+        Curve2::Ellipse { center, a, b } => {
+            g.ellipse_distance(center.to_array(), a.to_array(), b.to_array(), p)
+        }
+        Curve2::Polyline(points) => {
+            let mut best: Option<Expr<'g>> = None;
+            for w in points.windows(2) {
+                let d = g.segment_distance(w[0].to_array(), w[1].to_array(), p);
+                best = Some(best.map_or(d, |m| m.min(d)));
+            }
+            best.unwrap_or_else(|| g.constant(0.0))
+        }
+    }
+}
+
+/// The extreme samples along a polyline's direction: the targets for its two ends.
+fn end_targets(points: &[DVec2], samples: &[DVec2]) -> Option<[DVec2; 2]> {
+    let (first, last) = (*points.first()?, *points.last()?);
+    let dir = (last - first).normalize_or_zero();
+    let key = |p: &&DVec2| (**p - first).dot(dir);
+    let lo = samples.iter().min_by(|a, b| key(a).total_cmp(&key(b)))?;
+    let hi = samples.iter().max_by(|a, b| key(a).total_cmp(&key(b)))?;
+    Some([*lo, *hi])
+}
+
+/// Builds the snapping problem of `primitive` (already in `frame`) for the strokes of
+/// `assignment` (view-plane samples, converted into the frame here).
+pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Frame) -> Problem {
+    let g = Graph::new();
+    let x = g.vars(primitive.params().len());
+    let shape = primitive.shape(&x);
+    let numeric = primitive.current_shape();
+    let mut terms: Vec<Expr<'_>> = Vec::new();
+    let ellipse_assigned = |name: &str| {
+        shape
+            .curves
+            .iter()
+            .zip(&assignment.curves)
+            .any(|(c, a)| c.name == name && c.class == CurveClass::Feature && !a.is_empty())
+    };
+    for (k, (curve, assigned)) in shape.curves.iter().zip(&assignment.curves).enumerate() {
+        let samples: Vec<DVec2> = assigned
+            .iter()
+            .flat_map(|a| a.samples.iter().map(|p| frame.point(*p)))
+            .collect();
+        if samples.is_empty() {
+            continue;
+        }
+        let per_sample: Vec<Expr<'_>> = samples
+            .iter()
+            .map(|p| robust(distance(&g, &curve.curve, *p).square()))
+            .collect();
+        terms.push(g.sum(per_sample) * (1.0 / samples.len() as f64));
+        // Ends of outlines and edges.
+        if let (Curve2::Polyline(points), Curve2::Polyline(now)) =
+            (&curve.curve, &numeric.curves[k].curve)
+        {
+            let now: Vec<DVec2> = now.iter().map(|p| p.to_dvec2()).collect();
+            if let Some(targets) = end_targets(&now, &samples) {
+                let ends = [points[0], points[points.len() - 1]];
+                let names = ["bottom", "top"];
+                for ((end, target), name) in ends.iter().zip(targets).zip(names) {
+                    let weight = if curve.class == CurveClass::Silhouette && ellipse_assigned(name)
+                    {
+                        END_WEIGHT_WITH_ELLIPSE
+                    } else {
+                        END_WEIGHT
+                    };
+                    let d2 = (end.x - target.x).square() + (end.y - target.y).square();
+                    terms.push(robust(d2) * weight);
+                }
+            }
+        }
+    }
+    for r in &shape.regularizers {
+        terms.push(r.square() * REGULARIZER_WEIGHT);
+    }
+    let objective = g.sum(terms);
+    let mut builder = Problem::builder(&g, objective);
+    for (label, c) in &shape.equalities {
+        builder = builder.equality(*label, *c);
+    }
+    for (label, c) in &shape.inequalities {
+        builder = builder.inequality(*label, *c);
+    }
+    builder.build()
+}
+
+/// The RMS distance (view-plane units) of the assigned samples to their curves.
+pub fn fit_rms(primitive: &Primitive, assignment: &Assignment) -> f64 {
+    let shape = primitive.current_shape();
+    let mut sum = 0.0;
+    let mut count = 0usize;
+    for (curve, assigned) in shape.curves.iter().zip(&assignment.curves) {
+        for p in assigned.iter().flat_map(|a| &a.samples) {
+            sum += super::assign::curve_distance(&curve.curve, *p).powi(2);
+            count += 1;
+        }
+    }
+    if count == 0 {
+        0.0
+    } else {
+        (sum / count as f64).sqrt()
+    }
+}

@@ -1,0 +1,30 @@
+//! Files: reading and writing what the designer works on.
+//!
+//! This layer may use `std::fs` and depends on [`crate::core`]; it never names the GUI
+//! (design.md §1). Today it holds:
+//!
+//! - [`svg`]: SVG import through usvg: every path, basic shape, group and transform
+//!   becomes polylines in *sketch space* (formats.md §1), with a list of warnings for
+//!   content that is not imported (text, images, hidden elements).
+//! - [`sketch_file`]: the native, versioned JSON sketch file, and [`load_sketch`], which
+//!   opens either kind of file.
+//! - [`script`]: placement scripts (formats.md §2); [`model_file`]: model files
+//!   (formats.md §3); [`overlay`]: the overlay PNG of a run.
+//! - [`atomic`]: [`write_atomic`], which replaces a file so that a crash or a full disk
+//!   never leaves it half written.
+//!
+//! Errors are typed: [`LoadError`] when reading, [`SaveError`] when writing, and
+//! [`SketchError`] for a sketch that breaks the stroke invariants.
+
+pub mod atomic;
+mod error;
+pub mod model_file;
+pub mod overlay;
+pub mod script;
+pub mod sketch_file;
+pub mod svg;
+
+pub use atomic::write_atomic;
+pub use error::{LoadError, SaveError, SketchError};
+pub use sketch_file::{load_sketch, save_sketch, LoadedSketch};
+pub use svg::{import_svg, SvgImport, SvgOptions};

@@ -1,0 +1,448 @@
+//! Model files (`*.model.json`, formats.md §3): the assembled result in model space.
+//!
+//! Field names follow formats.md exactly; geosnap adds `fit` per primitive, the BGC's
+//! `plane_normal`, and the top-level `skipped` list. Reading validates what it reads (unit
+//! axes, positive sizes, finite numbers, unique ids) and names the offending primitive.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DMat3, DQuat, DVec3};
+use serde_json::{json, Map, Value};
+
+use crate::core::model::{Document, Fit, Placed, PrimitiveId, Skipped};
+use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
+use crate::core::sketch::StrokeId;
+use crate::io::atomic::write_atomic;
+
+/// The `format` value of a model file.
+pub const MODEL_FORMAT: &str = "geosnap-model";
+/// The newest model version this build writes and reads.
+pub const MODEL_VERSION: u64 = 1;
+
+/// Why a model file could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// The file could not be read or written.
+    #[error("cannot access {}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Not valid JSON.
+    #[error("malformed model file")]
+    Json {
+        /// The parser's error.
+        #[source]
+        source: serde_json::Error,
+    },
+    /// Not a geosnap model, or a version this build does not read.
+    #[error("not a version-1 geosnap model: {0}")]
+    Format(String),
+    /// A primitive is invalid.
+    #[error("primitive {id}: {reason}")]
+    Primitive {
+        /// The primitive's id (or its index when the id is missing).
+        id: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+fn v3(v: DVec3) -> Value {
+    json!([v.x, v.y, v.z])
+}
+
+/// The JSON of one primitive (without `id` and `fit`).
+fn primitive_json(p: &Primitive) -> Map<String, Value> {
+    let value = match p {
+        Primitive::Cylinder(c) => json!({
+            "kind": "cylinder", "center": v3(c.center), "axis": v3(c.axis),
+            "length": c.length, "radius": c.radius,
+        }),
+        Primitive::Cone(c) => json!({
+            "kind": "cone", "center": v3(c.center), "axis": v3(c.axis), "length": c.length,
+            "radius_bottom": c.radius_bottom, "radius_top": c.radius_top,
+        }),
+        Primitive::Sphere(s) => {
+            json!({ "kind": "sphere", "center": v3(s.center), "radius": s.radius })
+        }
+        Primitive::Cuboid(b) => {
+            let [x, y, z] = b.axes();
+            json!({
+                "kind": "cuboid", "center": v3(b.center), "axes": [v3(x), v3(y), v3(z)],
+                "size": v3(b.size),
+            })
+        }
+        Primitive::Sgc(s) => json!({
+            "kind": "sgc", "center": v3(s.center), "axis": v3(s.axis), "length": s.length,
+            "radii": s.radii,
+        }),
+        Primitive::Bgc(b) => json!({
+            "kind": "bgc", "spine": b.spine.iter().map(|p| v3(*p)).collect::<Vec<_>>(),
+            "radii": b.radii, "plane_normal": v3(b.plane_normal),
+        }),
+    };
+    match value {
+        Value::Object(map) => map,
+        _ => Map::new(),
+    }
+}
+
+/// The model file's JSON for a document.
+pub fn model_json(document: &Document, sketch: &str) -> Value {
+    let primitives: Vec<Value> = document
+        .primitives()
+        .map(|(id, placed)| {
+            let mut map = Map::new();
+            map.insert("id".into(), json!(id.0));
+            map.extend(primitive_json(&placed.primitive));
+            map.insert(
+                "fit".into(),
+                json!({
+                    "strokes": placed.fit.strokes.iter().map(|s| s.0).collect::<Vec<_>>(),
+                    "rms": placed.fit.rms,
+                }),
+            );
+            Value::Object(map)
+        })
+        .collect();
+    let skipped: Vec<Value> = document
+        .skipped
+        .iter()
+        .map(|s| json!({ "step": s.step, "reason": s.reason }))
+        .collect();
+    json!({
+        "format": MODEL_FORMAT,
+        "version": MODEL_VERSION,
+        "sketch": sketch,
+        "primitives": primitives,
+        "relations": [],
+        "skipped": skipped,
+    })
+}
+
+/// Writes a model file atomically.
+///
+/// # Errors
+///
+/// [`ModelError::Io`] when the file cannot be written (the old file is then untouched).
+pub fn save_model(
+    path: impl AsRef<Path>,
+    document: &Document,
+    sketch: &str,
+) -> Result<(), ModelError> {
+    let path = path.as_ref();
+    let mut text = serde_json::to_string_pretty(&model_json(document, sketch))
+        .map_err(|source| ModelError::Json { source })?;
+    text.push('\n');
+    write_atomic(path, text.as_bytes()).map_err(|source| ModelError::Io {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+/// A model read back: the document and the sketch path it names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadedModel {
+    /// The document.
+    pub document: Document,
+    /// The `sketch` field.
+    pub sketch: String,
+}
+
+/// Reads a model file.
+///
+/// # Errors
+///
+/// [`ModelError`] when the file cannot be read, is not a version-1 model, or holds an
+/// invalid primitive.
+pub fn load_model(path: impl AsRef<Path>) -> Result<LoadedModel, ModelError> {
+    let path = path.as_ref();
+    let data = std::fs::read(path).map_err(|source| ModelError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse_model(&data)
+}
+
+fn get_f64(map: &Value, field: &str) -> Result<f64, String> {
+    map.get(field)
+        .and_then(Value::as_f64)
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("`{field}` must be a finite number"))
+}
+
+fn get_v3(value: Option<&Value>, field: &str) -> Result<DVec3, String> {
+    let items = value
+        .and_then(Value::as_array)
+        .filter(|a| a.len() == 3)
+        .ok_or_else(|| format!("`{field}` must be [x, y, z]"))?;
+    let mut out = [0.0; 3];
+    for (o, item) in out.iter_mut().zip(items) {
+        *o = item
+            .as_f64()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("`{field}` must hold finite numbers"))?;
+    }
+    Ok(DVec3::from_array(out))
+}
+
+fn get_radii(map: &Value, field: &str) -> Result<Vec<f64>, String> {
+    let items = map
+        .get(field)
+        .and_then(Value::as_array)
+        .filter(|a| a.len() >= 2)
+        .ok_or_else(|| format!("`{field}` must be a list of at least two radii"))?;
+    items
+        .iter()
+        .map(|v| {
+            v.as_f64()
+                .filter(|r| r.is_finite() && *r > 0.0)
+                .ok_or_else(|| format!("`{field}` must hold positive numbers"))
+        })
+        .collect()
+}
+
+fn unit(v: DVec3, field: &str) -> Result<DVec3, String> {
+    if (v.length() - 1.0).abs() <= 1e-6 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "`{field}` must be a unit vector, has length {}",
+            v.length()
+        ))
+    }
+}
+
+fn positive(v: f64, field: &str) -> Result<f64, String> {
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("`{field}` must be positive, got {v}"))
+    }
+}
+
+/// One primitive from its JSON.
+fn parse_primitive(v: &Value) -> Result<Primitive, String> {
+    let kind = v
+        .get("kind")
+        .and_then(Value::as_str)
+        .ok_or("`kind` is missing")?;
+    Ok(match kind {
+        "cylinder" => Primitive::Cylinder(Cylinder {
+            center: get_v3(v.get("center"), "center")?,
+            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
+            length: positive(get_f64(v, "length")?, "length")?,
+            radius: positive(get_f64(v, "radius")?, "radius")?,
+        }),
+        "cone" => Primitive::Cone(Cone {
+            center: get_v3(v.get("center"), "center")?,
+            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
+            length: positive(get_f64(v, "length")?, "length")?,
+            radius_bottom: positive(get_f64(v, "radius_bottom")?, "radius_bottom")?,
+            radius_top: positive(get_f64(v, "radius_top")?, "radius_top")?,
+        }),
+        "sphere" => Primitive::Sphere(Sphere {
+            center: get_v3(v.get("center"), "center")?,
+            radius: positive(get_f64(v, "radius")?, "radius")?,
+        }),
+        "cuboid" => {
+            let axes = v
+                .get("axes")
+                .and_then(Value::as_array)
+                .filter(|a| a.len() == 3)
+                .ok_or("`axes` must be three vectors")?;
+            let [x, y, z] = [0, 1, 2].map(|i| get_v3(axes.get(i), "axes"));
+            let (x, y, z) = (unit(x?, "axes")?, unit(y?, "axes")?, unit(z?, "axes")?);
+            let m = DMat3::from_cols(x, y, z);
+            if (m.transpose() * m - DMat3::IDENTITY)
+                .to_cols_array()
+                .iter()
+                .any(|e| e.abs() > 1e-6)
+                || m.determinant() < 0.0
+            {
+                return Err("`axes` must be an orthonormal right-handed frame".to_owned());
+            }
+            let size = get_v3(v.get("size"), "size")?;
+            if size.min_element() <= 0.0 {
+                return Err("`size` must be positive".to_owned());
+            }
+            Primitive::Cuboid(Cuboid {
+                center: get_v3(v.get("center"), "center")?,
+                rotation: DQuat::from_mat3(&m).normalize(),
+                size,
+            })
+        }
+        "sgc" => Primitive::Sgc(Sgc {
+            center: get_v3(v.get("center"), "center")?,
+            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
+            length: positive(get_f64(v, "length")?, "length")?,
+            radii: get_radii(v, "radii")?,
+        }),
+        "bgc" => {
+            let spine: Vec<DVec3> = v
+                .get("spine")
+                .and_then(Value::as_array)
+                .filter(|a| a.len() >= 3)
+                .ok_or("`spine` must hold at least three points")?
+                .iter()
+                .map(|p| get_v3(Some(p), "spine"))
+                .collect::<Result<_, _>>()?;
+            let radii = get_radii(v, "radii")?;
+            if radii.len() != spine.len() {
+                return Err("`radii` must have one radius per spine point".to_owned());
+            }
+            let plane_normal = match v.get("plane_normal") {
+                Some(n) => unit(get_v3(Some(n), "plane_normal")?, "plane_normal")?,
+                None => DVec3::Z,
+            };
+            Primitive::Bgc(Bgc {
+                spine,
+                radii,
+                plane_normal,
+            })
+        }
+        other => return Err(format!("unknown kind `{other}`")),
+    })
+}
+
+/// Parses model data.
+///
+/// # Errors
+///
+/// [`ModelError`] as [`load_model`].
+pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
+    let v: Value = serde_json::from_slice(data).map_err(|source| ModelError::Json { source })?;
+    if v.get("format").and_then(Value::as_str) != Some(MODEL_FORMAT) {
+        return Err(ModelError::Format(
+            "`format` is not \"geosnap-model\"".into(),
+        ));
+    }
+    if v.get("version").and_then(Value::as_u64) != Some(MODEL_VERSION) {
+        return Err(ModelError::Format("`version` is not 1".into()));
+    }
+    let sketch = v
+        .get("sketch")
+        .and_then(Value::as_str)
+        .unwrap_or_default()
+        .to_owned();
+    let mut document = Document::new();
+    let empty = Vec::new();
+    let primitives = v
+        .get("primitives")
+        .and_then(Value::as_array)
+        .unwrap_or(&empty);
+    for (index, p) in primitives.iter().enumerate() {
+        let id_text = p
+            .get("id")
+            .map_or_else(|| format!("#{index}"), Value::to_string);
+        let fail = |reason: String| ModelError::Primitive {
+            id: id_text.clone(),
+            reason,
+        };
+        let id = p
+            .get("id")
+            .and_then(Value::as_u64)
+            .and_then(|i| u32::try_from(i).ok())
+            .ok_or_else(|| fail("`id` must be a non-negative integer".into()))?;
+        if document.get(PrimitiveId(id)).is_some() {
+            return Err(fail("the id is used twice".into()));
+        }
+        let primitive = parse_primitive(p).map_err(fail)?;
+        let fit = p.get("fit").map_or_else(Fit::default, |f| Fit {
+            strokes: f
+                .get("strokes")
+                .and_then(Value::as_array)
+                .map(|s| {
+                    s.iter()
+                        .filter_map(Value::as_u64)
+                        .filter_map(|i| u32::try_from(i).ok())
+                        .map(StrokeId)
+                        .collect()
+                })
+                .unwrap_or_default(),
+            rms: f.get("rms").and_then(Value::as_f64).unwrap_or(0.0),
+        });
+        document.insert(PrimitiveId(id), Placed { primitive, fit });
+    }
+    if let Some(skipped) = v.get("skipped").and_then(Value::as_array) {
+        document.skipped = skipped
+            .iter()
+            .map(|s| Skipped {
+                step: s
+                    .get("step")
+                    .and_then(Value::as_u64)
+                    .map_or(0, |x| usize::try_from(x).unwrap_or(usize::MAX)),
+                reason: s
+                    .get("reason")
+                    .and_then(Value::as_str)
+                    .unwrap_or_default()
+                    .to_owned(),
+            })
+            .collect();
+    }
+    Ok(LoadedModel { document, sketch })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+
+    use super::{model_json, parse_model};
+    use crate::core::model::{Document, Fit, Placed, Skipped};
+    use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
+    use crate::core::sketch::StrokeId;
+
+    #[test]
+    fn every_kind_round_trips_through_json() {
+        let mut doc = Document::new();
+        for (i, kind) in PrimitiveKind::ALL.into_iter().enumerate() {
+            let mut place = Placement::at(DVec2::new(10.0 * i as f64, 5.0));
+            place.axis = DVec2::new(0.3, -1.0);
+            let primitive = Primitive::from_placement(kind, &place, 40.0);
+            doc.add(Placed {
+                primitive,
+                fit: Fit {
+                    strokes: vec![StrokeId(3), StrokeId(4)],
+                    rms: 0.5,
+                },
+            });
+        }
+        doc.skipped.push(Skipped {
+            step: 7,
+            reason: "no strokes".into(),
+        });
+        let text = serde_json::to_string(&model_json(&doc, "a.svg")).unwrap();
+        let back = parse_model(text.as_bytes()).unwrap();
+        assert_eq!(back.sketch, "a.svg");
+        assert_eq!(back.document.skipped, doc.skipped);
+        for ((_, a), (_, b)) in doc.primitives().zip(back.document.primitives()) {
+            let (pa, pb) = (a.primitive.params(), b.primitive.params());
+            let close = pa.iter().zip(&pb).all(|(x, y)| (x - y).abs() < 1e-9);
+            // A quaternion and its negative are the same rotation.
+            let negated = pa
+                .iter()
+                .zip(&pb)
+                .skip(3)
+                .take(4)
+                .all(|(x, y)| (x + y).abs() < 1e-9);
+            assert!(close || negated, "{pa:?} vs {pb:?}");
+            assert_eq!(a.fit, b.fit);
+        }
+    }
+
+    #[test]
+    fn invalid_primitives_are_named() {
+        let bad = br#"{"format":"geosnap-model","version":1,"sketch":"s","primitives":[
+            {"id":4,"kind":"cylinder","center":[0,0,0],"axis":[0,2,0],"length":1,"radius":1}]}"#;
+        let err = parse_model(bad).unwrap_err().to_string();
+        assert!(err.contains("primitive 4") && err.contains("unit"), "{err}");
+        assert!(parse_model(b"[]").is_err());
+        let zero = br#"{"format":"geosnap-model","version":1,"sketch":"s","primitives":[
+            {"id":1,"kind":"sphere","center":[0,0,0],"radius":0}]}"#;
+        assert!(parse_model(zero).is_err());
+    }
+}

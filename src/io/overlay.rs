@@ -1,0 +1,220 @@
+//! The overlay PNG: the strokes in grey, each primitive's projected curves in its own
+//! colour, and the strokes it was assigned drawn over in that colour, so a person can
+//! check a run at a glance. Drawn with tiny-skia.
+
+use std::path::Path;
+
+use glam::DVec2;
+use tiny_skia::{Color, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke as Pen, Transform};
+
+use crate::core::geom::projection::sketch_from_view;
+use crate::core::primitive::{Curve2, Primitive};
+use crate::core::sketch::{Sketch, StrokeId};
+use crate::io::atomic::write_atomic;
+
+/// One primitive to draw, with the strokes assigned to it.
+#[derive(Clone, Debug)]
+pub struct OverlayItem<'a> {
+    /// The primitive (model space).
+    pub primitive: &'a Primitive,
+    /// Its assigned strokes.
+    pub strokes: &'a [StrokeId],
+}
+
+/// Why an overlay could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OverlayError {
+    /// The image could not be encoded.
+    #[error("cannot encode the overlay image: {0}")]
+    Encode(String),
+    /// The file could not be written.
+    #[error("cannot write {}", path.display())]
+    Write {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Distinct colours for primitives (a qualitative palette, cycled).
+const PALETTE: [(u8, u8, u8); 10] = [
+    (228, 26, 28),
+    (55, 126, 184),
+    (77, 175, 74),
+    (152, 78, 163),
+    (255, 127, 0),
+    (166, 86, 40),
+    (247, 129, 191),
+    (0, 166, 166),
+    (180, 160, 0),
+    (90, 90, 200),
+];
+
+/// The largest side of the image, in pixels.
+const MAX_SIDE: f64 = 1400.0;
+
+/// Renders the overlay as PNG bytes.
+///
+/// # Errors
+///
+/// [`OverlayError::Encode`] if the image cannot be made (for example an empty sketch of
+/// zero size is drawn as a small blank image instead).
+pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>, OverlayError> {
+    let (lo, hi) = sketch
+        .view_box
+        .map(|(min, size)| (min, min + size))
+        .or_else(|| sketch.bounds())
+        .unwrap_or((DVec2::ZERO, DVec2::splat(100.0)));
+    let extent = (hi - lo).max(DVec2::splat(1e-9));
+    let scale = MAX_SIDE / extent.max_element();
+    let width = (extent.x * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
+    let height = (extent.y * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
+    let mut pixmap =
+        Pixmap::new(width, height).ok_or_else(|| OverlayError::Encode("bad size".into()))?;
+    pixmap.fill(Color::WHITE);
+    let to_px = |p: DVec2| {
+        let q = (p - lo) * scale;
+        (q.x as f32, q.y as f32)
+    };
+    let draw =
+        |pixmap: &mut Pixmap, points: &[DVec2], closed: bool, rgb: (u8, u8, u8), width: f32| {
+            let mut pb = PathBuilder::new();
+            let mut iter = points.iter().filter(|p| p.is_finite());
+            let Some(first) = iter.next() else { return };
+            let (x, y) = to_px(*first);
+            pb.move_to(x, y);
+            for p in iter {
+                let (x, y) = to_px(*p);
+                pb.line_to(x, y);
+            }
+            if closed {
+                pb.close();
+            }
+            if let Some(path) = pb.finish() {
+                let mut paint = Paint::default();
+                paint.set_color_rgba8(rgb.0, rgb.1, rgb.2, 255);
+                paint.anti_alias = true;
+                let pen = Pen {
+                    width,
+                    line_cap: LineCap::Round,
+                    line_join: LineJoin::Round,
+                    ..Pen::default()
+                };
+                pixmap.stroke_path(&path, &paint, &pen, Transform::identity(), None);
+            }
+        };
+    for stroke in &sketch.strokes {
+        draw(
+            &mut pixmap,
+            &stroke.points,
+            stroke.closed,
+            (170, 170, 170),
+            1.5,
+        );
+    }
+    for (i, item) in items.iter().enumerate() {
+        let rgb = PALETTE[i % PALETTE.len()];
+        let light = (
+            rgb.0.midpoint(255),
+            rgb.1.midpoint(255),
+            rgb.2.midpoint(255),
+        );
+        for id in item.strokes {
+            if let Some(stroke) = sketch.stroke(*id) {
+                draw(&mut pixmap, &stroke.points, stroke.closed, light, 4.0);
+            }
+        }
+        for curve in item.primitive.current_shape().curves {
+            if !curve.visible {
+                continue;
+            }
+            let points: Vec<DVec2> = match &curve.curve {
+                Curve2::Ellipse { center, a, b } => (0..=64)
+                    .map(|k| {
+                        let t = std::f64::consts::TAU * f64::from(k) / 64.0;
+                        center.to_dvec2() + a.to_dvec2() * t.cos() + b.to_dvec2() * t.sin()
+                    })
+                    .collect(),
+                Curve2::Polyline(points) => points.iter().map(|p| p.to_dvec2()).collect(),
+            };
+            let sketch_points: Vec<DVec2> = points.into_iter().map(sketch_from_view).collect();
+            draw(&mut pixmap, &sketch_points, false, rgb, 2.0);
+        }
+        // A small cross at the centre.
+        let c = sketch_from_view(item.primitive.center().truncate());
+        let r = 6.0 / scale;
+        draw(
+            &mut pixmap,
+            &[c - DVec2::new(r, 0.0), c + DVec2::new(r, 0.0)],
+            false,
+            rgb,
+            2.0,
+        );
+        draw(
+            &mut pixmap,
+            &[c - DVec2::new(0.0, r), c + DVec2::new(0.0, r)],
+            false,
+            rgb,
+            2.0,
+        );
+    }
+    pixmap
+        .encode_png()
+        .map_err(|e| OverlayError::Encode(e.to_string()))
+}
+
+/// Renders the overlay and writes it atomically to `path`.
+///
+/// # Errors
+///
+/// [`OverlayError`] when it cannot be encoded or written.
+pub fn save_overlay(
+    path: impl AsRef<Path>,
+    sketch: &Sketch,
+    items: &[OverlayItem<'_>],
+) -> Result<(), OverlayError> {
+    let path = path.as_ref();
+    let bytes = overlay_png(sketch, items)?;
+    write_atomic(path, &bytes).map_err(|source| OverlayError::Write {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::{overlay_png, OverlayItem};
+    use crate::core::primitive::{Primitive, Sphere};
+    use crate::core::sketch::{Sketch, Stroke, StrokeId};
+
+    #[test]
+    fn an_overlay_is_a_png_and_empty_input_is_fine() {
+        let sketch = Sketch {
+            strokes: vec![Stroke {
+                id: StrokeId(0),
+                points: vec![DVec2::new(0.0, 0.0), DVec2::new(100.0, 50.0)],
+                closed: false,
+                class_override: None,
+            }],
+            view_box: None,
+        };
+        let sphere = Primitive::Sphere(Sphere {
+            center: DVec3::new(50.0, -25.0, 0.0),
+            radius: 20.0,
+        });
+        let png = overlay_png(
+            &sketch,
+            &[OverlayItem {
+                primitive: &sphere,
+                strokes: &[StrokeId(0)],
+            }],
+        )
+        .unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        assert!(overlay_png(&Sketch::default(), &[]).is_ok());
+    }
+}

@@ -1,0 +1,87 @@
+//! Shared by the end-to-end tests: run a placement script headless and judge its fits.
+
+use std::path::{Path, PathBuf};
+
+use geosnap::core::model::{run_steps, Step, StepOutcome};
+use geosnap::core::snap::SnapSettings;
+use geosnap::io::model_file::{model_json, parse_model};
+use geosnap::io::script::{load_script, ScriptStep};
+use geosnap::io::sketch_file::load_sketch;
+
+/// The scripts in a folder, sorted.
+pub(crate) fn scripts_in(dir: &Path) -> Vec<PathBuf> {
+    let mut scripts: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("the folder is readable")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.to_string_lossy().ends_with(".script.json"))
+        .collect();
+    scripts.sort();
+    scripts
+}
+
+/// Runs one script; returns one line per step and the failures.
+pub(crate) fn run_script(
+    script_path: &Path,
+    sketch_dir: Option<&Path>,
+) -> (Vec<String>, Vec<String>) {
+    let mut script = load_script(script_path).expect("the script loads");
+    if let Some(dir) = sketch_dir {
+        let name = script
+            .sketch
+            .file_name()
+            .expect("a sketch file name")
+            .to_owned();
+        script.sketch = dir.join(name);
+    }
+    let loaded = load_sketch(&script.sketch).expect("the sketch loads");
+    let steps: Vec<Step> = script
+        .steps
+        .iter()
+        .map(|s| match s {
+            ScriptStep::Place { kind, placement } => Step::Place {
+                kind: *kind,
+                placement: placement.clone(),
+            },
+            ScriptStep::Invalid { reason } => Step::Invalid {
+                reason: reason.clone(),
+            },
+        })
+        .collect();
+    let (document, outcomes) = run_steps(&loaded.sketch, &steps, &SnapSettings::default());
+    let name = script_path
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy();
+    let mut lines = Vec::new();
+    let mut failures = Vec::new();
+    for (i, outcome) in outcomes.iter().enumerate() {
+        match outcome {
+            StepOutcome::Placed { snap, .. } => {
+                let relative = snap.rms / snap.primitive.size();
+                lines.push(format!(
+                    "{name} step {i}: {} rms {:.2} = {:.2} % of size, {} strokes",
+                    snap.primitive.kind().name(),
+                    snap.rms,
+                    100.0 * relative,
+                    snap.assignment.stroke_ids().len()
+                ));
+                if relative > 0.03 {
+                    failures.push(format!(
+                        "{name} step {i}: rms {:.2} % of size",
+                        100.0 * relative
+                    ));
+                }
+            }
+            StepOutcome::Skipped(s) => {
+                failures.push(format!("{name} step {i}: skipped: {}", s.reason))
+            }
+        }
+    }
+    let json = serde_json::to_vec(&model_json(&document, "sketch.svg")).expect("serialises");
+    let back = parse_model(&json).expect("the model reads back");
+    if back.document.len() != document.len() {
+        failures.push(format!("{name}: the model did not round-trip"));
+    }
+    (lines, failures)
+}
