@@ -1,5 +1,5 @@
 //! The real clock for solves, outside the core (which only sees the
-//! [`Clock`](crate::core::solve::Clock) trait).
+//! [`Clock`] trait).
 
 use std::time::{Duration, Instant};
 
