@@ -15,10 +15,11 @@ mod support;
 
 use std::path::{Path, PathBuf};
 
+use geosnap::core::model::Step;
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
 use geosnap::core::snap::{snap, SnapContext, SnapSession, SnapSettings};
-use geosnap::io::script::{parse_script, ScriptStep};
+use geosnap::io::script::parse_script;
 use geosnap::io::svg::{import_svg, SvgOptions};
 use glam::DVec2;
 use support::{timed, Bench, Rng, Table};
@@ -60,7 +61,7 @@ fn scene() -> (Sketch, Vec<(PrimitiveKind, Placement)>) {
             .steps
             .iter()
             .find_map(|s| match s {
-                ScriptStep::Place { kind: k, placement } if k == kind => Some(placement.clone()),
+                Step::Place { kind: k, placement } if k == kind => Some(placement.clone()),
                 _ => None,
             })
             .expect("each sample places its kind");

@@ -16,7 +16,7 @@ use geosnap::core::snap::SnapSettings;
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
 use geosnap::io::model_file::{load_model, save_model};
 use geosnap::io::overlay::{save_overlay, OverlayItem};
-use geosnap::io::script::{load_script, ScriptStep};
+use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
 
 /// Sketch-based 3D modelling with geosemantic snapping.
@@ -168,21 +168,9 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
     for warning in &loaded.warnings {
         eprintln!("warning: {warning}");
     }
-    let steps: Vec<Step> = script
-        .steps
-        .iter()
-        .map(|s| match s {
-            ScriptStep::Place { kind, placement } => Step::Place {
-                kind: *kind,
-                placement: placement.clone(),
-            },
-            ScriptStep::Invalid { reason } => Step::Invalid {
-                reason: reason.clone(),
-            },
-        })
-        .collect();
+    let steps = &script.steps;
     let clock = MonotonicClock::start();
-    let (document, outcomes) = run_steps(&loaded.sketch, &steps, &SnapSettings::default());
+    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SnapSettings::default());
     let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
     save_model(out, &document, &sketch_reference(&script.sketch, out))
         .with_context(|| format!("writing {}", out.display()))?;
@@ -257,8 +245,8 @@ fn check_one(file: &Path) -> Result<String> {
             .iter()
             .enumerate()
             .filter_map(|(i, s)| match s {
-                ScriptStep::Invalid { reason } => Some(format!("step {i}: {reason}")),
-                ScriptStep::Place { .. } => None,
+                Step::Invalid { reason } => Some(format!("step {i}: {reason}")),
+                Step::Place { .. } => None,
             })
             .collect();
         let sketch = load_sketch(&script.sketch)

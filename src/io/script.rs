@@ -3,7 +3,7 @@
 //!
 //! Reading is strict about the envelope (`format`, `version`, `sketch`, `steps`) and
 //! lenient about steps: a step with an unknown primitive kind or a bad value is kept as
-//! [`ScriptStep::Invalid`] with the reason, so the run reports it as skipped instead of
+//! [`Step::Invalid`] with the reason, so the run reports it as skipped instead of
 //! aborting (formats.md: a step never aborts the run).
 
 use std::path::{Path, PathBuf};
@@ -12,6 +12,7 @@ use glam::DVec2;
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::core::model::Step;
 use crate::core::primitive::{Placement, PrimitiveKind};
 
 /// The `format` value of a script.
@@ -52,23 +53,6 @@ pub enum ScriptError {
     },
 }
 
-/// One step of a script.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ScriptStep {
-    /// Drop a primitive of `kind` with `placement`.
-    Place {
-        /// The kind.
-        kind: PrimitiveKind,
-        /// Where and how big.
-        placement: Placement,
-    },
-    /// A step that cannot be carried out, with the reason.
-    Invalid {
-        /// Why.
-        reason: String,
-    },
-}
-
 /// A parsed script; paths are resolved against the script's folder.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Script {
@@ -77,7 +61,7 @@ pub struct Script {
     /// The optional reference image.
     pub image: Option<PathBuf>,
     /// The steps, in order.
-    pub steps: Vec<ScriptStep>,
+    pub steps: Vec<Step>,
 }
 
 #[derive(Deserialize)]
@@ -115,7 +99,8 @@ pub fn load_script(path: impl AsRef<Path>) -> Result<Script, ScriptError> {
 /// # Examples
 ///
 /// ```
-/// use geosnap::io::script::{parse_script, ScriptStep};
+/// use geosnap::core::model::Step;
+/// use geosnap::io::script::parse_script;
 ///
 /// let script = parse_script(br#"{
 ///     "format": "geosnap-script", "version": 1, "sketch": "table.svg",
@@ -125,8 +110,8 @@ pub fn load_script(path: impl AsRef<Path>) -> Result<Script, ScriptError> {
 ///     ]
 /// }"#, std::path::Path::new("sketches"))?;
 /// assert_eq!(script.sketch, std::path::Path::new("sketches/table.svg"));
-/// assert!(matches!(script.steps[0], ScriptStep::Place { .. }));
-/// assert!(matches!(&script.steps[1], ScriptStep::Invalid { reason } if reason.contains("teapot")));
+/// assert!(matches!(script.steps[0], Step::Place { .. }));
+/// assert!(matches!(&script.steps[1], Step::Invalid { reason } if reason.contains("teapot")));
 /// # Ok::<(), geosnap::io::script::ScriptError>(())
 /// ```
 pub fn parse_script(data: &[u8], base: &Path) -> Result<Script, ScriptError> {
@@ -153,11 +138,11 @@ pub fn parse_script(data: &[u8], base: &Path) -> Result<Script, ScriptError> {
     })
 }
 
-/// Reads one step; any problem becomes [`ScriptStep::Invalid`].
-fn parse_step(value: &Value) -> ScriptStep {
+/// Reads one step; any problem becomes [`Step::Invalid`].
+fn parse_step(value: &Value) -> Step {
     match try_step(value) {
         Ok(step) => step,
-        Err(reason) => ScriptStep::Invalid { reason },
+        Err(reason) => Step::Invalid { reason },
     }
 }
 
@@ -197,7 +182,7 @@ fn positive(value: Option<f64>, field: &str) -> Result<Option<f64>, String> {
     }
 }
 
-fn try_step(value: &Value) -> Result<ScriptStep, String> {
+fn try_step(value: &Value) -> Result<Step, String> {
     let kind_name = value
         .get("place")
         .and_then(Value::as_str)
@@ -216,7 +201,7 @@ fn try_step(value: &Value) -> Result<ScriptStep, String> {
     if size.is_some_and(|s| s.iter().any(|v| *v <= 0.0)) {
         return Err("`size` must hold three positive numbers".to_owned());
     }
-    Ok(ScriptStep::Place {
+    Ok(Step::Place {
         kind,
         placement: Placement {
             at: DVec2::from_array(at),
@@ -234,7 +219,8 @@ fn try_step(value: &Value) -> Result<ScriptStep, String> {
 mod tests {
     use std::path::Path;
 
-    use super::{parse_script, ScriptError, ScriptStep};
+    use super::{parse_script, ScriptError};
+    use crate::core::model::Step;
 
     #[test]
     fn the_example_of_formats_md_parses() {
@@ -254,10 +240,7 @@ mod tests {
         }"#;
         let script = parse_script(data, Path::new("/tmp")).unwrap();
         assert_eq!(script.steps.len(), 6);
-        assert!(script
-            .steps
-            .iter()
-            .all(|s| matches!(s, ScriptStep::Place { .. })));
+        assert!(script.steps.iter().all(|s| matches!(s, Step::Place { .. })));
         assert_eq!(script.image, None);
     }
 
@@ -273,7 +256,7 @@ mod tests {
         ]}"#;
         let script = parse_script(data, Path::new("")).unwrap();
         for step in &script.steps {
-            assert!(matches!(step, ScriptStep::Invalid { .. }), "{step:?}");
+            assert!(matches!(step, Step::Invalid { .. }), "{step:?}");
         }
         assert!(matches!(
             parse_script(b"{}", Path::new("")),

@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
-use geosnap::core::model::{run_steps, Step, StepOutcome};
+use geosnap::core::model::{run_steps, StepOutcome};
 use geosnap::core::snap::SnapSettings;
 use geosnap::io::model_file::{model_json, parse_model};
-use geosnap::io::script::{load_script, ScriptStep};
+use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
 
 /// The scripts in a folder, sorted.
@@ -35,20 +35,8 @@ pub(crate) fn run_script(
         script.sketch = dir.join(name);
     }
     let loaded = load_sketch(&script.sketch).expect("the sketch loads");
-    let steps: Vec<Step> = script
-        .steps
-        .iter()
-        .map(|s| match s {
-            ScriptStep::Place { kind, placement } => Step::Place {
-                kind: *kind,
-                placement: placement.clone(),
-            },
-            ScriptStep::Invalid { reason } => Step::Invalid {
-                reason: reason.clone(),
-            },
-        })
-        .collect();
-    let (document, outcomes) = run_steps(&loaded.sketch, &steps, &SnapSettings::default());
+    let steps = &script.steps;
+    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SnapSettings::default());
     let name = script_path
         .file_name()
         .unwrap_or_default()
@@ -74,7 +62,7 @@ pub(crate) fn run_script(
                 }
             }
             StepOutcome::Skipped(s) => {
-                failures.push(format!("{name} step {i}: skipped: {}", s.reason))
+                failures.push(format!("{name} step {i}: skipped: {}", s.reason));
             }
         }
     }

@@ -24,6 +24,7 @@ use std::f64::consts::{PI, TAU};
 
 use glam::DVec2;
 
+use super::preprocess::resample_to;
 use super::{Sketch, Stroke, StrokeClass, StrokeId};
 use crate::core::geom::{fit_ellipse, fit_line, refine_ellipse, AngularSpan, Ellipse2};
 
@@ -423,7 +424,7 @@ fn analyse(stroke: &Stroke, options: &ClassifyOptions) -> Analysis {
         .filter(|p| p.is_finite())
         .collect();
     let length = polyline_length(&finite, stroke.closed);
-    let Some(mut points) = resample(&finite, stroke.closed, options.samples.max(8)) else {
+    let Some(mut points) = resample_to(&finite, stroke.closed, options.samples.max(8)) else {
         return Analysis {
             classification: report,
             points: Vec::new(),
@@ -441,7 +442,7 @@ fn analyse(stroke: &Stroke, options: &ClassifyOptions) -> Analysis {
     // The total turning at full resolution, which catches the sharp ends of a flat half
     // ellipse; the turning back at a coarser one, which ignores jitter.
     report.turning = turning(&points, stroke.closed).0;
-    let coarse = resample(&points, stroke.closed, options.turning_samples.max(4));
+    let coarse = resample_to(&points, stroke.closed, options.turning_samples.max(4));
     let (net, absolute) = coarse.map_or((0.0, 0.0), |c| turning(&c, stroke.closed));
     report.reverse_turning = 0.5 * (absolute - net.abs()).max(0.0);
     shape_tests(&mut report, &points, options);
@@ -585,43 +586,6 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
     points
         .iter()
         .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)))
-}
-
-/// `count` points uniform in arc length along the polyline (round the loop for a closed
-/// one); `None` when it has zero or non-finite length.
-fn resample(points: &[DVec2], closed: bool, count: usize) -> Option<Vec<DVec2>> {
-    let mut path = points.to_vec();
-    if closed {
-        path.push(*points.first()?);
-    }
-    let mut cumulative = Vec::with_capacity(path.len());
-    let mut total = 0.0;
-    cumulative.push(0.0);
-    for w in path.windows(2) {
-        total += w[0].distance(w[1]);
-        cumulative.push(total);
-    }
-    if !(total > 0.0) || !total.is_finite() {
-        return None;
-    }
-    // Open strokes include both endpoints; closed ones do not repeat the start.
-    let steps = if closed { count } else { count - 1 };
-    let mut out = Vec::with_capacity(count);
-    let mut segment = 0;
-    for k in 0..count {
-        let target = total * k as f64 / steps as f64;
-        while segment + 2 < cumulative.len() && cumulative[segment + 1] < target {
-            segment += 1;
-        }
-        let (s0, s1) = (cumulative[segment], cumulative[segment + 1]);
-        let t = if s1 > s0 {
-            ((target - s0) / (s1 - s0)).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        out.push(path[segment].lerp(path[segment + 1], t));
-    }
-    Some(out)
 }
 
 /// One pass of the `[1, 2, 1]/4` filter: endpoints of an open polyline stay, a closed

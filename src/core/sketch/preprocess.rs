@@ -215,11 +215,32 @@ fn canonical_key(points: &[DVec2]) -> Vec<[u64; 2]> {
 /// at least enough for `min_points` points. An open stroke keeps both endpoints (n + 1
 /// points); a closed one starts at its first point and gets n points round the loop.
 fn resample(points: &[DVec2], closed: bool, spacing: f64, min_points: usize) -> Vec<DVec2> {
-    let mut path: Vec<DVec2> = points.to_vec();
-    if closed {
-        if let Some(&first) = points.first() {
-            path.push(first);
+    let open_length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+    let total = match (closed, points.first(), points.last()) {
+        (true, Some(a), Some(b)) => open_length + a.distance(*b),
+        _ => open_length,
+    };
+    let min_steps = if closed { min_points } else { min_points - 1 };
+    // The cap guards against absurd counts from a tiny spacing; it is far above any
+    // drawing's needs (a spacing of 0.5 % gives a few hundred points per stroke).
+    let steps = ((total / spacing).ceil() as usize).clamp(min_steps.max(1), 1_000_000);
+    let count = if closed { steps } else { steps + 1 };
+    let mut out = resample_to(points, closed, count).unwrap_or_else(|| points.to_vec());
+    if !closed {
+        // Exactly the original endpoint, not a rounded interpolation of it.
+        if let (Some(last), Some(&end)) = (out.last_mut(), points.last()) {
+            *last = end;
         }
+    }
+    out
+}
+
+/// `count` points uniform in arc length along the polyline (round the loop for a closed
+/// one); `None` when it has zero or non-finite length.
+pub(crate) fn resample_to(points: &[DVec2], closed: bool, count: usize) -> Option<Vec<DVec2>> {
+    let mut path = points.to_vec();
+    if closed {
+        path.push(*points.first()?);
     }
     let mut cumulative = Vec::with_capacity(path.len());
     let mut total = 0.0;
@@ -228,11 +249,11 @@ fn resample(points: &[DVec2], closed: bool, spacing: f64, min_points: usize) -> 
         total += w[0].distance(w[1]);
         cumulative.push(total);
     }
-    let min_steps = if closed { min_points } else { min_points - 1 };
-    // The cap guards against absurd counts from a tiny spacing; it is far above any
-    // drawing's needs (a spacing of 0.5 % gives a few hundred points per stroke).
-    let steps = ((total / spacing).ceil() as usize).clamp(min_steps.max(1), 1_000_000);
-    let count = if closed { steps } else { steps + 1 };
+    if !(total > 0.0) || !total.is_finite() {
+        return None;
+    }
+    // Open strokes include both endpoints; closed ones do not repeat the start.
+    let steps = if closed { count } else { count - 1 };
     let mut out = Vec::with_capacity(count);
     let mut segment = 0;
     for k in 0..count {
@@ -248,13 +269,7 @@ fn resample(points: &[DVec2], closed: bool, spacing: f64, min_points: usize) -> 
         };
         out.push(path[segment].lerp(path[segment + 1], t));
     }
-    if !closed {
-        // Exactly the original endpoint, not a rounded interpolation of it.
-        if let (Some(last), Some(&end)) = (out.last_mut(), points.last()) {
-            *last = end;
-        }
-    }
-    out
+    Some(out)
 }
 
 /// One pass of the `[1, 2, 1]/4` filter: endpoints of an open stroke stay, a closed
