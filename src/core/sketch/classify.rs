@@ -24,7 +24,7 @@ use std::f64::consts::{PI, TAU};
 
 use glam::DVec2;
 
-use super::preprocess::resample_to;
+use super::preprocess::{resample_to, smooth};
 use super::{Sketch, Stroke, StrokeClass, StrokeId};
 use crate::core::geom::{fit_ellipse, fit_line, refine_ellipse, AngularSpan, Ellipse2};
 
@@ -586,24 +586,6 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
     points
         .iter()
         .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)))
-}
-
-/// One pass of the `[1, 2, 1]/4` filter: endpoints of an open polyline stay, a closed
-/// one wraps around.
-fn smooth(points: &[DVec2], closed: bool) -> Vec<DVec2> {
-    let n = points.len();
-    if n < 3 {
-        return points.to_vec();
-    }
-    (0..n)
-        .map(|i| {
-            if !closed && (i == 0 || i == n - 1) {
-                points[i]
-            } else {
-                0.25 * points[(i + n - 1) % n] + 0.5 * points[i] + 0.25 * points[(i + 1) % n]
-            }
-        })
-        .collect()
 }
 
 /// `(Σθᵢ, Σ|θᵢ|)` over the exterior angles θᵢ of the polyline: at every interior vertex

@@ -274,7 +274,7 @@ pub(crate) fn resample_to(points: &[DVec2], closed: bool, count: usize) -> Optio
 
 /// One pass of the `[1, 2, 1]/4` filter: endpoints of an open stroke stay, a closed
 /// stroke wraps around.
-fn smooth(points: &[DVec2], closed: bool) -> Vec<DVec2> {
+pub(crate) fn smooth(points: &[DVec2], closed: bool) -> Vec<DVec2> {
     let n = points.len();
     if n < 3 {
         return points.to_vec();
