@@ -20,7 +20,7 @@ fn our_scripts_over_the_shared_sketches_snap() {
     );
     let scripts =
         common::scripts_in(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shared_scripts"));
-    assert!(scripts.len() >= 2, "{scripts:?}");
+    assert!(scripts.len() >= 6, "{scripts:?}");
     let mut failures = Vec::new();
     for script in &scripts {
         let (lines, fails) = common::run_script(script, Some(&dir));

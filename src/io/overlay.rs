@@ -8,7 +8,7 @@ use glam::DVec2;
 use tiny_skia::{Color, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke as Pen, Transform};
 
 use crate::core::geom::projection::sketch_from_view;
-use crate::core::primitive::{Curve2, Primitive};
+use crate::core::primitive::Primitive;
 use crate::core::sketch::{Sketch, StrokeId};
 use crate::io::atomic::write_atomic;
 
@@ -130,15 +130,7 @@ pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>
             if !curve.visible {
                 continue;
             }
-            let points: Vec<DVec2> = match &curve.curve {
-                Curve2::Ellipse { center, a, b } => (0..=64)
-                    .map(|k| {
-                        let t = std::f64::consts::TAU * f64::from(k) / 64.0;
-                        center.to_dvec2() + a.to_dvec2() * t.cos() + b.to_dvec2() * t.sin()
-                    })
-                    .collect(),
-                Curve2::Polyline(points) => points.iter().map(|p| p.to_dvec2()).collect(),
-            };
+            let points = curve.curve.points(64);
             let sketch_points: Vec<DVec2> = points.into_iter().map(sketch_from_view).collect();
             draw(&mut pixmap, &sketch_points, false, rgb, 2.0);
         }

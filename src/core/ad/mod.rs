@@ -45,4 +45,5 @@ pub fn ellipse_distance(
     let q = c + a * theta.cos() + b * theta.sin();
     (q.distance(p), theta)
 }
+
 pub use vec3::{Vec2, Vec3};

@@ -277,24 +277,28 @@ impl Op {
 pub(crate) fn closest_ellipse_angle(c: [f64; 2], a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
     const SCAN: usize = 32;
     let d = [c[0] - p[0], c[1] - p[1]];
-    let h = |theta: f64| {
-        let (s, co) = theta.sin_cos();
+    // Squared distance at the angle with this (sin, cos).
+    let h = |s: f64, co: f64| {
         let e = [d[0] + a[0] * co + b[0] * s, d[1] + a[1] * co + b[1] * s];
         e[0] * e[0] + e[1] * e[1]
     };
+    // The scan turns (cos, sin) by a fixed rotation rather than calling sin_cos 32 times
+    // (the rounding over 32 turns is far below what a starting point needs).
+    let (step_sin, step_cos) = (std::f64::consts::TAU / SCAN as f64).sin_cos();
+    let (mut s, mut co) = (0.0f64, 1.0f64);
     let mut best = 0.0;
     let mut best_h = f64::INFINITY;
     for k in 0..SCAN {
-        let theta = std::f64::consts::TAU * k as f64 / SCAN as f64;
-        let v = h(theta);
+        let v = h(s, co);
         if v < best_h {
             best_h = v;
-            best = theta;
+            best = std::f64::consts::TAU * k as f64 / SCAN as f64;
         }
+        (s, co) = (s * step_cos + co * step_sin, co * step_cos - s * step_sin);
     }
     let max_step = std::f64::consts::PI / SCAN as f64;
+    let (mut s, mut co) = best.sin_cos();
     for _ in 0..30 {
-        let (s, co) = best.sin_cos();
         let e = [d[0] + a[0] * co + b[0] * s, d[1] + a[1] * co + b[1] * s];
         let e1 = [-a[0] * s + b[0] * co, -a[1] * s + b[1] * co];
         let e2 = [-a[0] * co - b[0] * s, -a[1] * co - b[1] * s];
@@ -307,10 +311,12 @@ pub(crate) fn closest_ellipse_angle(c: [f64; 2], a: [f64; 2], b: [f64; 2], p: [f
         };
         // Accept only steps that do not increase the distance (the function is not convex).
         let candidate = best + step;
-        let v = h(candidate);
+        let (cs, cc) = candidate.sin_cos();
+        let v = h(cs, cc);
         if v <= best_h {
             best = candidate;
             best_h = v;
+            (s, co) = (cs, cc);
         } else {
             break;
         }

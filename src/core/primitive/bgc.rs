@@ -1,29 +1,50 @@
 //! The bent generalized cylinder (BGC): a tube along a planar curved spine with a radius
 //! profile.
 //!
-//! Parameters (4K + 3, K = [`PROFILE_SAMPLES`]): spine points P₀ … P_{K−1} (3 each), radii
-//! r₀ … r_{K−1} > 0, and the unit normal n of the spine's plane (3). Constraints: |n|² = 1;
-//! planarity (Pᵢ − P₀)·n = 0; equal spacing |P_{i+1} − Pᵢ|² = |P₁ − P₀|²; a positive
-//! spacing and positive radii.
+//! The spine is K points P₀ … P_{K−1} (K = [`PROFILE_SAMPLES`] for a new BGC) evenly spaced
+//! along a curve in a plane, so it is parameterised by construction rather than by
+//! constraints. Parameters (2K + 6): the midpoint c of the middle segment P_m–P_{m+1}
+//! (m = ⌊(K − 2)/2⌋; 3), the orientation quaternion q = (w, x, y, z) of the spine's frame
+//! (u, v, n) (4, unit by the constraint |q|² = 1: u is the middle segment's direction, v
+//! the in-plane normal, n the plane's normal), the segment length h (1), the turns
+//! κ₁ … κ_{K−2} of the spine at its interior points (K − 2, radians, in the plane) and the
+//! radii r₀ … r_{K−1} (K). Segment s runs along d(φ_s) = cos φ_s·u + sin φ_s·v with
+//! φ_m = 0 and φ_s − φ_{s−1} = κ_s. Constraints: |q|² = 1, a positive length and radii,
+//! turns below 70° per segment, and a plane within 78.5° of the view plane.
 //!
-//! Projected curves: the end ellipses (circles at P₀ and P_{K−1} whose normals follow the
-//! spine's end tangents; feature strokes) and two contour polylines Pᵢ ± rᵢ·νᵢ, νᵢ the
-//! view-plane normal of the projected spine at Pᵢ (silhouette strokes; exact when the
-//! spine lies in the view plane, close when it tilts moderately). Feature curves `bottom`
-//! (at P₀) and `top` (at P_{K−1}). Regularisers: second differences of the spine points
-//! and of the radii (a smooth bend, a smooth profile).
+//! The spine's tangent at a point bisects its two segments, and at an end it is the end
+//! segment's direction turned back by half the next turn: exact for a circular arc, so
+//! the end circles of an evenly bent tube face the right way (a first-order end tangent
+//! is off by half a segment's bend, which tilts the end ellipses by up to 9°).
+//!
+//! Projected curves: the end ellipses (circles at P₀ and P_{K−1} whose normals are the
+//! outward end tangents; feature strokes; only the near half of an end that faces away
+//! from the viewer, as that is all a person draws of it) and two contour polylines, the spine offset by
+//! ± rᵢ·νᵢ with νᵢ the view-plane normal of the projected tangent (silhouette strokes;
+//! exact when the spine lies in the view plane, close when it tilts moderately), through
+//! the points and the arc midpoints of the segments. Feature curves `bottom` (at P₀) and
+//! `top` (at P_{K−1}). Regularisers: changes of the turn along the spine (an evenly bent
+//! spine, a circular arc, costs nothing) and second differences of the radii (a smooth
+//! profile).
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DQuat, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::cylinder::MIN_SIZE_FRACTION;
+use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::{orthonormal_basis, TriMesh};
 use super::{
-    circle_ellipse, Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve,
-    Shape, PROFILE_SAMPLES,
+    circle_basis, circle_ellipse, Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement,
+    ProjectedCurve, Shape, PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};
+
+/// Weight (inside the residual) of a change of the turn between neighbouring points.
+const TURN_SMOOTHNESS: f64 = 15.0;
+/// Weight (inside the residual) of a second difference of the radii.
+const PROFILE_SMOOTHNESS: f64 = 15.0;
+/// The largest turn of the spine at one point (radians).
+const MAX_TURN: f64 = 1.2;
 
 /// A bent generalized cylinder in model space.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -34,6 +55,161 @@ pub struct Bgc {
     pub radii: Vec<f64>,
     /// The unit normal of the spine's plane.
     pub plane_normal: DVec3,
+}
+
+/// The index m of the middle segment P_m–P_{m+1} of a K-point spine.
+fn middle(k: usize) -> usize {
+    (k - 2) / 2
+}
+
+/// The rotation matrix columns (u, v, n) of the quaternion (w, x, y, z), assumed unit.
+fn frame<T: Real>(q: [T; 4]) -> [Vec3<T>; 3] {
+    let [w, x, y, z] = q;
+    let one = w.lit(1.0);
+    let two = |v: T| v * 2.0;
+    [
+        Vec3::new(
+            one - two(y * y + z * z),
+            two(x * y + w * z),
+            two(x * z - w * y),
+        ),
+        Vec3::new(
+            two(x * y - w * z),
+            one - two(x * x + z * z),
+            two(y * z + w * x),
+        ),
+        Vec3::new(
+            two(x * z + w * y),
+            two(y * z - w * x),
+            one - two(x * x + y * y),
+        ),
+    ]
+}
+
+/// The spine of parameters `x` (layout in the module docs) for K = `k`: its points, its
+/// unit tangents at the points, the arc midpoints of its segments with their tangents,
+/// and the plane's normal.
+struct Spine<T> {
+    points: Vec<Vec3<T>>,
+    tangents: Vec<Vec3<T>>,
+    midpoints: Vec<Vec3<T>>,
+    mid_tangents: Vec<Vec3<T>>,
+    normal: Vec3<T>,
+}
+
+fn spine<T: Real>(k: usize, x: &[T]) -> Spine<T> {
+    let c = Vec3::new(x[0], x[1], x[2]);
+    let [u, v, n] = frame([x[3], x[4], x[5], x[6]]);
+    let h = x[7];
+    let kappa = &x[8..8 + k - 2];
+    let m = middle(k);
+    let zero = h.lit(0.0);
+    // Segment directions φ_s: φ_m = 0, φ_s − φ_{s−1} = κ_s (κ_s is kappa[s − 1]).
+    let mut phi = vec![zero; k - 1];
+    for s in m + 1..k - 1 {
+        phi[s] = phi[s - 1] + kappa[s - 1];
+    }
+    for s in (0..m).rev() {
+        phi[s] = phi[s + 1] - kappa[s];
+    }
+    let dir = |angle: T| u * angle.cos() + v * angle.sin();
+    let d: Vec<Vec3<T>> = phi.iter().map(|a| dir(*a)).collect();
+    let mut points = vec![c; k];
+    points[m] = c - u * (h * 0.5);
+    points[m + 1] = c + u * (h * 0.5);
+    for s in m + 1..k - 1 {
+        points[s + 1] = points[s] + d[s] * h;
+    }
+    for s in (0..m).rev() {
+        points[s] = points[s + 1] - d[s] * h;
+    }
+    // Tangent angles at the points: bisectors inside, half a turn back at the ends.
+    let mut psi = Vec::with_capacity(k);
+    psi.push(phi[0] - kappa[0] * 0.5);
+    for i in 1..k - 1 {
+        psi.push((phi[i - 1] + phi[i]) * 0.5);
+    }
+    psi.push(phi[k - 2] + kappa[k - 3] * 0.5);
+    let tangents = psi.iter().map(|a| dir(*a)).collect();
+    // The arc through P_s and P_{s+1} turning by θ = ψ_{s+1} − ψ_s bulges away from its
+    // centre by (h/2)·tan(θ/4) at its midpoint, where its tangent is d(φ_s).
+    let mut midpoints = Vec::with_capacity(k - 1);
+    for s in 0..k - 1 {
+        let theta = psi[s + 1] - psi[s];
+        let quarter = theta * 0.25;
+        let sag = h * 0.5 * quarter.sin() / quarter.cos();
+        let left = u * (-phi[s].sin()) + v * phi[s].cos();
+        midpoints.push((points[s] + points[s + 1]) * h.lit(0.5) - left * sag);
+    }
+    Spine {
+        points,
+        tangents,
+        midpoints,
+        mid_tangents: d,
+        normal: n,
+    }
+}
+
+/// The two contour polylines (left, right): the spine's points and arc midpoints offset
+/// by ± the radius along the view-plane normal of their projected tangents.
+fn contours<T: Real>(s: &Spine<T>, radii: &[T]) -> (Vec<Vec2<T>>, Vec<Vec2<T>>) {
+    let k = s.points.len();
+    let normal2 = |t: Vec3<T>| {
+        let len = (t.x.square() + t.y.square() + 1e-18).sqrt();
+        Vec2::new(-t.y / len, t.x / len)
+    };
+    let mut left = Vec::with_capacity(2 * k - 1);
+    let mut right = Vec::with_capacity(2 * k - 1);
+    for i in 0..k {
+        if i > 0 {
+            let nu = normal2(s.mid_tangents[i - 1]);
+            let r = (radii[i - 1] + radii[i]) * 0.5;
+            let at = s.midpoints[i - 1].xy();
+            left.push(at + nu * r);
+            right.push(at - nu * r);
+        }
+        let nu = normal2(s.tangents[i]);
+        let at = s.points[i].xy();
+        left.push(at + nu * radii[i]);
+        right.push(at - nu * radii[i]);
+    }
+    (left, right)
+}
+
+/// Segments of the near half of an end circle that faces away from the viewer.
+const HALF_SEGMENTS: usize = 14;
+/// How far (radians) the near half of an end facing away runs on into the hidden half at
+/// each end: a hand overshoots a front arc along its tangent there, and the hidden rim
+/// stays close to that tangent for a while.
+const HIDDEN_MARGIN: f64 = 0.5;
+
+/// The projected curve of an end circle: the whole ellipse when it faces the viewer
+/// (`facing`), else its near half, the rim points c + r·(w·cos θ + k·sin θ) of
+/// [`circle_basis`] with sin θ ≤ 0 (k_z < 0, so those are nearer the viewer), as a
+/// polyline, a little longer at both ends ([`HIDDEN_MARGIN`]).
+fn end_curve<T: Real>(center: Vec3<T>, normal: Vec3<T>, radius: T, facing: bool) -> Curve2<T> {
+    if facing {
+        return circle_ellipse(center, normal, radius);
+    }
+    let (w, k) = circle_basis(normal);
+    let c = center.xy();
+    Curve2::Polyline(
+        (0..=HALF_SEGMENTS)
+            .map(|i| {
+                let t = i as f64 / HALF_SEGMENTS as f64;
+                let theta = std::f64::consts::PI - HIDDEN_MARGIN
+                    + (std::f64::consts::PI + 2.0 * HIDDEN_MARGIN) * t;
+                c + (w.xy().scale(theta.cos()) + k.xy().scale(theta.sin())) * radius
+            })
+            .collect(),
+    )
+}
+
+/// The signed angle from `a` to `b` in the plane (u, v), wrapped into (−π, π].
+fn turn(a: DVec3, b: DVec3, u: DVec3, v: DVec3) -> f64 {
+    let angle = |d: DVec3| d.dot(v).atan2(d.dot(u));
+    let t = angle(b) - angle(a);
+    (t + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 impl Bgc {
@@ -55,33 +231,75 @@ impl Bgc {
     }
 
     /// A BGC through the given spine points (for example a medial axis found in the
-    /// strokes) with a constant radius.
+    /// strokes) with a constant radius. The points should be evenly spaced along a
+    /// planar curve; `Bgc::params` takes their plane and mean spacing.
     pub fn through(spine: Vec<DVec3>, radius: f64) -> Self {
         let radii = vec![radius; spine.len()];
-        Self {
+        let mut b = Self {
             spine,
             radii,
             plane_normal: DVec3::Z,
+        };
+        b.plane_normal = b.spine_plane_normal();
+        b
+    }
+
+    /// The normal of the spine's plane: `plane_normal` when the spine lies in it, else
+    /// the plane the spine's bends span (`plane_normal` made ⟂ to a straight spine).
+    fn spine_plane_normal(&self) -> DVec3 {
+        let n = self.plane_normal.normalize_or(DVec3::Z);
+        let p = &self.spine;
+        let length = self.spine_length().max(f64::MIN_POSITIVE);
+        let off_plane = p
+            .iter()
+            .map(|q| (*q - p[0]).dot(n).abs())
+            .fold(0.0, f64::max);
+        if off_plane <= 1e-9 * length {
+            return n;
         }
+        let bends: DVec3 = p.windows(3).map(|w| (w[1] - w[0]).cross(w[2] - w[1])).sum();
+        if bends.length() > 1e-9 * length * length {
+            let b = bends.normalize();
+            return if b.dot(n) < 0.0 { -b } else { b };
+        }
+        let chord = (p[p.len() - 1] - p[0]).normalize_or(DVec3::Y);
+        (n - chord * n.dot(chord)).normalize_or(orthonormal_basis(chord).0)
     }
 
     pub(crate) fn params(&self) -> Vec<f64> {
-        let mut x: Vec<f64> = self.spine.iter().flat_map(DVec3::to_array).collect();
+        let k = self.spine.len();
+        let p = &self.spine;
+        let m = middle(k);
+        let n = self.spine_plane_normal();
+        let c = (p[m] + p[m + 1]) / 2.0;
+        let mid = p[m + 1] - p[m];
+        let u = (mid - n * mid.dot(n)).normalize_or(orthonormal_basis(n).0);
+        let v = n.cross(u);
+        let q = DQuat::from_mat3(&DMat3::from_cols(u, v, n)).normalize();
+        let h = self.spine_length() / (k - 1) as f64;
+        let mut x = vec![c.x, c.y, c.z, q.w, q.x, q.y, q.z, h];
+        for i in 1..k - 1 {
+            x.push(turn(p[i] - p[i - 1], p[i + 1] - p[i], u, v));
+        }
         x.extend_from_slice(&self.radii);
-        x.extend_from_slice(&self.plane_normal.to_array());
         x
     }
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         let k = self.spine.len();
-        let spine = (0..k)
-            .map(|i| DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]))
-            .collect();
-        let n = DVec3::new(x[4 * k], x[4 * k + 1], x[4 * k + 2]);
+        let q = DVec3::new(x[4], x[5], x[6]);
+        let len = (x[3] * x[3] + q.length_squared()).sqrt();
+        let mut y = x.to_vec();
+        if len > 0.0 && len.is_finite() {
+            for value in &mut y[3..7] {
+                *value /= len;
+            }
+        }
+        let s = spine(k, &y);
         Self {
-            spine,
-            radii: x[3 * k..4 * k].to_vec(),
-            plane_normal: n.normalize_or(self.plane_normal),
+            spine: s.points.iter().map(|p| p.to_dvec3()).collect(),
+            radii: x[8 + k - 2..8 + 2 * k - 2].to_vec(),
+            plane_normal: s.normal.to_dvec3().normalize_or(self.plane_normal),
         }
     }
 
@@ -109,24 +327,22 @@ impl Bgc {
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
         let k = self.spine.len();
-        let p: Vec<Vec3<T>> = (0..k)
-            .map(|i| Vec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]))
-            .collect();
-        let radii = &x[3 * k..4 * k];
-        let n = Vec3::new(x[4 * k], x[4 * k + 1], x[4 * k + 2]);
-        let mut left = Vec::with_capacity(k);
-        let mut right = Vec::with_capacity(k);
-        for i in 0..k {
-            let (lo, hi) = (i.saturating_sub(1), (i + 1).min(k - 1));
-            let t = p[hi].xy() - p[lo].xy();
-            let len = t.norm() + 1e-12;
-            let nu = Vec2::new(-t.y / len, t.x / len);
-            left.push(p[i].xy() + nu * radii[i]);
-            right.push(p[i].xy() - nu * radii[i]);
-        }
-        let tangent = |a: Vec3<T>, b: Vec3<T>| (b - a).normalize();
-        let bottom_normal = tangent(p[1], p[0]);
-        let top_normal = tangent(p[k - 2], p[k - 1]);
+        let s = spine(k, x);
+        let h = x[7];
+        let kappa = &x[8..8 + k - 2];
+        let radii = &x[8 + k - 2..8 + 2 * k - 2];
+        let (left, right) = contours(&s, radii);
+        // An end circle facing away from the viewer shows only its near half (as drawn):
+        // which way each end faces is taken at the current numeric pose; an end almost
+        // edge-on (|n_z| < 0.05) counts as facing, a coin toss which half is in front.
+        let facing = {
+            let t = spine(k, &self.params()).tangents;
+            let faces = |z: f64| z > 0.0 || z.abs() < 0.05;
+            [faces(-t[0].z), faces(t[k - 1].z)]
+        };
+        let bottom_normal = -s.tangents[0];
+        let top_normal = s.tangents[k - 1];
+        let (p0, p1) = (s.points[0], s.points[k - 1]);
         let curve = |name: &str, class, curve| ProjectedCurve {
             name: name.to_owned(),
             class,
@@ -134,33 +350,46 @@ impl Bgc {
             curve,
         };
         let min = self.size() * MIN_SIZE_FRACTION;
-        let spacing = (p[1] - p[0]).norm_squared();
-        let mut equalities = vec![("unit plane normal", n.norm_squared() - 1.0)];
-        for i in 1..k {
-            equalities.push(("planar spine", (p[i] - p[0]).dot(n)));
-        }
-        for i in 1..k - 1 {
-            equalities.push(("even spacing", (p[i + 1] - p[i]).norm_squared() - spacing));
-        }
-        let mut inequalities = vec![("positive spacing", spacing - min * min)];
+        let equalities = vec![(
+            "unit quaternion",
+            x[3].square() + x[4].square() + x[5].square() + x[6].square() - 1.0,
+        )];
+        // The spine's plane within 78.5° of the view plane (as an axis of a solid of
+        // revolution within 11.5° of the view direction, [`MAX_AXIS_Z2`]): a plane seen
+        // edge-on shows the length of nothing, and a fit could run away along it.
+        let mut inequalities = vec![
+            ("positive length", h * (k - 1) as f64 - min),
+            (
+                "plane not edge-on",
+                s.normal.z.square() - (1.0 - MAX_AXIS_Z2),
+            ),
+        ];
         inequalities.extend(radii.iter().map(|r| ("positive radius", *r - min)));
-        let mut regularizers = Vec::new();
-        for w in p.windows(3) {
-            let bend = w[0] - w[1].scale(2.0) + w[2];
-            regularizers.extend(bend.to_array());
-        }
-        regularizers.extend(radii.windows(3).map(|w| w[0] - w[1] * 2.0 + w[2]));
+        inequalities.extend(
+            kappa
+                .iter()
+                .map(|t| ("moderate turn", -t.square() + MAX_TURN * MAX_TURN)),
+        );
+        let mut regularizers: Vec<T> = kappa
+            .windows(2)
+            .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
+            .collect();
+        regularizers.extend(
+            radii
+                .windows(3)
+                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
+        );
         Shape {
             curves: vec![
                 curve(
                     "top",
                     CurveClass::Feature,
-                    circle_ellipse(p[k - 1], top_normal, radii[k - 1]),
+                    end_curve(p1, top_normal, radii[k - 1], facing[1]),
                 ),
                 curve(
                     "bottom",
                     CurveClass::Feature,
-                    circle_ellipse(p[0], bottom_normal, radii[0]),
+                    end_curve(p0, bottom_normal, radii[0], facing[0]),
                 ),
                 curve("left", CurveClass::Silhouette, Curve2::Polyline(left)),
                 curve("right", CurveClass::Silhouette, Curve2::Polyline(right)),
@@ -169,7 +398,7 @@ impl Bgc {
                 FeatureCurve {
                     name: "top",
                     geometry: FeatureGeometry::Circle {
-                        center: p[k - 1],
+                        center: p1,
                         normal: top_normal,
                         radius: radii[k - 1],
                     },
@@ -177,7 +406,7 @@ impl Bgc {
                 FeatureCurve {
                     name: "bottom",
                     geometry: FeatureGeometry::Circle {
-                        center: p[0],
+                        center: p0,
                         normal: bottom_normal,
                         radius: radii[0],
                     },
@@ -236,7 +465,16 @@ mod tests {
         place.length = Some(70.0);
         place.radius = Some(5.0);
         let p = Primitive::from_placement(PrimitiveKind::Bgc, &place, 30.0);
-        assert_eq!(p.with_params(&p.params()), p);
+        let back = p.with_params(&p.params());
+        let (Primitive::Bgc(a), Primitive::Bgc(b)) = (&p, &back) else {
+            panic!("a bgc")
+        };
+        assert!(a
+            .spine
+            .iter()
+            .zip(&b.spine)
+            .all(|(x, y)| x.distance(*y) < 1e-9));
+        assert_eq!(a.radii, b.radii);
         let shape = p.current_shape();
         assert!(shape.equalities.iter().all(|(_, c)| c.abs() < 1e-9));
         assert!(shape.inequalities.iter().all(|(_, g)| *g > 0.0));

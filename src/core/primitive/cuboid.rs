@@ -5,6 +5,9 @@
 //! maps the box's local axes to model space: local x is the width direction, y the
 //! height, z the depth.
 //!
+//! Inequalities: positive sizes, and no axis within 11.5° of the view direction (a size
+//! along the view shows in no edge, and a fit could run away along it).
+//!
 //! Projected curves: the 12 edges (matched to straight strokes of either class); an edge
 //! is *visible* when one of its two faces faces the viewer (outward normal z > 0),
 //! judged at the primitive's current orientation. Feature curves: the six faces
@@ -13,7 +16,7 @@
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::cylinder::MIN_SIZE_FRACTION;
+use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::TriMesh;
 use super::{Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape};
 use crate::core::ad::{Real, Vec3};
@@ -191,6 +194,18 @@ impl Cuboid {
                 ("positive width", x[7] - min),
                 ("positive height", x[8] - min),
                 ("positive depth", x[9] - min),
+                (
+                    "width not along the view",
+                    -axes[0].z.square() + MAX_AXIS_Z2,
+                ),
+                (
+                    "height not along the view",
+                    -axes[1].z.square() + MAX_AXIS_Z2,
+                ),
+                (
+                    "depth not along the view",
+                    -axes[2].z.square() + MAX_AXIS_Z2,
+                ),
             ],
             regularizers: Vec::new(),
         }

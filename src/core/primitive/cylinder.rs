@@ -25,6 +25,12 @@ use crate::core::geom::projection::view_from_sketch;
 /// Smallest size as a fraction of the primitive's size when it was made.
 pub(crate) const MIN_SIZE_FRACTION: f64 = 1e-3;
 
+/// The largest a_z² of a solid of revolution's axis (|a_z| ≤ 0.98, within 11.5° of the
+/// view direction). Looking straight down an axis, a drawing shows the length of nothing:
+/// without this bound a fit can run away towards the view with an ever longer body whose
+/// projection does not change.
+pub(crate) const MAX_AXIS_Z2: f64 = 0.9604;
+
 /// A cylinder in model space.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Cylinder {
@@ -162,6 +168,7 @@ pub(crate) fn revolved_shape<T: Real>(
             ("positive length", l - min_size),
             ("positive bottom radius", r_bottom - min_size),
             ("positive top radius", r_top - min_size),
+            ("axis not along the view", -a.z.square() + MAX_AXIS_Z2),
         ],
         regularizers: Vec::new(),
     }

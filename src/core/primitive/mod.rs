@@ -110,6 +110,26 @@ pub enum Curve2<T> {
     Polyline(Vec<Vec2<T>>),
 }
 
+impl Curve2<f64> {
+    /// Points along the curve: `n + 1` evenly in θ for an ellipse (closed: the last is the
+    /// first), the vertices of a polyline.
+    pub fn points(&self, n: usize) -> Vec<DVec2> {
+        match self {
+            Self::Ellipse { center, a, b } => {
+                let (c, a, b) = (center.to_dvec2(), a.to_dvec2(), b.to_dvec2());
+                let n = n.max(1);
+                (0..=n)
+                    .map(|k| {
+                        let t = std::f64::consts::TAU * k as f64 / n as f64;
+                        c + a * t.cos() + b * t.sin()
+                    })
+                    .collect()
+            }
+            Self::Polyline(points) => points.iter().map(|p| p.to_dvec2()).collect(),
+        }
+    }
+}
+
 /// A projected curve of a primitive with its role.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProjectedCurve<T> {

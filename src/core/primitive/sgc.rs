@@ -13,7 +13,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::cylinder::MIN_SIZE_FRACTION;
+use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::revolution;
 use super::{
     circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, FeatureCurve,
@@ -107,7 +107,10 @@ impl Sgc {
             curve,
         };
         let min = self.size() * MIN_SIZE_FRACTION;
-        let mut inequalities = vec![("positive length", l - min)];
+        let mut inequalities = vec![
+            ("positive length", l - min),
+            ("axis not along the view", -a.z.square() + MAX_AXIS_Z2),
+        ];
         inequalities.extend(radii.iter().map(|r| ("positive radius", *r - min)));
         Shape {
             curves: vec![

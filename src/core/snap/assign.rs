@@ -7,8 +7,8 @@
 //! threefold worse score, so a misclassified stroke is not lost). The distances of the
 //! stroke's samples to the curve decide:
 //! - a stroke whose samples lie within the *gate* (a distance relative to the
-//!   primitive's size, never an absolute number of pixels) for at least 80 % is taken
-//!   whole;
+//!   primitive's size, never an absolute number of pixels; for an ellipse, at most its
+//!   semi-major axis) for at least 80 % is taken whole;
 //! - a longer stroke that runs along the curve for at least half the curve's length is
 //!   taken for that part only (one stroke may outline two stacked parts);
 //! - among the curves a stroke qualifies for, the closest wins;
@@ -123,15 +123,28 @@ pub(crate) fn singular_values(m: glam::DMat2) -> (f64, f64) {
     ((s1 + s2).max(0.0).sqrt(), (s1 - s2).max(0.0).sqrt())
 }
 
-/// Whether a stroke suits a curve class, and the score factor if it does.
-fn suitability(class: CurveClass, stroke: &SnapStroke) -> Option<f64> {
-    match (class, stroke.class) {
-        (CurveClass::Edge, _) => stroke.straight.then_some(1.0),
+/// Whether a stroke suits a curve, and the score factor if it does. A sphere's outline is
+/// an ellipse like an end's, and a closed elliptical stroke is classified a feature
+/// whichever it draws, so feature strokes suit it fully.
+fn suitability(curve: &ProjectedCurve<f64>, stroke: &SnapStroke) -> Option<f64> {
+    match (curve.class, stroke.class) {
+        (CurveClass::Silhouette, StrokeClass::Feature)
+            if matches!(curve.curve, Curve2::Ellipse { .. }) =>
+        {
+            Some(1.0)
+        }
+        (CurveClass::Edge, _) if stroke.straight => Some(1.0),
+        (CurveClass::Edge, _) => (stroke.straightness <= ROUGHLY_STRAIGHT).then_some(1.5),
         (CurveClass::Feature, StrokeClass::Feature)
         | (CurveClass::Silhouette, StrokeClass::Silhouette) => Some(1.0),
         _ => Some(3.0),
     }
 }
+
+/// The straightness (see [`SnapStroke::straightness`]) up to which a stroke that is not
+/// quite straight may still draw a box edge, at a worse score: a short edge drawn by a
+/// shaky hand.
+pub(crate) const ROUGHLY_STRAIGHT: f64 = 0.06;
 
 /// At most this many samples of a stroke are tested and used per curve.
 const MAX_SAMPLES: usize = 32;
@@ -175,12 +188,13 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
             if !curve.visible {
                 continue;
             }
-            let Some(factor) = suitability(curve.class, stroke) else {
+            let Some(factor) = suitability(curve, stroke) else {
                 continue;
             };
             if !direction_ok(&curve.curve, stroke) {
                 continue;
             }
+            let gate = curve_gate(&curve.curve, gate);
             let d: Vec<f64> = samples
                 .iter()
                 .map(|p| curve_distance(&curve.curve, *p))
@@ -229,10 +243,26 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
     assignment
 }
 
+/// The gate of one curve: `gate`, but for an ellipse no more than its semi-major axis. A
+/// stroke further from an end ellipse than that ellipse's own radius is not drawing it:
+/// without this, the thin stem of a goblet, whose size is its length, would take the
+/// base's wide rim for its small end.
+fn curve_gate(curve: &Curve2<f64>, gate: f64) -> f64 {
+    match curve {
+        Curve2::Ellipse { a, b, .. } => {
+            let m = glam::DMat2::from_cols(a.to_dvec2(), b.to_dvec2());
+            gate.min(singular_values(m).0)
+        }
+        Curve2::Polyline(_) => gate,
+    }
+}
+
 /// Straight strokes must run within 35° of a two-point curve's direction.
 fn direction_ok(curve: &Curve2<f64>, stroke: &SnapStroke) -> bool {
     match curve {
-        Curve2::Polyline(points) if points.len() == 2 && stroke.straight => {
+        Curve2::Polyline(points)
+            if points.len() == 2 && stroke.straightness <= ROUGHLY_STRAIGHT =>
+        {
             let dir = (points[1].to_dvec2() - points[0].to_dvec2()).normalize_or_zero();
             dir.dot(stroke.direction).abs() >= 35f64.to_radians().cos()
         }
@@ -313,5 +343,28 @@ mod tests {
         );
         assert_eq!(a.stroke_ids(), vec![StrokeId(0), StrokeId(1), StrokeId(2)]);
         assert!((curve_length(&shape.curves[2].curve) - 40.0 * 0.96).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_thin_parts_end_does_not_take_a_wide_rim_nearby() {
+        // A stem (radius 4, length 60) standing on a wide rim (radius 40) drawn 12 below
+        // its bottom end: the rim is well within 30 % of the stem's size, but further from
+        // the stem's small end ellipse than that ellipse's own radius.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(0.0, 30.0, 0.0),
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 60.0,
+            radius: 4.0,
+        });
+        let shape = stem.current_shape();
+        let rim: Vec<DVec2> = (0..=48)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 48.0;
+                DVec2::new(40.0 * t.cos(), 12.0 + 11.0 * t.sin())
+            })
+            .collect();
+        let ctx = SnapContext::new([(StrokeId(0), rim.as_slice(), StrokeClass::Feature)]);
+        let a = assign(&ctx, &shape.curves, 0.3 * stem.size());
+        assert!(a.stroke_ids().is_empty(), "{a:?}");
     }
 }

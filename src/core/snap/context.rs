@@ -20,6 +20,10 @@ pub struct SnapStroke {
     /// Whether it is (nearly) straight: RMS distance to its chord line ≤ 2 % of its
     /// length. Box edges take straight strokes of either class.
     pub straight: bool,
+    /// Its RMS distance to its principal line over its extent along that line: 0 for a
+    /// ruler-straight stroke, about 0.1 for a quarter of a circle. A hand's jitter makes a
+    /// short straight stroke score a few hundredths.
+    pub straightness: f64,
     /// Its unit principal direction (sign arbitrary).
     pub direction: DVec2,
     /// Axis-aligned bounds `(min, max)`.
@@ -103,12 +107,20 @@ fn prepare(id: StrokeId, points: Vec<DVec2>, class: StrokeClass) -> Option<SnapS
         .sum::<f64>()
         / n)
         .sqrt();
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let t = p.dot(direction);
+            (lo.min(t), hi.max(t))
+        });
+    let straightness = rms / (hi - lo).max(f64::MIN_POSITIVE);
     let bounds = points.iter().fold((points[0], points[0]), |(lo, hi), p| {
         (lo.min(*p), hi.max(*p))
     });
     Some(SnapStroke {
         id,
         straight: rms <= 0.02 * length,
+        straightness,
         direction,
         bounds,
         length,

@@ -9,7 +9,9 @@
 //! warm-starting each frame from the last.
 
 mod assign;
+mod bgc_start;
 mod context;
+mod initial;
 mod objective;
 
 use thiserror::Error;
@@ -37,6 +39,16 @@ pub enum SnapError {
     /// The placement or the fit is not finite.
     #[error("the {0} has non-finite parameters")]
     NonFinite(&'static str),
+    /// The fit ran away from the drop: its size changed by more than [`MAX_SIZE_CHANGE`]
+    /// times (strokes that do not describe one such part, such as a drawing that
+    /// contradicts itself).
+    #[error("the {kind} fit ran away (its size changed {factor:.1}×): the strokes near it do not describe one {kind}")]
+    RanAway {
+        /// The kind.
+        kind: &'static str,
+        /// The fitted size over the dropped size.
+        factor: f64,
+    },
     /// The snap was cancelled.
     #[error("cancelled")]
     Cancelled,
@@ -230,6 +242,79 @@ fn snap_from(
     if !primitive.is_finite() {
         return Err(SnapError::NonFinite(kind));
     }
+    // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
+    // straight drop is tried only when that start gives no good fit.
+    if warm.is_none() {
+        let mut from_start: Option<SnapResult> = None;
+        for start in bgc_start::starts(context, primitive) {
+            match snap_rounds(context, &start, settings, None, cancel, clock) {
+                Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+                Ok(r) if from_start.as_ref().is_none_or(|b| better(&r, b)) => {
+                    from_start = Some(r);
+                }
+                _ => {}
+            }
+        }
+        if let Some(r) = from_start.filter(|r| r.rms <= GOOD_FIT * r.primitive.size()) {
+            return Ok(r);
+        }
+    }
+    let mut best = snap_rounds(context, primitive, settings, warm, cancel, clock);
+    if warm.is_some() {
+        return best;
+    }
+    // A cold drop is also tried from the starting poses the drawing itself suggests (see
+    // `initial`: the tilt of drawn end ellipses, the three edge directions of a drawn
+    // box); the better snap wins (see `better`).
+    for start in initial::starting_poses(context, primitive) {
+        if !start.is_finite() {
+            continue;
+        }
+        let candidate = snap_rounds(context, &start, settings, None, cancel, clock);
+        best = match (best, candidate) {
+            (Ok(a), Ok(b)) => Ok(if better(&b, &a) { b } else { a }),
+            (Err(SnapError::Cancelled), _) | (_, Err(SnapError::Cancelled)) => {
+                return Err(SnapError::Cancelled)
+            }
+            (Ok(a), Err(_)) => Ok(a),
+            (Err(_), Ok(b)) => Ok(b),
+            (Err(e), Err(_)) => Err(e),
+        };
+    }
+    best
+}
+
+/// A snap may change the dropped size by at most this factor either way; beyond it the
+/// fit has run away (see [`SnapError::RanAway`]).
+pub const MAX_SIZE_CHANGE: f64 = 4.0;
+
+/// A fit RMS above this fraction of the size is a failed fit, whatever it explains.
+const GOOD_FIT: f64 = 0.05;
+
+/// Whether snap `a` is better than snap `b` of the same drop: a good fit (RMS within
+/// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, the one
+/// that explains more strokes wins, then the closer one. A fit that takes more strokes
+/// by bending itself out of shape loses to one that explains fewer strokes well.
+fn better(a: &SnapResult, b: &SnapResult) -> bool {
+    let good = |r: &SnapResult| r.rms <= GOOD_FIT * r.primitive.size();
+    let count = |r: &SnapResult| r.assignment.stroke_ids().len();
+    match (good(a), good(b)) {
+        (true, false) => true,
+        (false, true) => false,
+        _ => count(a) > count(b) || (count(a) == count(b) && a.rms < b.rms),
+    }
+}
+
+/// The assignment and fitting rounds of a snap from `primitive`.
+fn snap_rounds(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let kind = primitive.kind().name();
     let wide = settings.wide_gate * primitive.size();
     let mut assignment = assign(context, &primitive.current_shape().curves, wide);
     check_enough(primitive, &assignment)?;
@@ -269,6 +354,10 @@ fn snap_from(
     }
     if !current.is_finite() {
         return Err(SnapError::NonFinite(kind));
+    }
+    let factor = current.size() / primitive.size();
+    if !(1.0 / MAX_SIZE_CHANGE..=MAX_SIZE_CHANGE).contains(&factor) {
+        return Err(SnapError::RanAway { kind, factor });
     }
     let rms = fit_rms(&current, &assignment);
     Ok(SnapResult {

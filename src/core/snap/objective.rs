@@ -11,9 +11,9 @@
 //!   (ellipse or polyline);
 //! - ρ(d) = τ²·ln(1 + d²/τ²) is quadratic for small d and grows only logarithmically, so
 //!   an overshoot or a stray sample cannot drag the fit (τ = 5 % of the size);
-//! - end terms pull each end of an outline towards the extreme assigned sample along it,
-//!   which fixes the length when no end ellipse was drawn (weight 0.5, or 0.1 when the
-//!   ellipse at that end is assigned);
+//! - end terms pull an end of an outline towards the extreme assigned sample along it,
+//!   which fixes the length when no end ellipse was drawn at that end (weight 0.5); ends
+//!   with an assigned ellipse, and box edges, get none, so overshoots cannot bias sizes;
 //! - regularisers keep profiles and spines smooth (weight 0.01).
 //!
 //! Each curve's samples are averaged so a long stroke does not outweigh a short ellipse.
@@ -29,8 +29,6 @@ use crate::core::solve::Problem;
 const TAU: f64 = 0.05;
 /// Weight of an outline end without an assigned end ellipse.
 const END_WEIGHT: f64 = 0.5;
-/// Weight of an outline end whose end ellipse is assigned.
-const END_WEIGHT_WITH_ELLIPSE: f64 = 0.1;
 /// Weight of the regularisers.
 const REGULARIZER_WEIGHT: f64 = 0.01;
 
@@ -140,14 +138,15 @@ pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Fra
                 let ends = [points[0], points[points.len() - 1]];
                 let names = ["bottom", "top"];
                 for ((end, target), name) in ends.iter().zip(targets).zip(names) {
-                    let weight = if curve.class == CurveClass::Silhouette && ellipse_assigned(name)
-                    {
-                        END_WEIGHT_WITH_ELLIPSE
-                    } else {
-                        END_WEIGHT
-                    };
+                    // Only an outline end with nothing else to fix it is pulled to the
+                    // drawn extreme: an assigned end ellipse fixes it better, and box
+                    // edges fix each other at the corners; a pull there would let
+                    // overshoots bias the sizes.
+                    if curve.class != CurveClass::Silhouette || ellipse_assigned(name) {
+                        continue;
+                    }
                     let d2 = (end.x - target.x).square() + (end.y - target.y).square();
-                    terms.push(robust(d2) * weight);
+                    terms.push(robust(d2) * END_WEIGHT);
                 }
             }
         }

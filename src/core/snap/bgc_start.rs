@@ -1,0 +1,457 @@
+//! A starting pose for a bent generalized cylinder from the strokes around its drop.
+//!
+//! A BGC is dropped straight and in the view plane, but the drawing shows where its spine
+//! runs and how it leaves the view plane:
+//! - the **medial axis** of its two outlines: every sample of a silhouette stroke near
+//!   the drop is paired with the nearest point of another such stroke that lies across
+//!   the tube (roughly perpendicular to the stroke, running roughly parallel to it, at a
+//!   plausible width); the midpoints of the pairs trace the projected spine and their half
+//!   distances the radius. A quadratic through the midpoints, in the frame of their
+//!   principal direction, is the projected spine (a bend of up to about 120° is a graph
+//!   over its chord), from the first to the last midpoint;
+//! - the **end ellipses**: a feature stroke fitted well by an ellipse whose centre lies
+//!   near an end of that spine moves the end to its centre; its minor/major ratio is
+//!   |t_z|, the out-of-plane component of the spine's end tangent; and whether it is drawn
+//!   whole (the end faces the viewer, its outward normal has z > 0) or as a front arc (the
+//!   end faces away) gives the sign of t_z. The spine's plane z = a·x + b·y then follows
+//!   from the slopes dz/ds = t_z/√(1 − t_z²) along the two projected end tangents (least
+//!   squares with a small pull towards the view plane: with one ellipse, or none, the
+//!   least tilted plane that explains what is drawn).
+//!
+//! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
+//! measured half-widths linearly. `None` when the strokes show no tube near the drop, and
+//! for a BGC that is already bent (an earlier fit snaps from itself).
+
+use glam::{DVec2, DVec3};
+
+use super::context::SnapContext;
+use crate::core::geom::{fit_line, Ellipse2};
+use crate::core::primitive::{Bgc, Primitive};
+use crate::core::sketch::StrokeClass;
+
+/// At most this many samples of a stroke are paired.
+const SAMPLES: usize = 40;
+/// Samples of the projected spine curve before the 3D resampling.
+const DENSE: usize = 200;
+
+/// Evenly chosen samples of a polyline with their unit tangents.
+fn samples(points: &[DVec2]) -> Vec<(DVec2, DVec2)> {
+    let n = points.len();
+    let count = n.min(SAMPLES);
+    (0..count)
+        .map(|i| {
+            let j = i * (n - 1) / (count - 1).max(1);
+            let (lo, hi) = (j.saturating_sub(2), (j + 2).min(n - 1));
+            (points[j], (points[hi] - points[lo]).normalize_or_zero())
+        })
+        .collect()
+}
+
+/// The closest point to `p` on a polyline, with the polyline's unit direction there.
+fn closest(points: &[DVec2], p: DVec2) -> Option<(DVec2, DVec2)> {
+    let mut best: Option<(f64, DVec2, DVec2)> = None;
+    for w in points.windows(2) {
+        let ab = w[1] - w[0];
+        let len2 = ab.length_squared();
+        if len2 <= 0.0 {
+            continue;
+        }
+        let t = ((p - w[0]).dot(ab) / len2).clamp(0.0, 1.0);
+        let q = w[0] + ab * t;
+        let d = q.distance_squared(p);
+        if best.as_ref().is_none_or(|(b, _, _)| d < *b) {
+            best = Some((d, q, ab / len2.sqrt()));
+        }
+    }
+    best.map(|(_, q, dir)| (q, dir))
+}
+
+/// An end ellipse drawn near `at`, where the projected spine runs along the unit `tau`:
+/// (ellipse, drawn whole). The end circle's projection has its minor axis along the
+/// projected spine, so the ellipse is fitted with that orientation (an algebraic fit of
+/// α·p² + β·q² + γ·p + δ·q = 1 across and along the spine): a free fit to a front arc,
+/// half an ellipse with a hand's noise, often finds a much larger, flatter ellipse.
+fn end_ellipse(
+    context: &SnapContext,
+    at: DVec2,
+    tau: DVec2,
+    radius: f64,
+) -> Option<(Ellipse2, bool)> {
+    let mut best: Option<(f64, Ellipse2, bool)> = None;
+    for stroke in &context.strokes {
+        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+            continue;
+        }
+        let (lo, hi) = stroke.bounds;
+        let near = DVec2::new(at.x.clamp(lo.x, hi.x), at.y.clamp(lo.y, hi.y));
+        if near.distance(at) > 1.5 * radius {
+            continue;
+        }
+        let Some((fit, whole)) = whole_ellipse(&stroke.points, at, tau, radius)
+            .or_else(|| front_arc(&stroke.points, at, tau))
+        else {
+            continue;
+        };
+        let rms = fit.rms_distance(&stroke.points);
+        let d = fit.center.distance(at);
+        let ratio = fit.semi_major / radius;
+        if rms <= 0.15 * fit.semi_major
+            && d <= 1.5 * radius
+            && (0.5..=2.0).contains(&ratio)
+            && best.as_ref().is_none_or(|(b, _, _)| d < *b)
+        {
+            best = Some((d, fit, whole));
+        }
+    }
+    best.map(|(_, e, whole)| (e, whole))
+}
+
+/// Medial samples (midpoint, half-width) of the silhouette strokes mostly within `reach`
+/// of `center`, for a tube of radius about `r` (module docs).
+fn medial_axis(context: &SnapContext, center: DVec2, reach: f64, r: f64) -> Vec<(DVec2, f64)> {
+    let outlines: Vec<&[DVec2]> = context
+        .strokes
+        .iter()
+        .filter(|s| s.class == StrokeClass::Silhouette && s.points.len() >= 2)
+        .filter(|s| {
+            let near = s
+                .points
+                .iter()
+                .filter(|p| p.distance(center) <= reach)
+                .count();
+            near * 10 >= s.points.len() * 7
+        })
+        .map(|s| s.points.as_slice())
+        .collect();
+    // Medial samples: (midpoint, half-width).
+    let mut medial: Vec<(DVec2, f64)> = Vec::new();
+    for (i, a) in outlines.iter().enumerate() {
+        for (p, tangent) in samples(a) {
+            let mut best: Option<(f64, DVec2)> = None;
+            for (j, b) in outlines.iter().enumerate() {
+                if i == j {
+                    continue;
+                }
+                let Some((q, dir)) = closest(b, p) else {
+                    continue;
+                };
+                let d = q.distance(p);
+                let across = (q - p).dot(tangent).abs() <= 0.4 * d;
+                let parallel = dir.dot(tangent).abs() >= 0.7;
+                if across
+                    && parallel
+                    && (0.8 * r..=4.0 * r).contains(&d)
+                    && best.as_ref().is_none_or(|(bd, _)| d < *bd)
+                {
+                    best = Some((d, q));
+                }
+            }
+            if let Some((d, q)) = best {
+                medial.push(((p + q) / 2.0, d / 2.0));
+            }
+        }
+    }
+    medial
+}
+
+/// An ellipse with its minor axis along `tau` fitted to a stroke drawn all round it (an
+/// algebraic fit of α·p² + β·q² + γ·p + δ·q = 1, p across and q along `tau`, about `at`
+/// in units of `radius`): (ellipse, true), or `None` when the stroke is no whole ellipse.
+fn whole_ellipse(points: &[DVec2], at: DVec2, tau: DVec2, radius: f64) -> Option<(Ellipse2, bool)> {
+    let across = tau.perp();
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for p in points {
+        let d = (*p - at) / radius;
+        let (x, y) = (d.dot(across), d.dot(tau));
+        let row = [x * x, y * y, x, y];
+        for i in 0..4 {
+            for j in 0..4 {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i];
+        }
+    }
+    let [alpha, beta, gamma, delta] = solve(a, b)?;
+    if !(alpha > 0.0 && beta > 0.0) {
+        return None;
+    }
+    let (x0, y0) = (-gamma / (2.0 * alpha), -delta / (2.0 * beta));
+    let f = 1.0 + alpha * x0 * x0 + beta * y0 * y0;
+    let fit = Ellipse2 {
+        center: at + (across * x0 + tau * y0) * radius,
+        semi_major: (f / alpha).sqrt() * radius,
+        semi_minor: (f / beta).sqrt() * radius,
+        angle: across.y.atan2(across.x),
+    };
+    let sweep = fit.angular_span(points).map_or(0.0, |s| s.sweep);
+    (sweep > 1.5 * std::f64::consts::PI && fit.semi_minor.is_finite()).then_some((fit, true))
+}
+
+/// The half ellipse with its minor axis along `tau` that a front arc draws: it runs from
+/// one end of the major axis to the other, so the major axis is the arc's extent across
+/// the spine, and q − q₀ = c·√(1 − (p − p₀)²/A²) is fitted linearly for q₀ and c = ±B.
+/// (ellipse, false).
+fn front_arc(points: &[DVec2], at: DVec2, tau: DVec2) -> Option<(Ellipse2, bool)> {
+    let across = tau.perp();
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let x = (*p - at).dot(across);
+            (lo.min(x), hi.max(x))
+        });
+    let (x0, semi) = (f64::midpoint(lo, hi), (hi - lo) / 2.0);
+    if !(semi > 0.0) {
+        return None;
+    }
+    let rows: Vec<DVec2> = points
+        .iter()
+        .map(|p| {
+            let d = *p - at;
+            let x = (d.dot(across) - x0) / semi;
+            DVec2::new((1.0 - x * x).max(0.0).sqrt(), d.dot(tau))
+        })
+        .collect();
+    let (y0, c) = linear(&rows)?;
+    let fit = Ellipse2 {
+        center: at + across * x0 + tau * y0,
+        semi_major: semi,
+        semi_minor: c.abs(),
+        angle: across.y.atan2(across.x),
+    };
+    (fit.semi_minor > 0.0).then_some((fit, false))
+}
+
+/// The starting BGCs for the dropped `primitive`, best first, or none (see the module
+/// docs).
+pub(crate) fn starts(context: &SnapContext, primitive: &Primitive) -> Vec<Primitive> {
+    starting_poses(context, primitive).unwrap_or_default()
+}
+
+fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Primitive>> {
+    let Primitive::Bgc(dropped) = primitive else {
+        return None;
+    };
+    let k = dropped.spine.len();
+    // Only a straight drop (as the palette or a script places one) is replaced: a bent
+    // BGC, such as an earlier fit, snaps from itself.
+    let straight = is_straight(dropped);
+    if !straight {
+        return None;
+    }
+    let first = dropped.spine.first()?.truncate();
+    let last = dropped.spine.last()?.truncate();
+    let center = (first + last) / 2.0;
+    let axis = (last - first).normalize_or(DVec2::Y);
+    let length = first.distance(last);
+    let r = dropped.radii.iter().sum::<f64>() / k as f64;
+    if !(length > 0.0 && r > 0.0) {
+        return None;
+    }
+    let medial = medial_axis(context, center, length + 3.0 * r, r);
+    if medial.len() < 8 {
+        return None;
+    }
+    // The projected spine: y = c₀ + c₁·x + c₂·x² in the principal frame.
+    let points: Vec<DVec2> = medial.iter().map(|(p, _)| *p).collect();
+    let line = fit_line(&points)?;
+    let mut dir = line.direction;
+    if dir.dot(axis) < 0.0 {
+        dir = -dir;
+    }
+    let normal = dir.perp();
+    let origin = line.centroid;
+    let local: Vec<DVec2> = points
+        .iter()
+        .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
+        .collect();
+    let coef = quadratic(&local)?;
+    let (mut x0, mut x1) = local
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.x), hi.max(p.x))
+        });
+    let curve = |x: f64| origin + dir * x + normal * (coef[0] + coef[1] * x + coef[2] * x * x);
+    let slope_dir = |x: f64| (dir + normal * (coef[1] + 2.0 * coef[2] * x)).normalize();
+    // Radius profile: half-width linear in x.
+    let widths: Vec<DVec2> = local
+        .iter()
+        .zip(&medial)
+        .map(|(p, (_, w))| DVec2::new(p.x, *w))
+        .collect();
+    let (w0, w1) = linear(&widths)?;
+    let width = |x: f64| (w0 + w1 * x).max(0.2 * r);
+    // End ellipses move the ends and tell the tilt.
+    let bottom = end_ellipse(context, curve(x0), slope_dir(x0), width(x0));
+    let top = end_ellipse(context, curve(x1), slope_dir(x1), width(x1));
+    let to_x = |p: DVec2| (p - origin).dot(dir);
+    if let Some((e, _)) = &bottom {
+        x0 = to_x(e.center);
+    }
+    if let Some((e, _)) = &top {
+        x1 = to_x(e.center);
+    }
+    if !(x1 - x0 > 0.1 * length) {
+        return None;
+    }
+    // Slopes dz/ds along the projected end tangents (bottom to top).
+    let slope = |e: &Ellipse2, outward_up: bool| {
+        let z = (e.semi_minor / e.semi_major).clamp(0.0, 0.94);
+        let g = z / (1.0 - z * z).sqrt();
+        if outward_up {
+            g
+        } else {
+            -g
+        }
+    };
+    let mut rows: Vec<(DVec2, f64)> = Vec::new();
+    if let Some((e, whole)) = &bottom {
+        // The bottom's outward normal is −t₀: whole (faces the viewer) means t₀.z < 0.
+        rows.push((slope_dir(x0), slope(e, !*whole)));
+    }
+    if let Some((e, whole)) = &top {
+        rows.push((slope_dir(x1), slope(e, *whole)));
+    }
+    let tilt = plane_tilt(&rows);
+    let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
+    let mid = curve(f64::midpoint(x0, x1));
+    // Lift onto the plane, then resample evenly in 3D.
+    let lifted: Vec<DVec3> = (0..=DENSE)
+        .map(|i| {
+            let p = curve(x0 + (x1 - x0) * i as f64 / DENSE as f64);
+            DVec3::new(p.x, p.y, depth + tilt.dot(p - mid))
+        })
+        .collect();
+    let spine = resample(&lifted, k);
+    let mut radii: Vec<f64> = spine.iter().map(|p| width(to_x(p.truncate()))).collect();
+    if let Some((e, _)) = &bottom {
+        radii[0] = f64::midpoint(radii[0], e.semi_major);
+    }
+    if let Some((e, _)) = &top {
+        radii[k - 1] = f64::midpoint(radii[k - 1], e.semi_major);
+    }
+    let mut bgc = Bgc::through(spine, r);
+    bgc.radii = radii;
+    bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
+    let start = Primitive::Bgc(bgc);
+    Some(start.is_finite().then_some(start).into_iter().collect())
+}
+
+/// `k` points evenly spaced by arc length along a polyline of at least two points.
+fn resample(points: &[DVec3], k: usize) -> Vec<DVec3> {
+    let mut cumulative = vec![0.0];
+    for w in points.windows(2) {
+        cumulative.push(cumulative[cumulative.len() - 1] + w[0].distance(w[1]));
+    }
+    let n = points.len() - 1;
+    let total = cumulative[n];
+    (0..k)
+        .map(|i| {
+            let s = total * i as f64 / (k - 1) as f64;
+            let j = cumulative.partition_point(|c| *c < s).clamp(1, n);
+            let seg = cumulative[j] - cumulative[j - 1];
+            let t = if seg > 0.0 {
+                (s - cumulative[j - 1]) / seg
+            } else {
+                0.0
+            };
+            points[j - 1].lerp(points[j], t)
+        })
+        .collect()
+}
+
+/// Whether a BGC's spine is a straight line (as dropped).
+fn is_straight(b: &Bgc) -> bool {
+    let (first, last) = (b.spine[0], b.spine[b.spine.len() - 1]);
+    let chord = (last - first).normalize_or_zero();
+    b.spine.iter().all(|p| {
+        let d = *p - first;
+        (d - chord * d.dot(chord)).length() <= 1e-9 * b.spine_length()
+    })
+}
+
+/// The plane's gradient (a, b) with (a, b)·τᵢ = gᵢ for rows (τᵢ, gᵢ), least squares with
+/// a small pull towards zero.
+fn plane_tilt(rows: &[(DVec2, f64)]) -> DVec2 {
+    let lambda = 0.05;
+    let (mut m00, mut m01, mut m11, mut v0, mut v1) = (lambda, 0.0, lambda, 0.0, 0.0);
+    for (t, g) in rows {
+        m00 += t.x * t.x;
+        m01 += t.x * t.y;
+        m11 += t.y * t.y;
+        v0 += t.x * g;
+        v1 += t.y * g;
+    }
+    let det = m00 * m11 - m01 * m01;
+    let tilt = DVec2::new(m11 * v0 - m01 * v1, m00 * v1 - m01 * v0) / det;
+    // At most 70° out of the view plane.
+    let limit = 70f64.to_radians().tan();
+    if tilt.length() > limit {
+        tilt * (limit / tilt.length())
+    } else {
+        tilt
+    }
+}
+
+/// Least-squares y = c₀ + c₁·x + c₂·x².
+fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
+    let scale = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()))
+        .max(1e-300);
+    let mut a = [[0.0; 3]; 3];
+    let mut b = [0.0; 3];
+    for p in points {
+        let x = p.x / scale;
+        let row = [1.0, x, x * x];
+        for i in 0..3 {
+            for j in 0..3 {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i] * p.y;
+        }
+    }
+    let c = solve(a, b)?;
+    Some([c[0], c[1] / scale, c[2] / (scale * scale)])
+}
+
+/// Least-squares y = c₀ + c₁·x.
+fn linear(points: &[DVec2]) -> Option<(f64, f64)> {
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec2>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.x - mean.x).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.x - mean.x) * (p.y - mean.y)).sum();
+    let c1 = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    Some((mean.y - c1 * mean.x, c1)).filter(|(a, b)| a.is_finite() && b.is_finite())
+}
+
+/// Solves a small linear system by Gaussian elimination with partial pivoting.
+fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    let scale = a
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    for col in 0..N {
+        let pivot = (col..N).max_by(|i, j| a[*i][col].abs().total_cmp(&a[*j][col].abs()))?;
+        if !(a[pivot][col].abs() > 1e-12 * scale) {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let pivot_row = a[col];
+        for row in col + 1..N {
+            let f = a[row][col] / pivot_row[col];
+            for (value, p) in a[row].iter_mut().zip(&pivot_row).skip(col) {
+                *value -= f * p;
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; N];
+    for row in (0..N).rev() {
+        let tail: f64 = (row + 1..N).map(|j| a[row][j] * x[j]).sum();
+        x[row] = (b[row] - tail) / a[row][row];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

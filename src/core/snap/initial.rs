@@ -1,0 +1,435 @@
+//! Better starting poses than the dropped one, read off the drawing near it.
+//!
+//! A dropped primitive has a fixed tilt, but the strokes say how the part really sits,
+//! and the fit converges far more reliably from there. Two readings are made:
+//! - solids of revolution, from their end ellipses (below);
+//! - boxes, from the directions of their drawn edges ([`box_poses`]).
+//!
+//! A primitive is dropped in the view plane with a fixed tilt, but the drawing says how
+//! much it really tilts: an end circle seen at elevation φ projects to an ellipse with
+//! minor/major = |sin φ| (the axis' z component). Each feature stroke near an end of the
+//! dropped primitive is fitted with an ellipse (Halíř–Flusser, refined); among those it
+//! fits well (RMS within 8 % of the ellipse) over a quarter of a turn or more, the one
+//! whose centre lies closest to that end, and whose major semi-axis is within a factor 2
+//! of the end's radius, is that end's ellipse. The tilt, radii, and (with both ends) the image
+//! axis, centre and length are then taken from the ellipses. The mirror sign of the tilt
+//! does not change the projection, so the positive one is used.
+
+use glam::{DMat3, DQuat, DVec2, DVec3};
+
+use super::assign::{curve_bounds, ROUGHLY_STRAIGHT};
+use super::context::{SnapContext, SnapStroke};
+use crate::core::geom::{fit_ellipse, refine_ellipse, Ellipse2};
+use crate::core::primitive::{Cuboid, Primitive};
+use crate::core::sketch::StrokeClass;
+
+/// The starting poses worth a try besides the dropped one (none when the drawing near it
+/// says nothing more).
+pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Vec<Primitive> {
+    match primitive {
+        Primitive::Cuboid(c) => box_poses(context, c)
+            .into_iter()
+            .map(Primitive::Cuboid)
+            .collect(),
+        _ => repose_from_ellipses(context, primitive)
+            .into_iter()
+            .collect(),
+    }
+}
+
+/// The ellipse drawn for an end: centre within `gate` of `center` and major semi-axis
+/// within a factor 2 of `radius`; the closest one.
+fn end_ellipse(context: &SnapContext, center: DVec2, radius: f64, gate: f64) -> Option<Ellipse2> {
+    let mut best: Option<(f64, Ellipse2)> = None;
+    for stroke in &context.strokes {
+        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+            continue;
+        }
+        let (lo, hi) = stroke.bounds;
+        let near = DVec2::new(center.x.clamp(lo.x, hi.x), center.y.clamp(lo.y, hi.y));
+        if near.distance(center) > gate + 2.0 * radius {
+            continue;
+        }
+        let Some(fit) = fit_ellipse(&stroke.points) else {
+            continue;
+        };
+        let fit = refine_ellipse(&fit, &stroke.points);
+        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
+        // covers a good part of it (a quarter of the turn) tells the tilt.
+        let rms = (stroke
+            .points
+            .iter()
+            .map(|p| fit.distance(*p).powi(2))
+            .sum::<f64>()
+            / stroke.points.len() as f64)
+            .sqrt();
+        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
+        if !(rms <= 0.08 * fit.semi_major) || covered < 1.5 {
+            continue;
+        }
+        let d = fit.center.distance(center);
+        let ratio = fit.semi_major / radius;
+        if d <= gate && (0.5..=2.0).contains(&ratio) && best.as_ref().is_none_or(|(b, _)| d < *b) {
+            best = Some((d, fit));
+        }
+    }
+    best.map(|(_, e)| e)
+}
+
+/// The axis with image direction `dir` and out-of-plane component `z` (|z| < 1).
+fn tilted(dir: DVec2, z: f64) -> DVec3 {
+    let xy = dir.normalize_or(DVec2::Y) * (1.0 - z * z).max(0.0).sqrt();
+    DVec3::new(xy.x, xy.y, z)
+}
+
+/// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
+/// a solid of revolution or no end ellipse is drawn near it.
+pub(crate) fn repose_from_ellipses(
+    context: &SnapContext,
+    primitive: &Primitive,
+) -> Option<Primitive> {
+    let (center, axis, length, r_bottom, r_top) = match primitive {
+        Primitive::Cylinder(c) => (c.center, c.axis, c.length, c.radius, c.radius),
+        Primitive::Cone(c) => (c.center, c.axis, c.length, c.radius_bottom, c.radius_top),
+        Primitive::Sgc(s) => (
+            s.center,
+            s.axis,
+            s.length,
+            *s.radii.first()?,
+            *s.radii.last()?,
+        ),
+        _ => return None,
+    };
+    let gate = 0.3 * primitive.size();
+    let half = axis * (length / 2.0);
+    let bottom_at = (center - half).truncate();
+    let top_at = (center + half).truncate();
+    let bottom = end_ellipse(context, bottom_at, r_bottom, gate);
+    let top = end_ellipse(context, top_at, r_top, gate);
+    let ellipses: Vec<&Ellipse2> = bottom.iter().chain(top.iter()).collect();
+    if ellipses.is_empty() {
+        return None;
+    }
+    // The tilt: minor/major of the ellipses, the rounder being the better conditioned.
+    let z = ellipses
+        .iter()
+        .map(|e| (e.semi_minor / e.semi_major).clamp(0.0, 0.95))
+        .fold(0.0f64, f64::max);
+
+    let image_dir = axis.truncate();
+    let (new_center, dir, projected) = match (&bottom, &top) {
+        (Some(b), Some(t)) if b.center.distance(t.center) > 1e-9 * primitive.size() => {
+            let mid = (b.center + t.center) / 2.0;
+            let d = t.center - b.center;
+            // Keep the axis pointing the way it was dropped (bottom to top).
+            let d = if d.dot(image_dir) < 0.0 { -d } else { d };
+            (DVec3::new(mid.x, mid.y, center.z), d, d.length())
+        }
+        _ => (center, image_dir, length * image_dir.length()),
+    };
+    let new_axis = tilted(dir, z);
+    let new_length = projected / (1.0 - z * z).max(1e-6).sqrt();
+    let radius =
+        |e: &Option<Ellipse2>, fallback: f64| e.as_ref().map_or(fallback, |e| e.semi_major);
+    let (rb, rt) = (radius(&bottom, r_bottom), radius(&top, r_top));
+    Some(match primitive {
+        Primitive::Cylinder(c) => {
+            let mut c = c.clone();
+            c.center = new_center;
+            c.axis = new_axis;
+            c.length = new_length;
+            c.radius = f64::midpoint(rb, rt);
+            Primitive::Cylinder(c)
+        }
+        Primitive::Cone(c) => {
+            let mut c = c.clone();
+            c.center = new_center;
+            c.axis = new_axis;
+            c.length = new_length;
+            c.radius_bottom = rb;
+            c.radius_top = rt;
+            Primitive::Cone(c)
+        }
+        Primitive::Sgc(s) => {
+            let mut s = s.clone();
+            s.center = new_center;
+            s.axis = new_axis;
+            s.length = new_length;
+            let k = s.radii.len().max(2) - 1;
+            for (i, r) in s.radii.iter_mut().enumerate() {
+                let t = i as f64 / k as f64;
+                // Keep the drawn profile's shape between the measured end radii.
+                *r *= (rb * (1.0 - t) + rt * t) / (r_bottom * (1.0 - t) + r_top * t);
+            }
+            Primitive::Sgc(s)
+        }
+        _ => return None,
+    })
+}
+
+/// Strokes closer in direction than this (radians) belong to one edge direction.
+const SAME_DIRECTION: f64 = 0.14;
+
+/// The three edge directions of a drawn box: groups of straight strokes by direction
+/// (mod π), strongest (longest in total) first; each is (unit direction, longest stroke).
+fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, f64); 3]> {
+    // Directions as doubled angles, so that d and −d agree.
+    let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
+    let gap = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(std::f64::consts::PI);
+        d.min(std::f64::consts::PI - d)
+    };
+    let mut left: Vec<&SnapStroke> = strokes.to_vec();
+    let mut groups = Vec::with_capacity(3);
+    for _ in 0..3 {
+        let support = |a: f64| -> f64 {
+            left.iter()
+                .filter(|s| gap(angle(s), a) <= SAME_DIRECTION)
+                .map(|s| s.length)
+                .sum()
+        };
+        let seed = left
+            .iter()
+            .map(|s| angle(s))
+            .max_by(|a, b| support(*a).total_cmp(&support(*b)))?;
+        let (members, rest): (Vec<&SnapStroke>, Vec<&SnapStroke>) = left
+            .iter()
+            .partition(|s| gap(angle(s), seed) <= 2.0 * SAME_DIRECTION);
+        // The length-weighted mean direction, on doubled angles.
+        let doubled = members.iter().fold(DVec2::ZERO, |acc, s| {
+            let a = 2.0 * angle(s);
+            acc + DVec2::new(a.cos(), a.sin()) * s.length
+        });
+        let a = doubled.y.atan2(doubled.x) / 2.0;
+        // A stroke's extent along its direction, not its length: a hand's jitter makes a
+        // polyline longer than the edge it draws.
+        let extent = |s: &SnapStroke| {
+            let (lo, hi) =
+                s.points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        let t = p.dot(s.direction);
+                        (lo.min(t), hi.max(t))
+                    });
+            hi - lo
+        };
+        let longest = members.iter().map(|s| extent(s)).fold(0.0, f64::max);
+        groups.push((DVec2::new(a.cos(), a.sin()), longest));
+        left = rest;
+    }
+    groups.try_into().ok()
+}
+
+/// The orientations (mirror pair) of a box whose axes project along the unit directions
+/// `d`: the 3D axes (dᵢ, wᵢ) are orthogonal when dᵢ·dⱼ + wᵢwⱼ = 0 for each pair, which
+/// fixes w₁² = −(d₁·d₂)(d₁·d₃)/(d₂·d₃) and the others from it; `None` when the directions
+/// cannot come from a box or an axis would lie within 8° of the view.
+fn box_axes(d: [DVec2; 3]) -> Option<[[DVec3; 3]; 2]> {
+    let (d12, d13, d23) = (d[0].dot(d[1]), d[0].dot(d[2]), d[1].dot(d[2]));
+    if d12.abs().min(d13.abs()).min(d23.abs()) < 1e-3 {
+        return None;
+    }
+    let w1_sq = -d12 * d13 / d23;
+    if !(w1_sq > 0.0) {
+        return None;
+    }
+    let w1 = w1_sq.sqrt();
+    let w = [w1, -d12 / w1, -d13 / w1];
+    // An axis within 8° of the view (|w| > cot 8° ≈ 7.1) is not seen well enough.
+    if w.iter().any(|w| w.abs() > 7.1) {
+        return None;
+    }
+    let axes = |sign: f64| [0, 1, 2].map(|i| DVec3::new(d[i].x, d[i].y, sign * w[i]).normalize());
+    Some([axes(1.0), axes(-1.0)])
+}
+
+/// Starting poses of a dropped box from the straight strokes around it: the three edge
+/// directions give its orientation up to the mirror of the view (both are returned), the
+/// longest stroke of each direction its size along that axis, and the middle of the
+/// strokes' bounds its centre (a box's outline is symmetric about its centre). The axes
+/// are labelled and signed as the dropped box's nearest ones, so its width stays its
+/// width.
+pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> {
+    let shape = Primitive::Cuboid(dropped.clone()).current_shape();
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for c in &shape.curves {
+        let (clo, chi) = curve_bounds(&c.curve);
+        lo = lo.min(clo);
+        hi = hi.max(chi);
+    }
+    let grow = DVec2::splat(0.3 * dropped.size.max_element());
+    let (lo, hi) = (lo - grow, hi + grow);
+    let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
+    let strokes: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|s| s.straightness <= ROUGHLY_STRAIGHT && s.points.iter().all(inside))
+        .collect();
+    let Some(groups) = edge_directions(&strokes) else {
+        return Vec::new();
+    };
+    let Some(orientations) = box_axes(groups.map(|(d, _)| d)) else {
+        return Vec::new();
+    };
+    let (mut slo, mut shi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for s in &strokes {
+        slo = slo.min(s.bounds.0);
+        shi = shi.max(s.bounds.1);
+    }
+    let centre = (slo + shi) / 2.0;
+    let dropped_axes = dropped.axes();
+    orientations
+        .iter()
+        .filter_map(|axes| {
+            // The labelling (a permutation with signs) nearest to the dropped axes.
+            let perms = [
+                [0, 1, 2],
+                [0, 2, 1],
+                [1, 0, 2],
+                [1, 2, 0],
+                [2, 0, 1],
+                [2, 1, 0],
+            ];
+            let perm = perms.into_iter().max_by(|p, q| {
+                let fit = |p: &[usize; 3]| -> f64 {
+                    (0..3).map(|j| dropped_axes[j].dot(axes[p[j]]).abs()).sum()
+                };
+                fit(p).total_cmp(&fit(q))
+            })?;
+            let mut new_axes = [0, 1, 2].map(|j| {
+                let a = axes[perm[j]];
+                if a.dot(dropped_axes[j]) < 0.0 {
+                    -a
+                } else {
+                    a
+                }
+            });
+            // A box is its own mirror image: make the frame right-handed by turning the
+            // axis least like the dropped one.
+            if new_axes[0].cross(new_axes[1]).dot(new_axes[2]) < 0.0 {
+                let worst = (0..3).min_by(|i, j| {
+                    let fit = |k: &usize| new_axes[*k].dot(dropped_axes[*k]);
+                    fit(i).total_cmp(&fit(j))
+                })?;
+                new_axes[worst] = -new_axes[worst];
+            }
+            let size = DVec3::from_array([0, 1, 2].map(|j| {
+                let (_, longest) = groups[perm[j]];
+                let a = axes[perm[j]];
+                longest / a.truncate().length().max(1e-3)
+            }));
+            Some(Cuboid {
+                center: DVec3::new(centre.x, centre.y, dropped.center.z),
+                rotation: DQuat::from_mat3(&DMat3::from_cols(
+                    new_axes[0],
+                    new_axes[1],
+                    new_axes[2],
+                ))
+                .normalize(),
+                size,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec2, DVec3};
+
+    use super::box_poses;
+    use crate::core::primitive::{Cuboid, Curve2, Primitive};
+    use crate::core::sketch::{StrokeClass, StrokeId};
+    use crate::core::snap::SnapContext;
+
+    /// The visible edges of `truth` as straight strokes (sketch space, y down).
+    fn drawn(truth: &Cuboid) -> SnapContext {
+        let shape = Primitive::Cuboid(truth.clone()).current_shape();
+        let strokes: Vec<Vec<DVec2>> = shape
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .filter_map(|c| match &c.curve {
+                Curve2::Polyline(p) => {
+                    let (a, b) = (p[0].to_dvec2(), p[1].to_dvec2());
+                    Some(
+                        (0..=20)
+                            .map(|i| {
+                                let q = a.lerp(b, f64::from(i) / 20.0);
+                                DVec2::new(q.x, -q.y)
+                            })
+                            .collect(),
+                    )
+                }
+                Curve2::Ellipse { .. } => None,
+            })
+            .collect();
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        )
+    }
+
+    #[test]
+    fn a_drawn_box_gives_its_orientation_and_sizes() {
+        let truth = Cuboid {
+            center: DVec3::new(400.0, -300.0, 0.0),
+            rotation: DQuat::from_rotation_y(0.7) * DQuat::from_rotation_x(0.45),
+            size: DVec3::new(200.0, 120.0, 90.0),
+        };
+        // Dropped upright, in the palette's default orientation, a little off.
+        let dropped = Cuboid {
+            center: DVec3::new(420.0, -280.0, 0.0),
+            rotation: DQuat::from_rotation_x(20f64.to_radians())
+                * DQuat::from_rotation_y(-30f64.to_radians()),
+            size: DVec3::new(150.0, 150.0, 150.0),
+        };
+        let poses = box_poses(&drawn(&truth), &dropped);
+        assert_eq!(poses.len(), 2, "the pose and its mirror image");
+        let truth_axes = truth.axes();
+        // Some pose has the true axes (up to order and sign, and the view's mirror) and
+        // sizes, and the true centre.
+        let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
+        let found = poses.iter().any(|pose| {
+            let axes = pose.axes();
+            (0..3).all(|i| {
+                (0..3).any(|j| {
+                    let same = |a: DVec3| a.dot(truth_axes[j]).abs() > 0.9998;
+                    (same(axes[i]) || same(mirror(axes[i])))
+                        && (pose.size[i] - truth.size[j]).abs() < 0.01 * truth.size[j]
+                })
+            })
+        });
+        assert!(found, "{poses:#?}");
+        for pose in &poses {
+            assert!(pose.center.truncate().distance(truth.center.truncate()) < 1e-6);
+        }
+    }
+
+    #[test]
+    fn too_few_edge_directions_give_no_pose() {
+        // Only two directions: a rectangle seen head-on says nothing of the depth.
+        let line = |a: DVec2, b: DVec2| -> Vec<DVec2> {
+            (0..=10).map(|i| a.lerp(b, f64::from(i) / 10.0)).collect()
+        };
+        let strokes = [
+            line(DVec2::new(0.0, 0.0), DVec2::new(100.0, 0.0)),
+            line(DVec2::new(0.0, 50.0), DVec2::new(100.0, 50.0)),
+            line(DVec2::new(0.0, 0.0), DVec2::new(0.0, 50.0)),
+            line(DVec2::new(100.0, 0.0), DVec2::new(100.0, 50.0)),
+        ];
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        );
+        let dropped = Cuboid {
+            center: DVec3::new(50.0, -25.0, 0.0),
+            rotation: DQuat::IDENTITY,
+            size: DVec3::new(100.0, 50.0, 50.0),
+        };
+        assert!(box_poses(&context, &dropped).is_empty());
+    }
+}

