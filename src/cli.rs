@@ -11,13 +11,16 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use geosnap::clock::MonotonicClock;
 use geosnap::core::model::{run_steps, Step, StepOutcome};
-use geosnap::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass};
+use geosnap::core::sketch::{
+    classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
+};
 use geosnap::core::snap::SnapSettings;
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
 use geosnap::io::model_file::{load_model, save_model};
-use geosnap::io::overlay::{save_overlay, OverlayItem};
+use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem};
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
+use glam::DVec2;
 
 /// Sketch-based 3D modelling with geosemantic snapping.
 #[derive(Debug, Parser)]
@@ -50,6 +53,14 @@ enum Command {
         /// The files.
         #[arg(required = true)]
         files: Vec<PathBuf>,
+        /// For a sketch: list every stroke (as the snapper sees it, after preprocessing)
+        /// with its bounds, class and the test that decided it.
+        #[arg(long)]
+        strokes: bool,
+        /// For a single sketch: write a PNG with its strokes coloured by class (features
+        /// blue, silhouettes black).
+        #[arg(long)]
+        overlay: Option<PathBuf>,
     },
     /// Solve the built-in Hock–Schittkowski test problems and report each result.
     Selftest {
@@ -72,7 +83,11 @@ pub(crate) fn main() -> ExitCode {
             out,
             overlay,
         }) => run(&script, &out, overlay.as_deref()),
-        Some(Command::Check { files }) => check(&files),
+        Some(Command::Check {
+            files,
+            strokes,
+            overlay,
+        }) => check(&files, strokes, overlay.as_deref()),
         Some(Command::Sample { dir }) => sample(&dir),
         None => Ok(no_command()),
     };
@@ -218,11 +233,19 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]
-fn check(files: &[PathBuf]) -> Result<ExitCode> {
+fn check(files: &[PathBuf], strokes: bool, overlay: Option<&Path>) -> Result<ExitCode> {
+    if overlay.is_some() && files.len() != 1 {
+        bail!("--overlay needs exactly one sketch file");
+    }
     let mut failures = 0;
     for file in files {
         match check_one(file) {
-            Ok(report) => println!("{}: ok: {report}", file.display()),
+            Ok(report) => {
+                println!("{}: ok: {report}", file.display());
+                if strokes || overlay.is_some() {
+                    stroke_classes(file, strokes, overlay)?;
+                }
+            }
             Err(error) => {
                 failures += 1;
                 println!("{}: error: {error:#}", file.display());
@@ -233,6 +256,51 @@ fn check(files: &[PathBuf]) -> Result<ExitCode> {
         bail!("{failures} of {} file(s) have problems", files.len());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Lists a sketch's strokes as the snapper sees them and/or draws them by class.
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn stroke_classes(file: &Path, list: bool, overlay: Option<&Path>) -> Result<()> {
+    let name = file.to_string_lossy();
+    if name.ends_with(".script.json") || name.ends_with(".model.json") {
+        bail!("--strokes and --overlay take a sketch file");
+    }
+    let loaded = load_sketch(file)?;
+    let (clean, _notes) = preprocess(&loaded.sketch, &PreprocessOptions::default());
+    let classes = classify_sketch(&clean, &ClassifyOptions::default());
+    if list {
+        println!(
+            "  stroke   points   bounds (sketch units)                      class       reason"
+        );
+        for (stroke, c) in clean.strokes.iter().zip(&classes) {
+            let (lo, hi) = stroke.points.iter().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            println!(
+                "  {:>6} {:>8}   ({:>8.1}, {:>8.1}) – ({:>8.1}, {:>8.1})   {:<11} {:?}",
+                stroke.id.0,
+                stroke.points.len(),
+                lo.x,
+                lo.y,
+                hi.x,
+                hi.y,
+                format!("{:?}", c.class).to_lowercase(),
+                c.reason
+            );
+        }
+    }
+    if let Some(png) = overlay {
+        let pairs: Vec<(StrokeId, StrokeClass)> = classes.iter().map(|c| (c.id, c.class)).collect();
+        let bytes = classes_png(&clean, &pairs)?;
+        geosnap::io::write_atomic(png, &bytes)
+            .with_context(|| format!("writing {}", png.display()))?;
+        println!(
+            "  classes: {} (features blue, silhouettes black)",
+            png.display()
+        );
+    }
+    Ok(())
 }
 
 /// Checks one file by what it holds: a script, a model, or a sketch.

@@ -8,6 +8,7 @@ pub mod ad;
 pub mod geom;
 pub mod model;
 pub mod primitive;
+pub mod relation;
 pub mod sketch;
 pub mod snap;
 pub mod solve;

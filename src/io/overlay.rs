@@ -9,7 +9,7 @@ use tiny_skia::{Color, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke as 
 
 use crate::core::geom::projection::sketch_from_view;
 use crate::core::primitive::Primitive;
-use crate::core::sketch::{Sketch, StrokeId};
+use crate::core::sketch::{Sketch, StrokeClass, StrokeId};
 use crate::io::atomic::write_atomic;
 
 /// One primitive to draw, with the strokes assigned to it.
@@ -62,48 +62,10 @@ const MAX_SIDE: f64 = 1400.0;
 /// [`OverlayError::Encode`] if the image cannot be made (for example an empty sketch of
 /// zero size is drawn as a small blank image instead).
 pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>, OverlayError> {
-    let (lo, hi) = sketch
-        .view_box
-        .map(|(min, size)| (min, min + size))
-        .or_else(|| sketch.bounds())
-        .unwrap_or((DVec2::ZERO, DVec2::splat(100.0)));
-    let extent = (hi - lo).max(DVec2::splat(1e-9));
-    let scale = MAX_SIDE / extent.max_element();
-    let width = (extent.x * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
-    let height = (extent.y * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
-    let mut pixmap =
-        Pixmap::new(width, height).ok_or_else(|| OverlayError::Encode("bad size".into()))?;
-    pixmap.fill(Color::WHITE);
-    let to_px = |p: DVec2| {
-        let q = (p - lo) * scale;
-        (q.x as f32, q.y as f32)
-    };
+    let (canvas, mut pixmap) = Canvas::new(sketch)?;
     let draw =
         |pixmap: &mut Pixmap, points: &[DVec2], closed: bool, rgb: (u8, u8, u8), width: f32| {
-            let mut pb = PathBuilder::new();
-            let mut iter = points.iter().filter(|p| p.is_finite());
-            let Some(first) = iter.next() else { return };
-            let (x, y) = to_px(*first);
-            pb.move_to(x, y);
-            for p in iter {
-                let (x, y) = to_px(*p);
-                pb.line_to(x, y);
-            }
-            if closed {
-                pb.close();
-            }
-            if let Some(path) = pb.finish() {
-                let mut paint = Paint::default();
-                paint.set_color_rgba8(rgb.0, rgb.1, rgb.2, 255);
-                paint.anti_alias = true;
-                let pen = Pen {
-                    width,
-                    line_cap: LineCap::Round,
-                    line_join: LineJoin::Round,
-                    ..Pen::default()
-                };
-                pixmap.stroke_path(&path, &paint, &pen, Transform::identity(), None);
-            }
+            canvas.draw(pixmap, points, closed, rgb, width);
         };
     for stroke in &sketch.strokes {
         draw(
@@ -136,7 +98,7 @@ pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>
         }
         // A small cross at the centre.
         let c = sketch_from_view(item.primitive.center().truncate());
-        let r = 6.0 / scale;
+        let r = 6.0 / canvas.scale;
         draw(
             &mut pixmap,
             &[c - DVec2::new(r, 0.0), c + DVec2::new(r, 0.0)],
@@ -151,6 +113,95 @@ pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>
             rgb,
             2.0,
         );
+    }
+    pixmap
+        .encode_png()
+        .map_err(|e| OverlayError::Encode(e.to_string()))
+}
+
+/// The image of a sketch: white, its view box (or stroke bounds) scaled to at most
+/// `MAX_SIDE` pixels.
+struct Canvas {
+    lo: DVec2,
+    scale: f64,
+}
+
+impl Canvas {
+    fn new(sketch: &Sketch) -> Result<(Self, Pixmap), OverlayError> {
+        let (lo, hi) = sketch
+            .view_box
+            .map(|(min, size)| (min, min + size))
+            .or_else(|| sketch.bounds())
+            .unwrap_or((DVec2::ZERO, DVec2::splat(100.0)));
+        let extent = (hi - lo).max(DVec2::splat(1e-9));
+        let scale = MAX_SIDE / extent.max_element();
+        let width = (extent.x * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
+        let height = (extent.y * scale).ceil().clamp(16.0, MAX_SIDE) as u32;
+        let mut pixmap =
+            Pixmap::new(width, height).ok_or_else(|| OverlayError::Encode("bad size".into()))?;
+        pixmap.fill(Color::WHITE);
+        Ok((Self { lo, scale }, pixmap))
+    }
+
+    /// Strokes a polyline given in sketch space.
+    fn draw(
+        &self,
+        pixmap: &mut Pixmap,
+        points: &[DVec2],
+        closed: bool,
+        rgb: (u8, u8, u8),
+        width: f32,
+    ) {
+        let to_px = |p: DVec2| {
+            let q = (p - self.lo) * self.scale;
+            (q.x as f32, q.y as f32)
+        };
+        let mut pb = PathBuilder::new();
+        let mut iter = points.iter().filter(|p| p.is_finite());
+        let Some(first) = iter.next() else { return };
+        let (x, y) = to_px(*first);
+        pb.move_to(x, y);
+        for p in iter {
+            let (x, y) = to_px(*p);
+            pb.line_to(x, y);
+        }
+        if closed {
+            pb.close();
+        }
+        if let Some(path) = pb.finish() {
+            let mut paint = Paint::default();
+            paint.set_color_rgba8(rgb.0, rgb.1, rgb.2, 255);
+            paint.anti_alias = true;
+            let pen = Pen {
+                width,
+                line_cap: LineCap::Round,
+                line_join: LineJoin::Round,
+                ..Pen::default()
+            };
+            pixmap.stroke_path(&path, &paint, &pen, Transform::identity(), None);
+        }
+    }
+}
+
+/// Renders a sketch with its strokes coloured by class, as PNG bytes: features (end
+/// ellipses and arcs) blue, silhouettes black; strokes missing from `classes` grey.
+///
+/// # Errors
+///
+/// [`OverlayError::Encode`] if the image cannot be made.
+pub fn classes_png(
+    sketch: &Sketch,
+    classes: &[(StrokeId, StrokeClass)],
+) -> Result<Vec<u8>, OverlayError> {
+    let (canvas, mut pixmap) = Canvas::new(sketch)?;
+    for stroke in &sketch.strokes {
+        let class = classes.iter().find(|(id, _)| *id == stroke.id).map(|c| c.1);
+        let (rgb, width) = match class {
+            Some(StrokeClass::Feature) => ((31, 119, 180), 3.0),
+            Some(StrokeClass::Silhouette) => ((20, 20, 20), 2.0),
+            None => ((170, 170, 170), 1.5),
+        };
+        canvas.draw(&mut pixmap, &stroke.points, stroke.closed, rgb, width);
     }
     pixmap
         .encode_png()

@@ -9,8 +9,11 @@
 //! the in-plane normal, n the plane's normal), the segment length h (1), the turns
 //! κ₁ … κ_{K−2} of the spine at its interior points (K − 2, radians, in the plane) and the
 //! radii r₀ … r_{K−1} (K). Segment s runs along d(φ_s) = cos φ_s·u + sin φ_s·v with
-//! φ_m = 0 and φ_s − φ_{s−1} = κ_s. Constraints: |q|² = 1, a positive length and radii,
-//! turns below 70° per segment, and a plane within 78.5° of the view plane.
+//! φ_m = 0 and φ_s − φ_{s−1} = κ_s. The quaternion is normalised where it is used, so the
+//! fit has no equality constraint (a regulariser keeps |q| near 1). Constraints
+//! (inequalities): a positive length and radii, turns below 70° per segment, a plane
+//! within 78.5° of the view plane, and each end on the side (facing the viewer or away)
+//! it shows at the pose the fit starts from, unless nearly edge-on.
 //!
 //! The spine's tangent at a point bisects its two segments, and at an end it is the end
 //! segment's direction turned back by half the next turn: exact for a circular arc, so
@@ -19,7 +22,8 @@
 //!
 //! Projected curves: the end ellipses (circles at P₀ and P_{K−1} whose normals are the
 //! outward end tangents; feature strokes; only the near half of an end that faces away
-//! from the viewer, as that is all a person draws of it) and two contour polylines, the spine offset by
+//! from the viewer, as that is all a person draws of it, run on along its end tangents
+//! as a hand overshoots it) and two contour polylines, the spine offset by
 //! ± rᵢ·νᵢ with νᵢ the view-plane normal of the projected tangent (silhouette strokes;
 //! exact when the spine lies in the view plane, close when it tilts moderately), through
 //! the points and the arc midpoints of the segments. Feature curves `bottom` (at P₀) and
@@ -45,6 +49,9 @@ const TURN_SMOOTHNESS: f64 = 15.0;
 const PROFILE_SMOOTHNESS: f64 = 15.0;
 /// The largest turn of the spine at one point (radians).
 const MAX_TURN: f64 = 1.2;
+/// An end circle whose normal is within this (|n_z|) of the view plane is nearly
+/// edge-on: it counts as facing the viewer, and may turn either way during a fit.
+const EDGE_ON: f64 = 0.05;
 
 /// A bent generalized cylinder in model space.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -99,7 +106,10 @@ struct Spine<T> {
 
 fn spine<T: Real>(k: usize, x: &[T]) -> Spine<T> {
     let c = Vec3::new(x[0], x[1], x[2]);
-    let [u, v, n] = frame([x[3], x[4], x[5], x[6]]);
+    // The quaternion is normalised here (its scale is free, fixed by a regulariser), so
+    // the fit has no equality constraint to satisfy.
+    let norm = (x[3].square() + x[4].square() + x[5].square() + x[6].square()).sqrt();
+    let [u, v, n] = frame([x[3] / norm, x[4] / norm, x[5] / norm, x[6] / norm]);
     let h = x[7];
     let kappa = &x[8..8 + k - 2];
     let m = middle(k);
@@ -177,32 +187,33 @@ fn contours<T: Real>(s: &Spine<T>, radii: &[T]) -> (Vec<Vec2<T>>, Vec<Vec2<T>>) 
 }
 
 /// Segments of the near half of an end circle that faces away from the viewer.
-const HALF_SEGMENTS: usize = 14;
-/// How far (radians) the near half of an end facing away runs on into the hidden half at
-/// each end: a hand overshoots a front arc along its tangent there, and the hidden rim
-/// stays close to that tangent for a while.
-const HIDDEN_MARGIN: f64 = 0.5;
+const HALF_SEGMENTS: usize = 8;
+/// How far (in radii) the near half of an end facing away runs on along its tangents at
+/// both ends: a hand overshoots a front arc along its tangent there (by up to about half
+/// a radius), where the hidden rim turns back sharply for a flat ellipse.
+const OVERSHOOT: f64 = 0.5;
 
 /// The projected curve of an end circle: the whole ellipse when it faces the viewer
 /// (`facing`), else its near half, the rim points c + r·(w·cos θ + k·sin θ) of
 /// [`circle_basis`] with sin θ ≤ 0 (k_z < 0, so those are nearer the viewer), as a
-/// polyline, a little longer at both ends ([`HIDDEN_MARGIN`]).
+/// polyline, run on along its end tangents (both ±k there, away from the near side) by
+/// [`OVERSHOOT`] radii.
 fn end_curve<T: Real>(center: Vec3<T>, normal: Vec3<T>, radius: T, facing: bool) -> Curve2<T> {
     if facing {
         return circle_ellipse(center, normal, radius);
     }
     let (w, k) = circle_basis(normal);
     let c = center.xy();
-    Curve2::Polyline(
-        (0..=HALF_SEGMENTS)
-            .map(|i| {
-                let t = i as f64 / HALF_SEGMENTS as f64;
-                let theta = std::f64::consts::PI - HIDDEN_MARGIN
-                    + (std::f64::consts::PI + 2.0 * HIDDEN_MARGIN) * t;
-                c + (w.xy().scale(theta.cos()) + k.xy().scale(theta.sin())) * radius
-            })
-            .collect(),
-    )
+    let on = k.xy() * (radius * OVERSHOOT);
+    let mut points = Vec::with_capacity(HALF_SEGMENTS + 3);
+    for i in 0..=HALF_SEGMENTS {
+        let theta = std::f64::consts::PI * (1.0 + i as f64 / HALF_SEGMENTS as f64);
+        points.push(c + (w.xy().scale(theta.cos()) + k.xy().scale(theta.sin())) * radius);
+    }
+    let (first, last) = (points[0], points[HALF_SEGMENTS]);
+    points.insert(0, first + on);
+    points.push(last + on);
+    Curve2::Polyline(points)
 }
 
 /// The signed angle from `a` to `b` in the plane (u, v), wrapped into (−π, π].
@@ -335,11 +346,11 @@ impl Bgc {
         // An end circle facing away from the viewer shows only its near half (as drawn):
         // which way each end faces is taken at the current numeric pose; an end almost
         // edge-on (|n_z| < 0.05) counts as facing, a coin toss which half is in front.
-        let facing = {
+        let now = {
             let t = spine(k, &self.params()).tangents;
-            let faces = |z: f64| z > 0.0 || z.abs() < 0.05;
-            [faces(-t[0].z), faces(t[k - 1].z)]
+            [-t[0].z, t[k - 1].z]
         };
+        let facing = now.map(|z| z > 0.0 || z.abs() < EDGE_ON);
         let bottom_normal = -s.tangents[0];
         let top_normal = s.tangents[k - 1];
         let (p0, p1) = (s.points[0], s.points[k - 1]);
@@ -350,10 +361,7 @@ impl Bgc {
             curve,
         };
         let min = self.size() * MIN_SIZE_FRACTION;
-        let equalities = vec![(
-            "unit quaternion",
-            x[3].square() + x[4].square() + x[5].square() + x[6].square() - 1.0,
-        )];
+        let equalities = Vec::new();
         // The spine's plane within 78.5° of the view plane (as an axis of a solid of
         // revolution within 11.5° of the view direction, [`MAX_AXIS_Z2`]): a plane seen
         // edge-on shows the length of nothing, and a fit could run away along it.
@@ -370,6 +378,21 @@ impl Bgc {
                 .iter()
                 .map(|t| ("moderate turn", -t.square() + MAX_TURN * MAX_TURN)),
         );
+        // An end keeps the side it shows at the current pose (unless nearly edge-on): a
+        // full ellipse explains a drawn front arc as well as the half that is drawn, so
+        // without this a fit may turn an end facing away round to face the viewer (or
+        // back), and the tilt of the tube with it.
+        let outward_z = [-s.tangents[0].z, s.tangents[k - 1].z];
+        for (z, now) in outward_z.into_iter().zip(now) {
+            let g = if now.abs() < EDGE_ON {
+                h.lit(1.0)
+            } else if now > 0.0 {
+                z
+            } else {
+                -z
+            };
+            inequalities.push(("end keeps its side", g));
+        }
         let mut regularizers: Vec<T> = kappa
             .windows(2)
             .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
@@ -379,6 +402,7 @@ impl Bgc {
                 .windows(3)
                 .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
         );
+        regularizers.push(x[3].square() + x[4].square() + x[5].square() + x[6].square() - 1.0);
         Shape {
             curves: vec![
                 curve(

@@ -45,8 +45,8 @@ pub struct ClassifyOptions {
     /// The largest RMS geometric distance to the fitted ellipse, as a fraction of its
     /// mean radius `√(ab)`, for an open stroke. Default 0.04.
     pub max_residual: f64,
-    /// The same for a stroke that closes on itself. Default 0.07 (a square scores 0.11,
-    /// a 3:1 rectangle 0.094, a hand-drawn egg-shaped rim 0.05–0.06).
+    /// The same for a stroke that closes on itself. Default 0.085 (a square scores 0.11,
+    /// a 3:1 rectangle 0.094, hand-drawn egg-shaped or lumpy rims 0.05–0.08).
     pub max_residual_closed: f64,
     /// The largest semi-major axis, as a multiple of the diagonal of the stroke's
     /// bounding box. Default 2.0 (a 120° arc round the end of an ellipse of axis ratio
@@ -87,8 +87,8 @@ pub struct ClassifyOptions {
     pub min_departure: f64,
     /// [`classify_sketch`]: the largest angle between the two silhouettes' directions of
     /// departure, in radians: the sides of a cylinder are parallel, those of a cone
-    /// converge a little, while two edges of a box leave a corner far apart.
-    /// Default 45°.
+    /// converge (a menorah's cup-shaped cones leave their bottom arcs up to 70° apart),
+    /// while two edges of a box leave a corner further apart still. Default 75°.
     pub max_side_angle: f64,
     /// [`classify_sketch`]: an elliptical arc with another open stroke alongside at a
     /// mean distance of at most this fraction of its length is one outline of a bent
@@ -110,7 +110,7 @@ impl Default for ClassifyOptions {
             smoothing_passes: 4,
             max_straightness: 0.01,
             max_residual: 0.04,
-            max_residual_closed: 0.07,
+            max_residual_closed: 0.085,
             max_size_ratio: 2.0,
             min_span: TAU / 3.0,
             closing_gap: 0.1,
@@ -121,7 +121,7 @@ impl Default for ClassifyOptions {
             junction_gap: 0.15,
             junction_gap_sketch: 0.02,
             min_departure: 0.3,
-            max_side_angle: 45f64.to_radians(),
+            max_side_angle: 75f64.to_radians(),
             twin_max_offset: 0.15,
             twin_max_variation: 0.25,
             turning_samples: 24,
@@ -158,6 +158,9 @@ pub enum ClassReason {
     /// An open arc running alongside another open stroke at a nearly constant distance:
     /// the two outlines of a bent tube ([`classify_sketch`] only).
     ParallelOutline,
+    /// An open arc hanging from both ends of a closed ellipse, but of another shape: the
+    /// outline of a bowl or dome under its rim ([`classify_sketch`] only).
+    OutlineUnderRim,
 }
 
 /// The evidence behind a stroke's class; a measured value is `None` when the test that
@@ -297,13 +300,24 @@ pub fn classify_sketch(sketch: &Sketch, options: &ClassifyOptions) -> Vec<Classi
         .iter()
         .map(|a| is_arc_candidate(a, options))
         .collect();
-    // The silhouettes an arc may join: open (a loop has no end to leave from), and not
-    // shallow arcs themselves, or two of them (the two sides of a curved horn, say)
-    // would vouch for each other.
-    let anchors: Vec<usize> = (0..analyses.len())
-        .filter(|&i| {
+    // The silhouettes an arc may join: open (a loop has no end to leave from). A shallow
+    // arc may anchor only an arc less than half its length (the curved sides of a cup
+    // and the small arc of its bottom), or two of them (the two sides of a curved horn,
+    // say) would vouch for each other.
+    let anchors: Vec<(usize, f64)> = (0..analyses.len())
+        .filter_map(|i| {
             let c = &analyses[i].classification;
-            c.class == StrokeClass::Silhouette && !c.closes && !candidate[i]
+            (c.class == StrokeClass::Silhouette && !c.closes).then(|| {
+                let a = &analyses[i];
+                (
+                    i,
+                    if candidate[i] {
+                        a.length / 2.0
+                    } else {
+                        f64::INFINITY
+                    },
+                )
+            })
         })
         .collect();
     let size = sketch.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length());
@@ -322,8 +336,44 @@ pub fn classify_sketch(sketch: &Sketch, options: &ClassifyOptions) -> Vec<Classi
             out[i].class = StrokeClass::Silhouette;
             out[i].reason = ClassReason::ParallelOutline;
         }
+        if c.reason == ClassReason::Ellipse
+            && !c.closes
+            && hangs_from_a_rim(a, &analyses, sketch_gap)
+        {
+            out[i].class = StrokeClass::Silhouette;
+            out[i].reason = ClassReason::OutlineUnderRim;
+        }
     }
     out
+}
+
+/// Whether both ends of the open elliptical arc `arc` lie on one closed ellipse (within
+/// `gap`, or 5 % of the arc's length), while the arc's own ellipse is of another shape
+/// (its minor semi-axis half as large again or more): a bowl's outline hangs from the
+/// ends of its rim, whereas the drawn half of a disc's hidden rim has the shape of the
+/// rim above it.
+fn hangs_from_a_rim(arc: &Analysis, all: &[Analysis], gap: f64) -> bool {
+    let (Some(&start), Some(&end), Some(own)) = (
+        arc.points.first(),
+        arc.points.last(),
+        arc.classification.ellipse.as_ref(),
+    ) else {
+        return false;
+    };
+    let gap = gap.max(0.05 * arc.length);
+    all.iter().any(|rim| {
+        let c = &rim.classification;
+        let Some(shape) = c.ellipse.as_ref() else {
+            return false;
+        };
+        c.id != arc.classification.id
+            && c.closes
+            && c.reason == ClassReason::Ellipse
+            && rim.points.len() >= 3
+            && polyline_distance(&rim.points, start).0 <= gap
+            && polyline_distance(&rim.points, end).0 <= gap
+            && own.semi_minor.min(own.semi_major) >= 1.5 * shape.semi_minor.min(shape.semi_major)
+    })
 }
 
 /// Whether another open stroke of similar length (half to twice) runs alongside the
@@ -517,12 +567,12 @@ fn is_arc_candidate(a: &Analysis, options: &ClassifyOptions) -> bool {
         && !reverses(c, options)
 }
 
-/// Whether each end of the arc `arc` meets an end of a different anchor silhouette, and
-/// both leave towards the arc's concave side.
+/// Whether each end of the arc `arc` meets an end of a different anchor silhouette (each
+/// with the longest arc it may anchor), and both leave towards the arc's concave side.
 fn joins_two_silhouettes(
     arc: &Analysis,
     all: &[Analysis],
-    anchors: &[usize],
+    anchors: &[(usize, f64)],
     sketch_gap: f64,
     options: &ClassifyOptions,
 ) -> bool {
@@ -542,10 +592,13 @@ fn joins_two_silhouettes(
     let meeting = |at: DVec2| -> Vec<(StrokeId, DVec2)> {
         anchors
             .iter()
-            .filter_map(|&j| {
+            .filter_map(|&(j, longest_arc)| {
                 let other = &all[j];
                 let n = other.points.len();
-                if n < 2 || other.classification.id == arc.classification.id {
+                if n < 2
+                    || other.classification.id == arc.classification.id
+                    || arc.length > longest_arc
+                {
                     return None;
                 }
                 let third = (n - 1) / 3;
@@ -875,6 +928,35 @@ mod tests {
         }
         let report = classify_sketch(&sketch, &ClassifyOptions::default());
         assert_eq!(report[0].class, StrokeClass::Silhouette, "{:#?}", report[0]);
+    }
+
+    #[test]
+    fn a_bowls_outline_under_its_rim_is_a_silhouette() {
+        // A closed rim ellipse (100 × 30); under it, hanging from its ends, a U of
+        // another shape (100 × 120: a bowl), or the same shape 10 lower (a disc's rim).
+        let rim = ellipse(DVec2::ZERO, 100.0, 30.0, 0.0, 0.0, TAU, 64);
+        let bowl = ellipse(DVec2::ZERO, 100.0, 120.0, 0.0, PI, TAU, 64);
+        let disc = ellipse(DVec2::new(0.0, -10.0), 100.0, 30.0, 0.0, PI, TAU, 64);
+        let sketch = |under: Vec<DVec2>| Sketch {
+            strokes: vec![stroke(rim.clone(), true), {
+                let mut s = stroke(under, false);
+                s.id = StrokeId(1);
+                s
+            }],
+            view_box: None,
+        };
+        let options = ClassifyOptions::default();
+        let report = classify_sketch(&sketch(bowl), &options);
+        assert_eq!(report[0].class, StrokeClass::Feature, "{:#?}", report[0]);
+        assert_eq!(
+            report[1].reason,
+            ClassReason::OutlineUnderRim,
+            "{:#?}",
+            report[1]
+        );
+        assert_eq!(report[1].class, StrokeClass::Silhouette);
+        let report = classify_sketch(&sketch(disc), &options);
+        assert_eq!(report[1].class, StrokeClass::Feature, "{:#?}", report[1]);
     }
 
     #[test]

@@ -9,12 +9,16 @@
 //!   distances the radius. A quadratic through the midpoints, in the frame of their
 //!   principal direction, is the projected spine (a bend of up to about 120° is a graph
 //!   over its chord), from the first to the last midpoint;
-//! - the **end ellipses**: a feature stroke fitted well by an ellipse whose centre lies
-//!   near an end of that spine moves the end to its centre; its minor/major ratio is
-//!   |t_z|, the out-of-plane component of the spine's end tangent; and whether it is drawn
-//!   whole (the end faces the viewer, its outward normal has z > 0) or as a front arc (the
-//!   end faces away) gives the sign of t_z. The spine's plane z = a·x + b·y then follows
-//!   from the slopes dz/ds = t_z/√(1 − t_z²) along the two projected end tangents (least
+//! - the **end ellipses**: each feature stroke near the tube goes to the nearer end of
+//!   that spine and is read as a whole ellipse (it ends near where it began; a free fit)
+//!   or a front arc (its extent across the spine is the major axis); the one nearest an
+//!   end moves the end to its centre; its minor/major ratio is |t_z|, the out-of-plane
+//!   component of the spine's end tangent (at least 0.12, so that the start shows each
+//!   end on its drawn side), its minor axis the projected end tangent; and whether it is
+//!   drawn whole (the end faces the viewer, its outward normal has z > 0) or as a front
+//!   arc (the end faces away) gives the sign of t_z, which the fit keeps (see
+//!   [`Bgc`]'s "end keeps its side"). The spine's plane z = a·x + b·y then follows from
+//!   the slopes dz/ds = t_z/√(1 − t_z²) along the two projected end tangents (least
 //!   squares with a small pull towards the view plane: with one ellipse, or none, the
 //!   least tilted plane that explains what is drawn).
 //!
@@ -25,7 +29,8 @@
 use glam::{DVec2, DVec3};
 
 use super::context::SnapContext;
-use crate::core::geom::{fit_line, Ellipse2};
+use super::SnapSettings;
+use crate::core::geom::{fit_ellipse, fit_line, Ellipse2};
 use crate::core::primitive::{Bgc, Primitive};
 use crate::core::sketch::StrokeClass;
 
@@ -66,29 +71,35 @@ fn closest(points: &[DVec2], p: DVec2) -> Option<(DVec2, DVec2)> {
     best.map(|(_, q, dir)| (q, dir))
 }
 
-/// An end ellipse drawn near `at`, where the projected spine runs along the unit `tau`:
-/// (ellipse, drawn whole). The end circle's projection has its minor axis along the
-/// projected spine, so the ellipse is fitted with that orientation (an algebraic fit of
-/// α·p² + β·q² + γ·p + δ·q = 1 across and along the spine): a free fit to a front arc,
-/// half an ellipse with a hand's noise, often finds a much larger, flatter ellipse.
-fn end_ellipse(
+/// The end ellipses drawn near the ends `ends` of the projected spine (where it runs
+/// along the unit `taus`, outwards or inwards), for a tube of half-width about `widths`:
+/// per end (ellipse, drawn whole). Each feature stroke near the tube is read on its own:
+/// a stroke drawn all round is a whole ellipse (a free fit; its minor axis lies along the
+/// spine there); otherwise it is a front arc, whose extent across the spine is the major
+/// axis (the arc's own principal direction, not the spine's estimated tangent: the ends
+/// of the medial axis are its least certain part). A stroke goes to the end nearer its
+/// centre, and each end keeps the nearest.
+fn end_ellipses(
     context: &SnapContext,
-    at: DVec2,
-    tau: DVec2,
-    radius: f64,
-) -> Option<(Ellipse2, bool)> {
-    let mut best: Option<(f64, Ellipse2, bool)> = None;
+    ends: [DVec2; 2],
+    taus: [DVec2; 2],
+    widths: [f64; 2],
+) -> [Option<(Ellipse2, bool)>; 2] {
+    let mut best: [Option<(f64, Ellipse2, bool)>; 2] = [None, None];
     for stroke in &context.strokes {
         if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
             continue;
         }
         let (lo, hi) = stroke.bounds;
+        let centre = (lo + hi) / 2.0;
+        let side = usize::from(centre.distance(ends[1]) < centre.distance(ends[0]));
+        let (at, radius) = (ends[side], widths[side]);
         let near = DVec2::new(at.x.clamp(lo.x, hi.x), at.y.clamp(lo.y, hi.y));
-        if near.distance(at) > 1.5 * radius {
+        if near.distance(at) > 2.0 * radius {
             continue;
         }
-        let Some((fit, whole)) = whole_ellipse(&stroke.points, at, tau, radius)
-            .or_else(|| front_arc(&stroke.points, at, tau))
+        let Some((fit, whole)) = whole_ellipse(&stroke.points)
+            .or_else(|| front_arc(&stroke.points, at, across_of(&stroke.points, taus[side])))
         else {
             continue;
         };
@@ -96,14 +107,28 @@ fn end_ellipse(
         let d = fit.center.distance(at);
         let ratio = fit.semi_major / radius;
         if rms <= 0.15 * fit.semi_major
-            && d <= 1.5 * radius
-            && (0.5..=2.0).contains(&ratio)
-            && best.as_ref().is_none_or(|(b, _, _)| d < *b)
+            && d <= 2.0 * radius
+            && (0.4..=2.5).contains(&ratio)
+            && best[side].as_ref().is_none_or(|(b, _, _)| d < *b)
         {
-            best = Some((d, fit, whole));
+            best[side] = Some((d, fit, whole));
         }
     }
-    best.map(|(_, e, whole)| (e, whole))
+    best.map(|b| b.map(|(_, e, whole)| (e, whole)))
+}
+
+/// The direction along the spine at a front arc: across its principal direction (the
+/// arc's extent is the end circle's diameter, across the spine), signed like `tau`.
+fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
+    let Some(line) = fit_line(points) else {
+        return tau;
+    };
+    let t = line.direction.perp();
+    if t.dot(tau) < 0.0 {
+        -t
+    } else {
+        t
+    }
 }
 
 /// Medial samples (midpoint, half-width) of the silhouette strokes mostly within `reach`
@@ -154,36 +179,21 @@ fn medial_axis(context: &SnapContext, center: DVec2, reach: f64, r: f64) -> Vec<
     medial
 }
 
-/// An ellipse with its minor axis along `tau` fitted to a stroke drawn all round it (an
-/// algebraic fit of α·p² + β·q² + γ·p + δ·q = 1, p across and q along `tau`, about `at`
-/// in units of `radius`): (ellipse, true), or `None` when the stroke is no whole ellipse.
-fn whole_ellipse(points: &[DVec2], at: DVec2, tau: DVec2, radius: f64) -> Option<(Ellipse2, bool)> {
-    let across = tau.perp();
-    let mut a = [[0.0; 4]; 4];
-    let mut b = [0.0; 4];
-    for p in points {
-        let d = (*p - at) / radius;
-        let (x, y) = (d.dot(across), d.dot(tau));
-        let row = [x * x, y * y, x, y];
-        for i in 0..4 {
-            for j in 0..4 {
-                a[i][j] += row[i] * row[j];
-            }
-            b[i] += row[i];
-        }
-    }
-    let [alpha, beta, gamma, delta] = solve(a, b)?;
-    if !(alpha > 0.0 && beta > 0.0) {
+/// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
+/// `None` when the stroke is no whole ellipse. A stroke drawn round ends near where it
+/// began (a hand misses or overlaps by a little), a front arc ends a diameter away from
+/// its start; a free fit to a front arc often finds a larger, flatter ellipse that the
+/// arc wraps most of the way round, so its sweep does not tell.
+fn whole_ellipse(points: &[DVec2]) -> Option<(Ellipse2, bool)> {
+    let (first, last) = (*points.first()?, *points.last()?);
+    let (lo, hi) = points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if first.distance(last) > 0.4 * lo.distance(hi) {
         return None;
     }
-    let (x0, y0) = (-gamma / (2.0 * alpha), -delta / (2.0 * beta));
-    let f = 1.0 + alpha * x0 * x0 + beta * y0 * y0;
-    let fit = Ellipse2 {
-        center: at + (across * x0 + tau * y0) * radius,
-        semi_major: (f / alpha).sqrt() * radius,
-        semi_minor: (f / beta).sqrt() * radius,
-        angle: across.y.atan2(across.x),
-    };
+    let fit = fit_ellipse(points)?;
     let sweep = fit.angular_span(points).map_or(0.0, |s| s.sweep);
     (sweep > 1.5 * std::f64::consts::PI && fit.semi_minor.is_finite()).then_some((fit, true))
 }
@@ -282,8 +292,12 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     let (w0, w1) = linear(&widths)?;
     let width = |x: f64| (w0 + w1 * x).max(0.2 * r);
     // End ellipses move the ends and tell the tilt.
-    let bottom = end_ellipse(context, curve(x0), slope_dir(x0), width(x0));
-    let top = end_ellipse(context, curve(x1), slope_dir(x1), width(x1));
+    let [bottom, top] = end_ellipses(
+        context,
+        [curve(x0), curve(x1)],
+        [slope_dir(x0), slope_dir(x1)],
+        [width(x0), width(x1)],
+    );
     let to_x = |p: DVec2| (p - origin).dot(dir);
     if let Some((e, _)) = &bottom {
         x0 = to_x(e.center);
@@ -294,24 +308,11 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     if !(x1 - x0 > 0.1 * length) {
         return None;
     }
-    // Slopes dz/ds along the projected end tangents (bottom to top).
-    let slope = |e: &Ellipse2, outward_up: bool| {
-        let z = (e.semi_minor / e.semi_major).clamp(0.0, 0.94);
-        let g = z / (1.0 - z * z).sqrt();
-        if outward_up {
-            g
-        } else {
-            -g
-        }
-    };
-    let mut rows: Vec<(DVec2, f64)> = Vec::new();
-    if let Some((e, whole)) = &bottom {
-        // The bottom's outward normal is −t₀: whole (faces the viewer) means t₀.z < 0.
-        rows.push((slope_dir(x0), slope(e, !*whole)));
-    }
-    if let Some((e, whole)) = &top {
-        rows.push((slope_dir(x1), slope(e, *whole)));
-    }
+    let rows = tilt_rows(
+        bottom.as_ref(),
+        top.as_ref(),
+        [slope_dir(x0), slope_dir(x1)],
+    );
     let tilt = plane_tilt(&rows);
     let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
     let mid = curve(f64::midpoint(x0, x1));
@@ -335,6 +336,31 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
     let start = Primitive::Bgc(bgc);
     Some(start.is_finite().then_some(start).into_iter().collect())
+}
+
+/// The gradient tolerance of a BGC's fit, in the normalised frame (objective values are
+/// squared fractions of the size).
+const GRADIENT_TOL: f64 = 3e-4;
+
+/// The constraint tolerance of a BGC's fit: its constraints are bounds that keep it
+/// sane (a positive radius, a moderate turn), met to a millionth of its size.
+const CONSTRAINT_TOL: f64 = 1e-4;
+
+/// The settings of a BGC's snap: `settings` with the solver's gradient tolerance no
+/// tighter than [`GRADIENT_TOL`].
+pub(crate) fn settings(settings: &SnapSettings) -> SnapSettings {
+    let mut s = settings.clone();
+    if s.solver.gradient_tol() < GRADIENT_TOL {
+        if let Ok(solver) = s.solver.clone().with_gradient_tol(GRADIENT_TOL) {
+            s.solver = solver;
+        }
+    }
+    if s.solver.constraint_tol() < CONSTRAINT_TOL {
+        if let Ok(solver) = s.solver.clone().with_constraint_tol(CONSTRAINT_TOL) {
+            s.solver = solver;
+        }
+    }
+    s
 }
 
 /// `k` points evenly spaced by arc length along a polyline of at least two points.
@@ -368,6 +394,45 @@ fn is_straight(b: &Bgc) -> bool {
         let d = *p - first;
         (d - chord * d.dot(chord)).length() <= 1e-9 * b.spine_length()
     })
+}
+
+/// The rows (projected end tangent, dz/ds) of [`plane_tilt`] from the end ellipses,
+/// with `along` the projected spine's directions at its two ends (bottom to top).
+fn tilt_rows(
+    bottom: Option<&(Ellipse2, bool)>,
+    top: Option<&(Ellipse2, bool)>,
+    along: [DVec2; 2],
+) -> Vec<(DVec2, f64)> {
+    // Slopes dz/ds along the projected end tangents (bottom to top).
+    let slope = |e: &Ellipse2, outward_up: bool| {
+        let z = (e.semi_minor / e.semi_major).clamp(0.12, 0.94);
+        let g = z / (1.0 - z * z).sqrt();
+        if outward_up {
+            g
+        } else {
+            -g
+        }
+    };
+    // The projected end tangent: the ellipse's minor axis, unless it is nearly a circle.
+    let end_dir = |e: &Ellipse2, along: DVec2| {
+        let m = e.minor_axis();
+        if e.semi_minor > 0.8 * e.semi_major {
+            along
+        } else if m.dot(along) < 0.0 {
+            -m
+        } else {
+            m
+        }
+    };
+    let mut rows: Vec<(DVec2, f64)> = Vec::new();
+    if let Some((e, whole)) = bottom {
+        // The bottom's outward normal is −t₀: whole (faces the viewer) means t₀.z < 0.
+        rows.push((end_dir(e, along[0]), slope(e, !*whole)));
+    }
+    if let Some((e, whole)) = top {
+        rows.push((end_dir(e, along[1]), slope(e, *whole)));
+    }
+    rows
 }
 
 /// The plane's gradient (a, b) with (a, b)·τᵢ = gᵢ for rows (τᵢ, gᵢ), least squares with

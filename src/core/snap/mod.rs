@@ -242,6 +242,16 @@ fn snap_from(
     if !primitive.is_finite() {
         return Err(SnapError::NonFinite(kind));
     }
+    // A BGC's fit stops at looser gradient and constraint tolerances (see
+    // `bgc_start::settings`): its many parameters make the last digits expensive, and
+    // they move nothing visible.
+    let bgc_settings;
+    let settings = if primitive.kind() == PrimitiveKind::Bgc {
+        bgc_settings = bgc_start::settings(settings);
+        &bgc_settings
+    } else {
+        settings
+    };
     // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
     // straight drop is tried only when that start gives no good fit.
     if warm.is_none() {

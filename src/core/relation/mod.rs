@@ -1,0 +1,450 @@
+//! Geosemantic relations between primitives: what each kind means, how it is recognised
+//! in a snapped model, and the residual equations ψ_g = 0 that make it hold exactly.
+//!
+//! A relation refers to its members through their named feature curves (an end circle
+//! `top`/`bottom`, a sphere's `outline`, a box face such as `front`): a [`Member`] is one
+//! primitive's features with the one the relation uses. Every kind lives in its own file
+//! with
+//! - its **residuals**, written once over [`Real`] so they serve plain numbers and the
+//!   solver's expressions alike, and scale-free: directions are unit normals, distances are
+//!   divided by the sizes of the features involved, so a relation means the same for a
+//!   thimble and a silo, and ‖ψ‖ does not change under a rigid motion or a uniform scale of
+//!   the whole model;
+//! - its **test** ([`holds`]), deciding whether a snapped model nearly satisfies it, with
+//!   thresholds from [`InferenceSettings`] (angles in degrees, distances relative to the
+//!   sizes involved);
+//! - tests of both.
+//!
+//! | kind | members | residuals |
+//! |---|---|---|
+//! | [`parallel`] | 2 directions (circle or face normals) | n₁ × n₂ |
+//! | [`orthogonal`] | 2 directions | n₁ · n₂ |
+//! | [`coaxial`] | 2 circles | n₁ × n₂, (c₂ − c₁) × n₁ / s |
+//! | [`concentric`] | 2 circles | (c₂ − c₁) / s |
+//! | [`coplanar`] | 2 circles or faces | n₁ × n₂, (c₂ − c₁) · n₁ / s |
+//! | [`collinear_centers`] | 3 circles or faces | (c₂ − c₁) × (c₃ − c₁) / s² |
+//! | [`same_radius`] | 2 circles | (r₁ − r₂) / s |
+//! | [`equal_length`] | 2 solids with `bottom` and `top` ends | (ℓ₁ − ℓ₂) / (ℓ₁ + ℓ₂) |
+//! | [`on_sphere`] | a sphere's outline, a circle | (‖c − C‖ − R) / s, n × (c − C) / s |
+//!
+//! s is the sum of the features' sizes (a circle's radius, a face's larger half extent).
+
+pub mod coaxial;
+pub mod collinear_centers;
+pub mod concentric;
+pub mod coplanar;
+pub mod equal_length;
+pub mod on_sphere;
+pub mod orthogonal;
+pub mod parallel;
+pub mod same_radius;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::core::ad::{Real, Vec3};
+use crate::core::primitive::{FeatureCurve, FeatureGeometry};
+
+/// The kinds of relation, named as in the model file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RelationKind {
+    /// Two directions are parallel.
+    Parallel,
+    /// Two directions are perpendicular.
+    Orthogonal,
+    /// Two circles share their axis line.
+    Coaxial,
+    /// Two circles share their centre.
+    Concentric,
+    /// Two circles or faces lie in one plane.
+    Coplanar,
+    /// Three centres lie on one line.
+    CollinearCenters,
+    /// Two circles have the same radius.
+    SameRadius,
+    /// Two solids have the same length.
+    EqualLength,
+    /// A circle sits on a sphere, facing its centre.
+    OnSphere,
+}
+
+impl RelationKind {
+    /// Every kind.
+    pub const ALL: [Self; 9] = [
+        Self::Parallel,
+        Self::Orthogonal,
+        Self::Coaxial,
+        Self::Concentric,
+        Self::Coplanar,
+        Self::CollinearCenters,
+        Self::SameRadius,
+        Self::EqualLength,
+        Self::OnSphere,
+    ];
+
+    /// The name used in files and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Parallel => "parallel",
+            Self::Orthogonal => "orthogonal",
+            Self::Coaxial => "coaxial",
+            Self::Concentric => "concentric",
+            Self::Coplanar => "coplanar",
+            Self::CollinearCenters => "collinear_centers",
+            Self::SameRadius => "same_radius",
+            Self::EqualLength => "equal_length",
+            Self::OnSphere => "on_sphere",
+        }
+    }
+
+    /// The number of members.
+    pub fn arity(self) -> usize {
+        match self {
+            Self::CollinearCenters => 3,
+            _ => 2,
+        }
+    }
+}
+
+/// How a relation takes part in the global solve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Enforced exactly, as a constraint.
+    #[default]
+    Hard,
+    /// A weighted term of the objective.
+    Soft,
+    /// Kept, but ignored.
+    Off,
+}
+
+/// One member of a relation: a primitive's feature curves and the one the relation uses
+/// (`None` for kinds about the whole solid, such as [`equal_length`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Member<'a, T> {
+    /// All feature curves of the primitive.
+    pub features: &'a [FeatureCurve<T>],
+    /// The name of the feature the relation uses.
+    pub feature: Option<&'a str>,
+}
+
+impl<'a, T> Member<'a, T> {
+    /// The feature named `name`.
+    pub fn get(&self, name: &str) -> Option<&'a FeatureGeometry<T>> {
+        self.features
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| &f.geometry)
+    }
+
+    /// The feature the relation uses.
+    pub fn chosen(&self) -> Option<&'a FeatureGeometry<T>> {
+        self.get(self.feature?)
+    }
+}
+
+/// Why residuals could not be written.
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+pub enum RelationError {
+    /// The relation has the wrong number of members.
+    #[error("a {kind} relation needs {expected} members, not {got}")]
+    Arity {
+        /// The kind.
+        kind: &'static str,
+        /// Members it needs.
+        expected: usize,
+        /// Members it has.
+        got: usize,
+    },
+    /// A member lacks the feature the kind needs, or has one of the wrong sort.
+    #[error("a {kind} relation cannot use member {member}'s {what}")]
+    Unsuited {
+        /// The kind.
+        kind: &'static str,
+        /// Which member (0-based).
+        member: usize,
+        /// What is wrong with it.
+        what: String,
+    },
+}
+
+/// Thresholds of relation inference; every kind can be switched off.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct InferenceSettings {
+    /// The kinds inferred.
+    pub enabled: Vec<RelationKind>,
+    /// Largest angle (degrees) between directions taken as parallel, or off a right
+    /// angle for orthogonal.
+    pub angle_degrees: f64,
+    /// Largest offset between positions taken as the same (concentric centres, a point
+    /// on an axis or in a plane), relative to the sum of the sizes involved.
+    pub distance: f64,
+    /// Largest difference of radii taken as the same, relative to their sum.
+    pub radius: f64,
+    /// Largest difference of lengths taken as equal, relative to their sum.
+    pub length: f64,
+}
+
+impl Default for InferenceSettings {
+    fn default() -> Self {
+        Self {
+            enabled: RelationKind::ALL.to_vec(),
+            angle_degrees: 8.0,
+            distance: 0.1,
+            radius: 0.05,
+            length: 0.05,
+        }
+    }
+}
+
+impl InferenceSettings {
+    /// Whether `kind` is inferred.
+    pub fn enabled(&self, kind: RelationKind) -> bool {
+        self.enabled.contains(&kind)
+    }
+
+    /// sin of the angle threshold, compared with |n₁ × n₂| or |n₁ · n₂|.
+    fn sin_angle(&self) -> f64 {
+        self.angle_degrees.to_radians().sin()
+    }
+}
+
+/// The residuals ψ of a relation of `kind` over its members.
+///
+/// # Errors
+///
+/// [`RelationError`] when the members do not suit the kind.
+///
+/// # Examples
+///
+/// ```
+/// use glam::DVec3;
+/// use geosnap::core::primitive::{Cylinder, Primitive};
+/// use geosnap::core::relation::{residuals, Member, RelationKind};
+///
+/// let upright = |x: f64| Primitive::Cylinder(Cylinder {
+///     center: DVec3::new(x, 0.0, 0.0),
+///     axis: DVec3::Y,
+///     length: 10.0,
+///     radius: 2.0,
+/// });
+/// let (a, b) = (upright(0.0).current_shape(), upright(5.0).current_shape());
+/// let members = [
+///     Member { features: &a.features, feature: Some("top") },
+///     Member { features: &b.features, feature: Some("bottom") },
+/// ];
+/// // Parallel holds; coaxial does not (the axes are 5 apart).
+/// let norm = |r: Vec<f64>| r.iter().map(|v| v * v).sum::<f64>().sqrt();
+/// assert!(norm(residuals(RelationKind::Parallel, &members)?) < 1e-12);
+/// assert!(norm(residuals(RelationKind::Coaxial, &members)?) > 0.5);
+/// # Ok::<(), geosnap::core::relation::RelationError>(())
+/// ```
+pub fn residuals<T: Real>(
+    kind: RelationKind,
+    members: &[Member<'_, T>],
+) -> Result<Vec<T>, RelationError> {
+    if members.len() != kind.arity() {
+        return Err(RelationError::Arity {
+            kind: kind.name(),
+            expected: kind.arity(),
+            got: members.len(),
+        });
+    }
+    match kind {
+        RelationKind::Parallel => parallel::residuals(members),
+        RelationKind::Orthogonal => orthogonal::residuals(members),
+        RelationKind::Coaxial => coaxial::residuals(members),
+        RelationKind::Concentric => concentric::residuals(members),
+        RelationKind::Coplanar => coplanar::residuals(members),
+        RelationKind::CollinearCenters => collinear_centers::residuals(members),
+        RelationKind::SameRadius => same_radius::residuals(members),
+        RelationKind::EqualLength => equal_length::residuals(members),
+        RelationKind::OnSphere => on_sphere::residuals(members),
+    }
+}
+
+/// Whether a relation of `kind` nearly holds between `members` (the inference test).
+pub fn holds(
+    kind: RelationKind,
+    members: &[Member<'_, f64>],
+    settings: &InferenceSettings,
+) -> bool {
+    if members.len() != kind.arity() {
+        return false;
+    }
+    match kind {
+        RelationKind::Parallel => parallel::holds(members, settings),
+        RelationKind::Orthogonal => orthogonal::holds(members, settings),
+        RelationKind::Coaxial => coaxial::holds(members, settings),
+        RelationKind::Concentric => concentric::holds(members, settings),
+        RelationKind::Coplanar => coplanar::holds(members, settings),
+        RelationKind::CollinearCenters => collinear_centers::holds(members, settings),
+        RelationKind::SameRadius => same_radius::holds(members, settings),
+        RelationKind::EqualLength => equal_length::holds(members, settings),
+        RelationKind::OnSphere => on_sphere::holds(members, settings),
+    }
+}
+
+/// The chosen feature of member `i`, or why it cannot be used.
+fn chosen<'a, T>(
+    kind: RelationKind,
+    members: &[Member<'a, T>],
+    i: usize,
+) -> Result<&'a FeatureGeometry<T>, RelationError> {
+    members[i].chosen().ok_or_else(|| RelationError::Unsuited {
+        kind: kind.name(),
+        member: i,
+        what: match members[i].feature {
+            Some(name) => format!("feature `{name}` (it has none of that name)"),
+            None => "missing feature name".to_owned(),
+        },
+    })
+}
+
+/// The circle of member `i`: centre, unit normal, radius.
+fn circle<T: Real>(
+    kind: RelationKind,
+    members: &[Member<'_, T>],
+    i: usize,
+) -> Result<(Vec3<T>, Vec3<T>, T), RelationError> {
+    match chosen(kind, members, i)? {
+        FeatureGeometry::Circle {
+            center,
+            normal,
+            radius,
+        } => Ok((*center, *normal, *radius)),
+        FeatureGeometry::Rectangle { .. } => Err(RelationError::Unsuited {
+            kind: kind.name(),
+            member: i,
+            what: "face (a circle is needed)".to_owned(),
+        }),
+    }
+}
+
+/// The centre, unit normal and size of a feature: a circle's radius, a face's larger
+/// half extent.
+fn frame<T: Real>(feature: &FeatureGeometry<T>) -> (Vec3<T>, Vec3<T>, T) {
+    match feature {
+        FeatureGeometry::Circle {
+            center,
+            normal,
+            radius,
+        } => (*center, *normal, *radius),
+        FeatureGeometry::Rectangle {
+            center,
+            normal,
+            half_extents,
+        } => (*center, *normal, half_extents[0].1.max(half_extents[1].1)),
+    }
+}
+
+/// The offset of `b` from `a` in the view plane: orthographic views do not show depth, so
+/// inference judges positions by their projections and leaves depths to the solve.
+fn offset_2d(a: Vec3<f64>, b: Vec3<f64>) -> glam::DVec2 {
+    glam::DVec2::new(b.x - a.x, b.y - a.y)
+}
+
+/// The three components of a vector as residuals.
+fn components<T: Real>(v: Vec3<T>) -> Vec<T> {
+    v.to_array().to_vec()
+}
+
+/// ‖ψ‖ of plain residuals.
+fn norm(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Helpers of the per-kind tests: features of real primitives, and the same model
+    //! moved rigidly and scaled.
+
+    use glam::{DQuat, DVec3};
+
+    use super::{norm, residuals, Member, RelationKind};
+    use crate::core::ad::Vec3;
+    use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
+
+    /// The feature curves of a primitive.
+    pub(crate) fn features(p: &Primitive) -> Vec<FeatureCurve<f64>> {
+        p.current_shape().features
+    }
+
+    /// A feature moved by the similarity x ↦ s·R·x + t.
+    fn moved(f: &FeatureCurve<f64>, r: DQuat, t: DVec3, s: f64) -> FeatureCurve<f64> {
+        let point = |v: Vec3<f64>| Vec3::from_dvec3(r * v.to_dvec3() * s + t);
+        let dir = |v: Vec3<f64>| Vec3::from_dvec3(r * v.to_dvec3());
+        let geometry = match &f.geometry {
+            FeatureGeometry::Circle {
+                center,
+                normal,
+                radius,
+            } => FeatureGeometry::Circle {
+                center: point(*center),
+                normal: dir(*normal),
+                radius: radius * s,
+            },
+            FeatureGeometry::Rectangle {
+                center,
+                normal,
+                half_extents,
+            } => FeatureGeometry::Rectangle {
+                center: point(*center),
+                normal: dir(*normal),
+                half_extents: half_extents.map(|(a, h)| (dir(a), h * s)),
+            },
+        };
+        FeatureCurve {
+            name: f.name,
+            geometry,
+        }
+    }
+
+    /// ‖ψ‖ of `kind` between primitives with the named features.
+    pub(crate) fn psi(kind: RelationKind, parts: &[(&Primitive, Option<&str>)]) -> f64 {
+        psi_of(
+            kind,
+            &parts
+                .iter()
+                .map(|(p, n)| (features(p), *n))
+                .collect::<Vec<_>>(),
+        )
+    }
+
+    fn psi_of(kind: RelationKind, parts: &[(Vec<FeatureCurve<f64>>, Option<&str>)]) -> f64 {
+        let members: Vec<Member<'_, f64>> = parts
+            .iter()
+            .map(|(f, n)| Member {
+                features: f,
+                feature: *n,
+            })
+            .collect();
+        norm(&residuals(kind, &members).expect("the members suit the kind"))
+    }
+
+    /// Checks ‖ψ‖ is the same after a rigid motion and a uniform scale of the whole
+    /// model, and returns it.
+    pub(crate) fn invariant_psi(kind: RelationKind, parts: &[(&Primitive, Option<&str>)]) -> f64 {
+        let before = psi(kind, parts);
+        let r = DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.5).normalize(), 1.1);
+        for (t, s) in [
+            (DVec3::new(40.0, -7.0, 3.0), 1.0),
+            (DVec3::ZERO, 7.5),
+            (DVec3::X, 0.01),
+        ] {
+            let after: Vec<(Vec<FeatureCurve<f64>>, Option<&str>)> = parts
+                .iter()
+                .map(|(p, n)| (features(p).iter().map(|f| moved(f, r, t, s)).collect(), *n))
+                .collect();
+            let a = psi_of(kind, &after);
+            assert!(
+                (a - before).abs() <= 1e-9 * before.max(1.0),
+                "{kind:?}: ‖ψ‖ {before} became {a} after moving and scaling by {s}"
+            );
+        }
+        before
+    }
+}
