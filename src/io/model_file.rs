@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DQuat, DVec3};
 use serde_json::{json, Map, Value};
 
-use crate::core::model::{Document, Fit, Placed, PrimitiveId, Skipped};
+use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, Skipped};
 use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
+use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
 use crate::io::atomic::write_atomic;
 
@@ -41,6 +42,14 @@ pub enum ModelError {
     /// Not a geosnap model, or a version this build does not read.
     #[error("not a version-1 geosnap model: {0}")]
     Format(String),
+    /// A relation is invalid.
+    #[error("relation {index}: {reason}")]
+    Relation {
+        /// Its position in the `relations` list.
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A primitive is invalid.
     #[error("primitive {id}: {reason}")]
     Primitive {
@@ -114,12 +123,29 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
         .iter()
         .map(|s| json!({ "step": s.step, "reason": s.reason }))
         .collect();
+    let relations: Vec<Value> = document
+        .relations()
+        .iter()
+        .map(|r| {
+            let mut map = Map::new();
+            map.insert("kind".into(), json!(r.kind));
+            map.insert(
+                "members".into(),
+                json!(r.members.iter().map(|m| m.0).collect::<Vec<_>>()),
+            );
+            if r.features.iter().any(Option::is_some) {
+                map.insert("features".into(), json!(r.features));
+            }
+            map.insert("mode".into(), json!(r.mode));
+            Value::Object(map)
+        })
+        .collect();
     json!({
         "format": MODEL_FORMAT,
         "version": MODEL_VERSION,
         "sketch": sketch,
         "primitives": primitives,
-        "relations": [],
+        "relations": relations,
         "skipped": skipped,
     })
 }
@@ -384,7 +410,55 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
             })
             .collect();
     }
+    if let Some(relations) = v.get("relations").and_then(Value::as_array) {
+        for (index, r) in relations.iter().enumerate() {
+            let fail = |reason: String| ModelError::Relation { index, reason };
+            let relation = parse_relation(r).map_err(fail)?;
+            document.add_relation(relation).map_err(fail)?;
+        }
+    }
     Ok(LoadedModel { document, sketch })
+}
+
+/// One entry of `relations` (members are checked against the document by the caller).
+fn parse_relation(r: &Value) -> Result<Relation, String> {
+    let kind: RelationKind = serde_json::from_value(r.get("kind").cloned().unwrap_or_default())
+        .map_err(|_| format!("unknown `kind` {}", r.get("kind").unwrap_or(&Value::Null)))?;
+    let members = r
+        .get("members")
+        .and_then(Value::as_array)
+        .ok_or("`members` must be a list of primitive ids")?
+        .iter()
+        .map(|m| {
+            m.as_u64()
+                .and_then(|i| u32::try_from(i).ok())
+                .map(PrimitiveId)
+                .ok_or_else(|| format!("member {m} is not a primitive id"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let features = match r.get("features") {
+        None | Some(Value::Null) => Vec::new(),
+        Some(Value::Array(names)) => names
+            .iter()
+            .map(|n| match n {
+                Value::Null => Ok(None),
+                Value::String(s) => Ok(Some(s.clone())),
+                other => Err(format!("feature {other} is not a name")),
+            })
+            .collect::<Result<Vec<_>, _>>()?,
+        Some(other) => return Err(format!("`features` {other} is not a list")),
+    };
+    let mode: Mode = match r.get("mode") {
+        None => Mode::Hard,
+        Some(m) => serde_json::from_value(m.clone())
+            .map_err(|_| format!("unknown `mode` {m} (hard, soft or off)"))?,
+    };
+    Ok(Relation {
+        kind,
+        members,
+        features,
+        mode,
+    })
 }
 
 #[cfg(test)]
@@ -395,6 +469,67 @@ mod tests {
     use crate::core::model::{Document, Fit, Placed, Skipped};
     use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
     use crate::core::sketch::StrokeId;
+
+    #[test]
+    fn relations_round_trip_and_bad_ones_are_named() {
+        use crate::core::model::{PrimitiveId, Relation};
+        use crate::core::relation::{Mode, RelationKind};
+        let mut document = Document::new();
+        for x in [0.0, 50.0] {
+            let p = Primitive::from_placement(
+                PrimitiveKind::Cylinder,
+                &Placement::at(DVec2::new(x, 0.0)),
+                40.0,
+            );
+            document.add(Placed {
+                primitive: p,
+                fit: Fit::default(),
+            });
+        }
+        let coaxial = Relation {
+            kind: RelationKind::Coaxial,
+            members: vec![PrimitiveId(0), PrimitiveId(1)],
+            features: vec![Some("top".into()), Some("bottom".into())],
+            mode: Mode::Soft,
+        };
+        let equal = Relation {
+            kind: RelationKind::EqualLength,
+            members: vec![PrimitiveId(1), PrimitiveId(0)],
+            features: Vec::new(),
+            mode: Mode::Hard,
+        };
+        document.add_relation(coaxial.clone()).expect("valid");
+        document.add_relation(equal.clone()).expect("valid");
+        let json = model_json(&document, "s.svg");
+        let text = json.to_string();
+        assert!(text.contains(r#""features":["top","bottom"]"#), "{text}");
+        assert!(
+            text.contains(r#""kind":"equal_length","members":[1,0],"mode":"hard""#),
+            "{text}"
+        );
+        let back = parse_model(text.as_bytes()).expect("reads back");
+        assert_eq!(back.document.relations(), &[coaxial, equal]);
+        // A member that does not exist, an unknown kind, a wrong count, a bad mode.
+        for (bad, says) in [
+            (r#"{"kind":"parallel","members":[0,7]}"#, "no primitive 7"),
+            (r#"{"kind":"glued","members":[0,1]}"#, "unknown `kind`"),
+            (
+                r#"{"kind":"coaxial","members":[0]}"#,
+                "relates 2 primitives",
+            ),
+            (
+                r#"{"kind":"coaxial","members":[0,1],"mode":"maybe"}"#,
+                "unknown `mode`",
+            ),
+        ] {
+            let text = text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1);
+            let error = parse_model(text.as_bytes()).expect_err(bad).to_string();
+            assert!(
+                error.contains("relation 0") && error.contains(says),
+                "{error}"
+            );
+        }
+    }
 
     #[test]
     fn every_kind_round_trips_through_json() {

@@ -1,15 +1,17 @@
-//! The document: the placed primitives with their fits, addressed by stable ids, and the
-//! steps that could not be placed.
+//! The document: the placed primitives with their fits, addressed by stable ids, the
+//! relations between them, and the steps that could not be placed.
 //!
-//! [`run_steps`] runs a modelling session headless (the script runner's core). Relations
-//! and the global solve join here with the relations work; today a document is the result
-//! of independent per-primitive snaps.
+//! [`run_steps`] runs a modelling session headless (the script runner's core). Inference
+//! ([`crate::core::relation::infer`]) and the global solve are being wired in; today a
+//! script's document is the result of independent per-primitive snaps, and relations
+//! come only from model files.
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
 use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::{Sketch, StrokeId};
 use crate::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
 
@@ -36,6 +38,19 @@ pub struct Placed {
     pub fit: Fit,
 }
 
+/// A geosemantic relation between placed primitives (see [`crate::core::relation`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Relation {
+    /// The kind.
+    pub kind: RelationKind,
+    /// The primitives it relates, in order.
+    pub members: Vec<PrimitiveId>,
+    /// The feature of each member it uses (`None` for kinds about a whole solid).
+    pub features: Vec<Option<String>>,
+    /// How it takes part in the global solve.
+    pub mode: Mode,
+}
+
 /// A step that could not be placed, with the reason.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Skipped {
@@ -52,6 +67,7 @@ pub struct Document {
     next_id: u32,
     /// Steps that were skipped.
     pub skipped: Vec<Skipped>,
+    relations: Vec<Relation>,
 }
 
 impl Document {
@@ -85,9 +101,49 @@ impl Document {
         self.primitives.insert(id, placed);
     }
 
-    /// Removes a primitive.
+    /// Removes a primitive and the relations it takes part in.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
+        self.relations.retain(|r| !r.members.contains(&id));
         self.primitives.remove(&id)
+    }
+
+    /// Adds a relation between primitives of the document.
+    ///
+    /// # Errors
+    ///
+    /// A message when a member is not in the document or the number of members or
+    /// features does not suit the kind; the document is then unchanged.
+    pub fn add_relation(&mut self, relation: Relation) -> Result<(), String> {
+        if relation.members.len() != relation.kind.arity() {
+            return Err(format!(
+                "a {} relation relates {} primitives, not {}",
+                relation.kind.name(),
+                relation.kind.arity(),
+                relation.members.len()
+            ));
+        }
+        if !relation.features.is_empty() && relation.features.len() != relation.members.len() {
+            return Err(format!(
+                "{} features for {} members",
+                relation.features.len(),
+                relation.members.len()
+            ));
+        }
+        if let Some(missing) = relation.members.iter().find(|m| self.get(**m).is_none()) {
+            return Err(format!("there is no primitive {}", missing.0));
+        }
+        self.relations.push(relation);
+        Ok(())
+    }
+
+    /// The relations, in the order they were added.
+    pub fn relations(&self) -> &[Relation] {
+        &self.relations
+    }
+
+    /// The relations, to change their modes.
+    pub fn relations_mut(&mut self) -> &mut [Relation] {
+        &mut self.relations
     }
 
     /// The primitive with this id.

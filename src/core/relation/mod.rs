@@ -34,6 +34,7 @@ pub mod collinear_centers;
 pub mod concentric;
 pub mod coplanar;
 pub mod equal_length;
+pub mod infer;
 pub mod on_sphere;
 pub mod orthogonal;
 pub mod parallel;

@@ -1,0 +1,536 @@
+//! Inference on release: the relations a designer meant between a newly snapped
+//! primitive and those already placed, with no duplicates and no redundant chains.
+//!
+//! The new part is compared with every placed part, nearest first (by the distance of
+//! their projected centres). For each kind, candidate feature pairs are tested with
+//! [`holds`]; a candidate is dropped when what it says already follows from the relations
+//! kept so far:
+//! - parallel, coaxial, concentric, coplanar, same radius and equal length are
+//!   equivalences: each keeps a union–find of the entities it relates (directions, axis
+//!   lines, centres, planes, radii, lengths), seeded with the relations already in the
+//!   model, and a candidate whose two entities are already joined is redundant. Three
+//!   parallel legs get two relations, not three;
+//! - coaxial implies parallel (a coaxial pair joins the directions too), and a pair that
+//!   is both coaxial and concentric is coplanar there already;
+//! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
+//!   tube says nothing new about the box's other parallel edges;
+//! - collinear centres are not proposed where the three centres are already on one
+//!   coaxial axis.
+//!
+//! Relations in [`Mode::Off`](super::Mode::Off) do not count as known.
+
+use std::collections::{BTreeSet, HashMap};
+
+use super::{holds, InferenceSettings, Member, RelationKind};
+use crate::core::primitive::{FeatureCurve, FeatureGeometry, PrimitiveKind};
+
+/// A placed primitive as inference sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct Part<'a> {
+    /// Its kind.
+    pub kind: PrimitiveKind,
+    /// Its feature curves (at the snapped or solved pose).
+    pub features: &'a [FeatureCurve<f64>],
+}
+
+/// A relation between parts, by index, with the feature each member uses (`None` for
+/// kinds about the whole solid).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Proposal {
+    /// The kind.
+    pub kind: RelationKind,
+    /// The parts, as indices into the slice given to [`infer`].
+    pub members: Vec<usize>,
+    /// The feature of each member.
+    pub features: Vec<Option<&'static str>>,
+}
+
+/// The features giving a part's directions, one per direction class.
+fn directions(part: &Part<'_>) -> &'static [&'static str] {
+    match part.kind {
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => &["top"],
+        PrimitiveKind::Cuboid => &["right", "top", "front"],
+        PrimitiveKind::Sphere | PrimitiveKind::Bgc => &[],
+    }
+}
+
+/// The direction class of a feature: 0 for a solid of revolution, the axis of a face.
+fn direction_class(part: &Part<'_>, feature: &str) -> usize {
+    match part.kind {
+        PrimitiveKind::Cuboid => match feature {
+            "right" | "left" => 0,
+            "top" | "bottom" => 1,
+            _ => 2,
+        },
+        _ => 0,
+    }
+}
+
+/// The end circles of a part (a sphere's outline is not an end).
+fn ends(part: &Part<'_>) -> &'static [&'static str] {
+    match part.kind {
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc | PrimitiveKind::Bgc => {
+            &["bottom", "top"]
+        }
+        PrimitiveKind::Sphere | PrimitiveKind::Cuboid => &[],
+    }
+}
+
+/// The circles of a part, the sphere's outline included.
+fn circles(part: &Part<'_>) -> &'static [&'static str] {
+    match part.kind {
+        PrimitiveKind::Sphere => &["outline"],
+        _ => ends(part),
+    }
+}
+
+/// The flat features of a part: end circles and box faces.
+fn planes(part: &Part<'_>) -> &'static [&'static str] {
+    match part.kind {
+        PrimitiveKind::Cuboid => &crate::core::primitive::FACE_NAMES,
+        _ => ends(part),
+    }
+}
+
+/// A union–find over entities named by (part, key).
+#[derive(Default)]
+struct Classes {
+    parent: HashMap<(usize, String), (usize, String)>,
+}
+
+impl Classes {
+    fn find(&mut self, x: (usize, String)) -> (usize, String) {
+        let mut root = x.clone();
+        while let Some(p) = self.parent.get(&root) {
+            if *p == root {
+                break;
+            }
+            root = p.clone();
+        }
+        // Path compression.
+        let mut cur = x;
+        while cur != root {
+            let next = self
+                .parent
+                .get(&cur)
+                .cloned()
+                .unwrap_or_else(|| root.clone());
+            self.parent.insert(cur, root.clone());
+            cur = next;
+        }
+        root
+    }
+
+    /// Joins two entities; false when they were joined already.
+    fn union(&mut self, a: (usize, String), b: (usize, String)) -> bool {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return false;
+        }
+        self.parent.insert(ra, rb);
+        true
+    }
+}
+
+/// What the kept relations already say.
+#[derive(Default)]
+struct Known {
+    parallel: Classes,
+    coaxial: Classes,
+    concentric: Classes,
+    coplanar: Classes,
+    radius: Classes,
+    length: Classes,
+    orthogonal: BTreeSet<((usize, String), (usize, String))>,
+    others: Vec<Proposal>,
+}
+
+impl Known {
+    /// The direction entity of a member's feature.
+    fn direction(parts: &[Part<'_>], part: usize, feature: &str) -> (usize, String) {
+        (part, direction_class(&parts[part], feature).to_string())
+    }
+
+    /// Records `p`; false when it follows from what is known.
+    fn add(&mut self, parts: &[Part<'_>], p: &Proposal) -> bool {
+        let entity = |i: usize| (p.members[i], p.features[i].unwrap_or("").to_owned());
+        let direction =
+            |i: usize| Self::direction(parts, p.members[i], p.features[i].unwrap_or(""));
+        match p.kind {
+            RelationKind::Parallel => self.parallel.union(direction(0), direction(1)),
+            RelationKind::Coaxial => {
+                let new = self
+                    .coaxial
+                    .union((p.members[0], String::new()), (p.members[1], String::new()));
+                self.parallel.union(direction(0), direction(1));
+                new
+            }
+            RelationKind::Concentric => self.concentric.union(entity(0), entity(1)),
+            RelationKind::Coplanar => self.coplanar.union(entity(0), entity(1)),
+            RelationKind::SameRadius => {
+                // A cylinder has one radius, whichever end names it.
+                let radius = |i: usize| match parts[p.members[i]].kind {
+                    PrimitiveKind::Cylinder => (p.members[i], String::new()),
+                    _ => entity(i),
+                };
+                self.radius.union(radius(0), radius(1))
+            }
+            RelationKind::EqualLength => self
+                .length
+                .union((p.members[0], String::new()), (p.members[1], String::new())),
+            RelationKind::Orthogonal => {
+                let (a, b) = (
+                    self.parallel.find(direction(0)),
+                    self.parallel.find(direction(1)),
+                );
+                let key = if a <= b { (a, b) } else { (b, a) };
+                self.orthogonal.insert(key)
+            }
+            RelationKind::OnSphere | RelationKind::CollinearCenters => {
+                if self.others.contains(p) {
+                    false
+                } else {
+                    self.others.push(p.clone());
+                    true
+                }
+            }
+        }
+    }
+
+    /// Whether two parts are on one axis already.
+    fn coaxial(&mut self, a: usize, b: usize) -> bool {
+        self.coaxial.find((a, String::new())) == self.coaxial.find((b, String::new()))
+    }
+}
+
+/// The projected centre of a part: the mean of its features' centres.
+fn centre(part: &Part<'_>) -> glam::DVec2 {
+    let n = part.features.len().max(1) as f64;
+    part.features
+        .iter()
+        .map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, .. } | FeatureGeometry::Rectangle { center, .. } => {
+                glam::DVec2::new(center.x, center.y)
+            }
+        })
+        .sum::<glam::DVec2>()
+        / n
+}
+
+/// The relations between part `new` and the others, given the relations already in the
+/// model (`existing`, whose modes are not off). See the module docs for the rules.
+pub fn infer(
+    parts: &[Part<'_>],
+    new: usize,
+    existing: &[Proposal],
+    settings: &InferenceSettings,
+) -> Vec<Proposal> {
+    if new >= parts.len() {
+        return Vec::new();
+    }
+    let mut run = Inference {
+        parts,
+        new,
+        settings,
+        known: Known::default(),
+        out: Vec::new(),
+    };
+    for p in existing {
+        run.known.add(parts, p);
+    }
+    let here = centre(&parts[new]);
+    let mut others: Vec<usize> = (0..parts.len()).filter(|&i| i != new).collect();
+    others.sort_by(|&a, &b| {
+        centre(&parts[a])
+            .distance(here)
+            .total_cmp(&centre(&parts[b]).distance(here))
+    });
+    for &other in &others {
+        let coaxial = run.axes(other);
+        run.circles_and_planes(other, coaxial);
+        run.solids(other);
+    }
+    run.collinear(&others);
+    run.out
+}
+
+/// One run of [`infer`]: what is known so far and what was found.
+struct Inference<'p, 'a> {
+    parts: &'p [Part<'a>],
+    new: usize,
+    settings: &'p InferenceSettings,
+    known: Known,
+    out: Vec<Proposal>,
+}
+
+impl Inference<'_, '_> {
+    /// Whether `p` nearly holds.
+    fn holds(&self, p: &Proposal) -> bool {
+        let members: Vec<Member<'_, f64>> = p
+            .members
+            .iter()
+            .zip(&p.features)
+            .map(|(&i, f)| Member {
+                features: self.parts[i].features,
+                feature: *f,
+            })
+            .collect();
+        self.settings.enabled(p.kind) && holds(p.kind, &members, self.settings)
+    }
+
+    /// Keeps `p` if it holds and says something new; whether it was kept.
+    fn propose(&mut self, p: Proposal) -> bool {
+        if self.holds(&p) && self.known.add(self.parts, &p) {
+            self.out.push(p);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// A relation between the new part's feature `a` and `other`'s feature `b`.
+    fn pair(&self, kind: RelationKind, other: usize, a: &'static str, b: &'static str) -> Proposal {
+        Proposal {
+            kind,
+            members: vec![self.new, other],
+            features: vec![Some(a), Some(b)],
+        }
+    }
+
+    /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
+    /// some direction is parallel. Returns whether the parts are coaxial.
+    fn axes(&mut self, other: usize) -> bool {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let mut coaxial = false;
+        if new_part.kind != PrimitiveKind::Bgc && other_part.kind != PrimitiveKind::Bgc {
+            'pairs: for &a in ends(&new_part) {
+                for &b in ends(&other_part) {
+                    if self.propose(self.pair(RelationKind::Coaxial, other, a, b)) {
+                        coaxial = true;
+                        break 'pairs;
+                    }
+                }
+            }
+        }
+        let mut parallel_somewhere = coaxial;
+        for &a in directions(&new_part) {
+            for &b in directions(&other_part) {
+                let p = self.pair(RelationKind::Parallel, other, a, b);
+                parallel_somewhere |= self.holds(&p);
+                self.propose(p);
+            }
+        }
+        if !parallel_somewhere {
+            for &a in directions(&new_part) {
+                for &b in directions(&other_part) {
+                    self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
+                }
+            }
+        }
+        coaxial
+    }
+
+    /// Centres and radii of circles; then planes: ends on ends, ends on faces (studs on
+    /// a brick) and faces on faces, tested both ways round (the test asks for the second
+    /// centre inside the first outline).
+    fn circles_and_planes(&mut self, other: usize, coaxial: bool) {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let mut centred = Vec::new();
+        for &a in circles(&new_part) {
+            for &b in circles(&other_part) {
+                let p = self.pair(RelationKind::Concentric, other, a, b);
+                if self.holds(&p) {
+                    centred.push((a, b));
+                }
+                self.propose(p);
+                if a != "outline" && b != "outline" {
+                    self.propose(self.pair(RelationKind::SameRadius, other, a, b));
+                }
+            }
+        }
+        for &a in planes(&new_part) {
+            for &b in planes(&other_part) {
+                if coaxial && centred.contains(&(a, b)) {
+                    continue; // one axis and one centre: one plane already
+                }
+                let p = self.pair(RelationKind::Coplanar, other, a, b);
+                if !self.propose(p.clone().swapped()) {
+                    self.propose(p);
+                }
+            }
+        }
+    }
+
+    /// Whole solids: equal lengths, and a tube on a ball either way round.
+    fn solids(&mut self, other: usize) {
+        let (new, new_part, other_part) = (self.new, self.parts[self.new], self.parts[other]);
+        if !ends(&new_part).is_empty() && !ends(&other_part).is_empty() {
+            self.propose(Proposal {
+                kind: RelationKind::EqualLength,
+                members: vec![new, other],
+                features: vec![None, None],
+            });
+        }
+        for (sphere, tube) in [(other, new), (new, other)] {
+            if self.parts[sphere].kind != PrimitiveKind::Sphere {
+                continue;
+            }
+            for &end in ends(&self.parts[tube]) {
+                let p = Proposal {
+                    kind: RelationKind::OnSphere,
+                    members: vec![sphere, tube],
+                    features: vec![Some("outline"), Some(end)],
+                };
+                if self.propose(p) {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Collinear centres: the new part's two ends and one other circle, off any known
+    /// axis.
+    fn collinear(&mut self, others: &[usize]) {
+        let new = self.new;
+        let [a, b] = ends(&self.parts[new]) else {
+            return;
+        };
+        for &other in others {
+            if self.known.coaxial(new, other) {
+                continue;
+            }
+            for &c in circles(&self.parts[other]) {
+                let p = Proposal {
+                    kind: RelationKind::CollinearCenters,
+                    members: vec![new, new, other],
+                    features: vec![Some(*a), Some(*b), Some(c)],
+                };
+                if self.propose(p) {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+impl Proposal {
+    /// The same relation between (member 1, member 0): used to build a pair with the new
+    /// part second and put it first again.
+    fn swapped(mut self) -> Self {
+        self.members.swap(0, 1);
+        self.features.swap(0, 1);
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec3};
+
+    use super::{infer, Part, Proposal};
+    use crate::core::primitive::{Cuboid, Cylinder, FeatureCurve, Primitive};
+    use crate::core::relation::{InferenceSettings, RelationKind};
+
+    /// Relations inferred placing `primitives` one by one, as on release.
+    fn place_all(primitives: &[Primitive]) -> Vec<Proposal> {
+        let features: Vec<Vec<FeatureCurve<f64>>> = primitives
+            .iter()
+            .map(|p| p.current_shape().features)
+            .collect();
+        let parts: Vec<Part<'_>> = primitives
+            .iter()
+            .zip(&features)
+            .map(|(p, f)| Part {
+                kind: p.kind(),
+                features: f,
+            })
+            .collect();
+        let mut relations = Vec::new();
+        for new in 1..parts.len() {
+            let found = infer(
+                &parts[..=new],
+                new,
+                &relations,
+                &InferenceSettings::default(),
+            );
+            relations.extend(found);
+        }
+        relations
+    }
+
+    fn count(relations: &[Proposal], kind: RelationKind) -> usize {
+        relations.iter().filter(|r| r.kind == kind).count()
+    }
+
+    const TILT: DVec3 = DVec3::new(0.0, 0.94, 0.34);
+
+    fn cylinder(center: DVec3, length: f64, radius: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center,
+            axis: TILT.normalize(),
+            length,
+            radius,
+        })
+    }
+
+    #[test]
+    fn three_legs_give_chains_not_triangles() {
+        let legs: Vec<Primitive> = [0.0, 40.0, 80.0]
+            .iter()
+            .map(|x| cylinder(DVec3::X * *x, 60.0, 3.0))
+            .collect();
+        let r = place_all(&legs);
+        assert_eq!(count(&r, RelationKind::Parallel), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::SameRadius), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::EqualLength), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Coaxial), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+    }
+
+    #[test]
+    fn a_stack_is_coaxial_and_concentric_where_it_touches() {
+        let axis = TILT.normalize();
+        let stack = [
+            cylinder(DVec3::ZERO, 20.0, 10.0),
+            cylinder(axis * 15.0, 10.0, 6.0),
+            cylinder(axis * 25.0, 10.0, 3.0),
+        ];
+        let r = place_all(&stack);
+        assert_eq!(count(&r, RelationKind::Coaxial), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Parallel), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Concentric), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Coplanar), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::CollinearCenters), 0, "{r:#?}");
+        let first = r
+            .iter()
+            .find(|p| p.kind == RelationKind::Concentric)
+            .expect("concentric");
+        assert_eq!(first.features, vec![Some("bottom"), Some("top")]);
+    }
+
+    #[test]
+    fn a_stud_sits_on_the_brick_and_stands_up_from_it() {
+        let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let up = view * DVec3::Y;
+        let brick = Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: view,
+            size: DVec3::new(80.0, 20.0, 40.0),
+        });
+        let stud = Primitive::Cylinder(Cylinder {
+            center: up * 13.0 + view * DVec3::new(25.0, 0.0, 10.0),
+            axis: up,
+            length: 6.0,
+            radius: 5.0,
+        });
+        let r = place_all(&[brick, stud]);
+        assert_eq!(count(&r, RelationKind::Parallel), 1, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+        let on = r
+            .iter()
+            .find(|p| p.kind == RelationKind::Coplanar)
+            .expect("coplanar");
+        assert_eq!(on.members, vec![0, 1]);
+        assert_eq!(on.features, vec![Some("top"), Some("bottom")]);
+    }
+}
