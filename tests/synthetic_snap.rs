@@ -761,8 +761,6 @@ fn run_kind(
 }
 
 #[test]
-#[ignore = "the bent generalized cylinder recovers 84 % of cases, below the 95 % the snapping \
-            issue requires (work in progress); run with --ignored to see the table"]
 fn every_kind_snaps_to_sketches_drawn_by_hand() {
     let cases = std::env::var("GEOSNAP_SYNTH_CASES")
         .ok()

@@ -50,8 +50,10 @@ const PROFILE_SMOOTHNESS: f64 = 15.0;
 /// The largest turn of the spine at one point (radians).
 const MAX_TURN: f64 = 1.2;
 /// An end circle whose normal is within this (|n_z|) of the view plane is nearly
-/// edge-on: it counts as facing the viewer, and may turn either way during a fit.
-const EDGE_ON: f64 = 0.05;
+/// edge-on: it counts as facing the viewer, and may turn either way during a fit. A
+/// hand's end ellipse that flat tells little about which way it faces, so a start (or
+/// an earlier round) that has such an end on the wrong side must be free to turn it.
+const EDGE_ON: f64 = 0.15;
 
 /// A bent generalized cylinder in model space.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -345,7 +347,7 @@ impl Bgc {
         let (left, right) = contours(&s, radii);
         // An end circle facing away from the viewer shows only its near half (as drawn):
         // which way each end faces is taken at the current numeric pose; an end almost
-        // edge-on (|n_z| < 0.05) counts as facing, a coin toss which half is in front.
+        // edge-on (|n_z| < [`EDGE_ON`]) counts as facing, a coin toss which half is in front.
         let now = {
             let t = spine(k, &self.params()).tangents;
             [-t[0].z, t[k - 1].z]

@@ -16,12 +16,15 @@
 //!   with an assigned ellipse, and box edges, get none, so overshoots cannot bias sizes;
 //! - regularisers keep profiles and spines smooth (weight 0.01).
 //!
+//! A BGC's outline runs on a little past an end that an assigned end ellipse fixes, so
+//! that a hand's overshoot there does not pull the end outwards (see `OutlineRun`).
+//!
 //! Each curve's samples are averaged so a long stroke does not outweigh a short ellipse.
 
 use glam::{DVec2, DVec3};
 
 use super::assign::Assignment;
-use crate::core::ad::{Expr, Graph, Real};
+use crate::core::ad::{Expr, Graph, Real, Vec2};
 use crate::core::primitive::{Curve2, CurveClass, Primitive};
 use crate::core::solve::Problem;
 
@@ -101,6 +104,83 @@ fn end_targets(points: &[DVec2], samples: &[DVec2]) -> Option<[DVec2; 2]> {
     Some([*lo, *hi])
 }
 
+/// How far (in sizes) past an end fixed by an end ellipse a BGC's outline runs on
+/// straight along its end tangent, for the samples of a hand's overshoot.
+const OUTLINE_RUN: f64 = 0.05;
+
+/// How far (in sizes) behind an outline's current end a sample still gets its run: a
+/// fit moves the end by less within one round.
+const RUN_REACH: f64 = 0.2;
+
+/// The straight run of a BGC's outline past an end that an assigned end ellipse fixes.
+/// A hand overshoots an outline along its tangent there (by a few percent of the size);
+/// counted against the outline's end, those samples pull it longer, which a fit pays
+/// for by moving the end outwards and flattening its ellipse to keep the drawn rim: a
+/// wrong tilt and length. A sample's distance is the smaller of its distance to the
+/// outline and to this run ([`OUTLINE_RUN`] long: a longer run would let the outline
+/// end short of its samples for free).
+struct OutlineRun<'g> {
+    end: Vec2<Expr<'g>>,
+    /// The unit end tangent, outwards.
+    dir: Vec2<Expr<'g>>,
+    zero: Expr<'g>,
+    /// The end and its unit outward tangent at the current pose: only samples near or
+    /// past it get the run (the others are nearer the outline, and skipping them keeps
+    /// a drag frame cheap).
+    now: (DVec2, DVec2),
+}
+
+impl<'g> OutlineRun<'g> {
+    /// The runs at the flagged ends (first, last) of outline `points` (`now` at the
+    /// current pose).
+    fn at_ends(
+        g: &'g Graph,
+        points: &[Vec2<Expr<'g>>],
+        now: &[DVec2],
+        ends: [bool; 2],
+    ) -> Vec<Self> {
+        let n = points.len();
+        if n < 2 || now.len() != n {
+            return Vec::new();
+        }
+        let run = |end: Vec2<Expr<'g>>, before: Vec2<Expr<'g>>, i: usize, j: usize| {
+            let d = end - before;
+            let len = (d.x.square() + d.y.square() + 1e-18).sqrt();
+            Self {
+                end,
+                dir: Vec2::new(d.x / len, d.y / len),
+                zero: g.constant(0.0),
+                now: (now[i], (now[i] - now[j]).normalize_or_zero()),
+            }
+        };
+        let mut runs = Vec::new();
+        if ends[0] {
+            runs.push(run(points[0], points[1], 0, 1));
+        }
+        if ends[1] {
+            runs.push(run(points[n - 1], points[n - 2], n - 1, n - 2));
+        }
+        runs
+    }
+
+    /// Whether sample `p` (in the frame, where the size is 1) is near enough to the end
+    /// to get the run.
+    fn reaches(&self, p: DVec2) -> bool {
+        (p - self.now.0).dot(self.now.1) > -RUN_REACH
+    }
+
+    /// The squared distance of `p` to the run.
+    fn distance2(&self, p: DVec2) -> Expr<'g> {
+        let v = Vec2::new(-self.end.x + p.x, -self.end.y + p.y);
+        let along = v.dot(self.dir);
+        let across = v.cross(self.dir);
+        let behind = along.min(self.zero);
+        let beyond = along - OUTLINE_RUN;
+        let beyond = beyond - beyond.min(self.zero);
+        across.square() + behind.square() + beyond.square()
+    }
+}
+
 /// Builds the snapping problem of `primitive` (already in `frame`) for the strokes of
 /// `assignment` (view-plane samples, converted into the frame here).
 pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Frame) -> Problem {
@@ -124,9 +204,29 @@ pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Fra
         if samples.is_empty() {
             continue;
         }
+        // A BGC's outline runs on past an end that an assigned end ellipse fixes (see
+        // [`OutlineRun`]).
+        let runs: Vec<OutlineRun<'_>> = match (primitive, curve.class, &curve.curve) {
+            (Primitive::Bgc(_), CurveClass::Silhouette, Curve2::Polyline(points)) => {
+                let ends = [ellipse_assigned("bottom"), ellipse_assigned("top")];
+                let now: Vec<DVec2> = match &numeric.curves[k].curve {
+                    Curve2::Polyline(now) => now.iter().map(|p| p.to_dvec2()).collect(),
+                    Curve2::Ellipse { .. } => Vec::new(),
+                };
+                OutlineRun::at_ends(&g, points, &now, ends)
+            }
+            _ => Vec::new(),
+        };
         let per_sample: Vec<Expr<'_>> = samples
             .iter()
-            .map(|p| robust(distance(&g, &curve.curve, *p).square()))
+            .map(|p| {
+                let d2 = distance(&g, &curve.curve, *p).square();
+                let d2 = runs
+                    .iter()
+                    .filter(|run| run.reaches(*p))
+                    .fold(d2, |d2, run| d2.min(run.distance2(*p)));
+                robust(d2)
+            })
             .collect();
         terms.push(g.sum(per_sample) * (1.0 / samples.len() as f64));
         // Ends of outlines and edges.
