@@ -6,7 +6,8 @@
 //! error of a hand placement), the primitive is fitted, then strokes are re-assigned with
 //! a tight gate (10 %) around the fitted pose and the fit is refined; a third round runs
 //! only if the assignment changed. [`snap`] does one snap; [`SnapSession`] serves a drag,
-//! warm-starting each frame from the last.
+//! warm-starting each frame from the last (a warm frame stops after its first fit when the
+//! tight gate takes the same strokes).
 
 mod assign;
 mod bgc_start;
@@ -358,7 +359,9 @@ fn snap_rounds(
             break;
         }
         assignment = next;
-        if round >= 1 && !changed {
+        // A warm-started drag frame starts next to its answer: when the tight gate takes
+        // the same strokes, a second fit would only polish the preview.
+        if (round >= 1 || warm.is_some()) && !changed {
             break;
         }
     }
