@@ -37,8 +37,8 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::{orthonormal_basis, TriMesh};
 use super::{
-    circle_basis, circle_ellipse, Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement,
-    ProjectedCurve, Shape, PROFILE_SAMPLES,
+    circle_basis, circle_ellipse, quaternion_columns, Curve2, CurveClass, FeatureCurve,
+    FeatureGeometry, Placement, ProjectedCurve, Shape, PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};
@@ -71,30 +71,6 @@ fn middle(k: usize) -> usize {
     (k - 2) / 2
 }
 
-/// The rotation matrix columns (u, v, n) of the quaternion (w, x, y, z), assumed unit.
-fn frame<T: Real>(q: [T; 4]) -> [Vec3<T>; 3] {
-    let [w, x, y, z] = q;
-    let one = w.lit(1.0);
-    let two = |v: T| v * 2.0;
-    [
-        Vec3::new(
-            one - two(y * y + z * z),
-            two(x * y + w * z),
-            two(x * z - w * y),
-        ),
-        Vec3::new(
-            two(x * y - w * z),
-            one - two(x * x + z * z),
-            two(y * z + w * x),
-        ),
-        Vec3::new(
-            two(x * z + w * y),
-            two(y * z - w * x),
-            one - two(x * x + y * y),
-        ),
-    ]
-}
-
 /// The spine of parameters `x` (layout in the module docs) for K = `k`: its points, its
 /// unit tangents at the points, the arc midpoints of its segments with their tangents,
 /// and the plane's normal.
@@ -111,7 +87,7 @@ fn spine<T: Real>(k: usize, x: &[T]) -> Spine<T> {
     // The quaternion is normalised here (its scale is free, fixed by a regulariser), so
     // the fit has no equality constraint to satisfy.
     let norm = (x[3].square() + x[4].square() + x[5].square() + x[6].square()).sqrt();
-    let [u, v, n] = frame([x[3] / norm, x[4] / norm, x[5] / norm, x[6] / norm]);
+    let [u, v, n] = quaternion_columns([x[3] / norm, x[4] / norm, x[5] / norm, x[6] / norm]);
     let h = x[7];
     let kappa = &x[8..8 + k - 2];
     let m = middle(k);
@@ -356,12 +332,7 @@ impl Bgc {
         let bottom_normal = -s.tangents[0];
         let top_normal = s.tangents[k - 1];
         let (p0, p1) = (s.points[0], s.points[k - 1]);
-        let curve = |name: &str, class, curve| ProjectedCurve {
-            name: name.to_owned(),
-            class,
-            visible: true,
-            curve,
-        };
+        let curve = ProjectedCurve::shown;
         let min = self.size() * MIN_SIZE_FRACTION;
         let equalities = Vec::new();
         // The spine's plane within 78.5° of the view plane (as an axis of a solid of

@@ -18,7 +18,10 @@ use serde::{Deserialize, Serialize};
 
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::TriMesh;
-use super::{Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape};
+use super::{
+    quaternion_columns, Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement,
+    ProjectedCurve, Shape,
+};
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;
 
@@ -34,30 +37,6 @@ pub struct Cuboid {
     pub rotation: DQuat,
     /// Width, height and depth along the local x, y and z axes.
     pub size: DVec3,
-}
-
-/// The rotation matrix columns of the quaternion (w, x, y, z), assumed unit.
-fn rotation_columns<T: Real>(q: [T; 4]) -> [Vec3<T>; 3] {
-    let [w, x, y, z] = q;
-    let one = w.lit(1.0);
-    let two = |v: T| v * 2.0;
-    [
-        Vec3::new(
-            one - two(y * y + z * z),
-            two(x * y + w * z),
-            two(x * z - w * y),
-        ),
-        Vec3::new(
-            two(x * y - w * z),
-            one - two(x * x + z * z),
-            two(y * z + w * x),
-        ),
-        Vec3::new(
-            two(x * z + w * y),
-            two(y * z - w * x),
-            one - two(x * x + y * y),
-        ),
-    ]
 }
 
 /// The edges as (axis along the edge, signs of the other two axes), with the two faces
@@ -143,7 +122,7 @@ impl Cuboid {
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
         let c = Vec3::new(x[0], x[1], x[2]);
-        let axes = rotation_columns([x[3], x[4], x[5], x[6]]);
+        let axes = quaternion_columns([x[3], x[4], x[5], x[6]]);
         let half = [x[7] * 0.5, x[8] * 0.5, x[9] * 0.5];
         // Visibility from the current numeric orientation.
         let numeric_axes = self.axes();
@@ -240,13 +219,13 @@ impl Cuboid {
 mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::rotation_columns;
+    use super::super::quaternion_columns;
     use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
 
     #[test]
     fn quaternion_columns_match_glam() {
         let q = DQuat::from_euler(glam::EulerRot::YXZ, 0.3, -0.7, 1.1);
-        let cols = rotation_columns([q.w, q.x, q.y, q.z]);
+        let cols = quaternion_columns([q.w, q.x, q.y, q.z]);
         let m = glam::DMat3::from_quat(q);
         for (c, g) in cols.iter().zip([m.x_axis, m.y_axis, m.z_axis]) {
             assert!((c.to_dvec3() - g).length() < 1e-12);

@@ -120,12 +120,7 @@ pub(crate) fn revolved_shape<T: Real>(
     let slope = (r_top - r_bottom) / l;
     let pb = contour_points(bottom, a, r_bottom, slope);
     let pt = contour_points(top, a, r_top, slope);
-    let curve = |name: &str, class, curve| ProjectedCurve {
-        name: name.to_owned(),
-        class,
-        visible: true,
-        curve,
-    };
+    let curve = ProjectedCurve::shown;
     Shape {
         curves: vec![
             curve("top", CurveClass::Feature, circle_ellipse(top, a, r_top)),

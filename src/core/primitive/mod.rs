@@ -143,6 +143,18 @@ pub struct ProjectedCurve<T> {
     pub curve: Curve2<T>,
 }
 
+impl<T> ProjectedCurve<T> {
+    /// A curve a person draws in every view (outlines and end ellipses).
+    pub(crate) fn shown(name: &str, class: CurveClass, curve: Curve2<T>) -> Self {
+        Self {
+            name: name.to_owned(),
+            class,
+            visible: true,
+            curve,
+        }
+    }
+}
+
 /// The geometry of a named 3D feature curve, which relations refer to.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FeatureGeometry<T> {
@@ -381,6 +393,30 @@ pub(crate) fn circle_basis<T: Real>(axis: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
     let w = Vec3::new(axis.y / rho, -axis.x / rho, zero);
     let k = axis.cross(w);
     (w, k)
+}
+
+/// The rotation matrix columns of the quaternion (w, x, y, z), assumed unit.
+pub(crate) fn quaternion_columns<T: Real>(q: [T; 4]) -> [Vec3<T>; 3] {
+    let [w, x, y, z] = q;
+    let one = w.lit(1.0);
+    let two = |v: T| v * 2.0;
+    [
+        Vec3::new(
+            one - two(y * y + z * z),
+            two(x * y + w * z),
+            two(x * z - w * y),
+        ),
+        Vec3::new(
+            two(x * y - w * z),
+            one - two(x * x + z * z),
+            two(y * z + w * x),
+        ),
+        Vec3::new(
+            two(x * z + w * y),
+            two(y * z - w * x),
+            one - two(x * x + y * y),
+        ),
+    ]
 }
 
 /// The projected ellipse of the circle (centre, unit normal, radius).

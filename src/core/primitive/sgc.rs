@@ -100,12 +100,7 @@ impl Sgc {
             right.push(r);
         }
         let (bottom, top) = (ring(0), ring(k - 1));
-        let curve = |name: &str, class, curve| ProjectedCurve {
-            name: name.to_owned(),
-            class,
-            visible: true,
-            curve,
-        };
+        let curve = ProjectedCurve::shown;
         let min = self.size() * MIN_SIZE_FRACTION;
         let mut inequalities = vec![
             ("positive length", l - min),
