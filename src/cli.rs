@@ -10,11 +10,10 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{run_steps, Step, StepOutcome};
+use geosnap::core::model::{run_steps, SessionSettings, Step, StepOutcome};
 use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
-use geosnap::core::snap::SnapSettings;
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
 use geosnap::io::model_file::{load_model, save_model};
 use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem};
@@ -185,7 +184,8 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
     }
     let steps = &script.steps;
     let clock = MonotonicClock::start();
-    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SnapSettings::default());
+    let (document, outcomes) =
+        run_steps(&loaded.sketch, steps, &SessionSettings::default(), Some(&clock));
     let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
     save_model(out, &document, &sketch_reference(&script.sketch, out))
         .with_context(|| format!("writing {}", out.display()))?;
@@ -195,25 +195,87 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
         loaded.sketch.strokes.len(),
         steps.len()
     );
+    let mut solve_ms = Vec::new();
+    let mut conflicts = Vec::new();
     for (index, outcome) in outcomes.iter().enumerate() {
         match outcome {
-            StepOutcome::Placed { id, snap } => println!(
-                "  step {index}: {} #{} snapped to {} strokes, rms {:.2} ({:.1} % of its size), {} evaluations, {}",
-                snap.primitive.kind().name(),
-                id.0,
-                snap.assignment.stroke_ids().len(),
-                snap.rms,
-                100.0 * snap.rms / snap.primitive.size(),
-                snap.evaluations,
-                snap.termination
-            ),
+            StepOutcome::Placed {
+                id,
+                snap,
+                relations,
+                solve,
+            } => {
+                println!(
+                    "  step {index}: {} #{} snapped to {} strokes, rms {:.2} ({:.1} % of its size), {} evaluations, {}",
+                    snap.primitive.kind().name(),
+                    id.0,
+                    snap.assignment.stroke_ids().len(),
+                    snap.rms,
+                    100.0 * snap.rms / snap.primitive.size(),
+                    snap.evaluations,
+                    snap.termination
+                );
+                if let Some(report) = &solve.report {
+                    let ms = report.elapsed.as_secs_f64() * 1e3;
+                    solve_ms.push(ms);
+                    println!(
+                        "    {} new relation(s); global solve of {} part(s), {} relation(s): {}, ‖ψ‖∞ {:.1e}, {} evaluations, {ms:.1} ms",
+                        relations.len(),
+                        solve.solved.len(),
+                        solve.relations,
+                        report.termination,
+                        report.max_violation,
+                        report.evaluations,
+                    );
+                }
+                for c in &solve.conflicts {
+                    println!("    conflict: {}", c.message);
+                    conflicts.push(c.message.clone());
+                }
+                if solve.reverted {
+                    println!("    the solve was refused: the parts keep their previous pose");
+                }
+            }
             StepOutcome::Skipped(s) => println!("  step {index}: skipped: {}", s.reason),
         }
     }
+    let mut by_kind: std::collections::BTreeMap<&str, (usize, usize)> = Default::default();
+    for r in document.relations() {
+        let entry = by_kind.entry(r.kind.name()).or_default();
+        if r.mode == geosnap::core::relation::Mode::Off {
+            entry.1 += 1;
+        } else {
+            entry.0 += 1;
+        }
+    }
+    let kinds: Vec<String> = by_kind
+        .iter()
+        .map(|(kind, (on, off))| {
+            if *off > 0 {
+                format!("{on} {kind} (+{off} off)")
+            } else {
+                format!("{on} {kind}")
+            }
+        })
+        .collect();
     println!(
-        "{} primitives, {} skipped, relations: none yet; {:.1} ms; wrote {}",
+        "{} primitives, {} skipped; {} relations{}{}",
         document.len(),
         document.skipped.len(),
+        document.relations().len(),
+        if kinds.is_empty() { String::new() } else { format!(": {}", kinds.join(", ")) },
+        if conflicts.is_empty() {
+            String::new()
+        } else {
+            format!("; {} conflict(s) resolved", conflicts.len())
+        }
+    );
+    solve_ms.sort_by(f64::total_cmp);
+    println!(
+        "{} global solve(s), median {:.1} ms, max {:.1} ms; {:.1} ms in all; wrote {}",
+        solve_ms.len(),
+        solve_ms.get(solve_ms.len() / 2).copied().unwrap_or(0.0),
+        solve_ms.last().copied().unwrap_or(0.0),
         elapsed.as_secs_f64() * 1e3,
         out.display()
     );

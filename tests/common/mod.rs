@@ -2,8 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use geosnap::core::model::{run_steps, StepOutcome};
-use geosnap::core::snap::SnapSettings;
+use geosnap::core::model::{run_steps, Document, SessionSettings, StepOutcome};
 use geosnap::io::model_file::{model_json, parse_model};
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
@@ -25,6 +24,16 @@ pub(crate) fn run_script(
     script_path: &Path,
     sketch_dir: Option<&Path>,
 ) -> (Vec<String>, Vec<String>) {
+    let (lines, failures, _) = run_script_document(script_path, sketch_dir);
+    (lines, failures)
+}
+
+/// Runs one script; returns one line per step, the failures and the document.
+#[allow(dead_code, reason = "not every test binary uses every helper")]
+pub(crate) fn run_script_document(
+    script_path: &Path,
+    sketch_dir: Option<&Path>,
+) -> (Vec<String>, Vec<String>, Document) {
     let mut script = load_script(script_path).expect("the script loads");
     if let Some(dir) = sketch_dir {
         let name = script
@@ -36,7 +45,8 @@ pub(crate) fn run_script(
     }
     let loaded = load_sketch(&script.sketch).expect("the sketch loads");
     let steps = &script.steps;
-    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SnapSettings::default());
+    let (document, outcomes) =
+        run_steps(&loaded.sketch, steps, &SessionSettings::default(), None);
     let name = script_path
         .file_name()
         .unwrap_or_default()
@@ -45,8 +55,23 @@ pub(crate) fn run_script(
     let mut failures = Vec::new();
     for (i, outcome) in outcomes.iter().enumerate() {
         match outcome {
-            StepOutcome::Placed { snap, .. } => {
+            StepOutcome::Placed {
+                snap,
+                solve,
+                relations,
+                ..
+            } => {
                 let relative = snap.rms / snap.primitive.size();
+                lines.push(format!(
+                    "{name} step {i}: {} relation(s); solved {} part(s){}",
+                    relations.len(),
+                    solve.solved.len(),
+                    solve
+                        .conflicts
+                        .iter()
+                        .map(|c| format!("; {}", c.message))
+                        .collect::<String>()
+                ));
                 lines.push(format!(
                     "{name} step {i}: {} rms {:.2} = {:.2} % of size, {} strokes",
                     snap.primitive.kind().name(),
@@ -71,5 +96,5 @@ pub(crate) fn run_script(
     if back.document.len() != document.len() {
         failures.push(format!("{name}: the model did not round-trip"));
     }
-    (lines, failures)
+    (lines, failures, document)
 }

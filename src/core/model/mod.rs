@@ -1,19 +1,25 @@
 //! The document: the placed primitives with their fits, addressed by stable ids, the
 //! relations between them, and the steps that could not be placed.
 //!
-//! [`run_steps`] runs a modelling session headless (the script runner's core). Inference
-//! ([`crate::core::relation::infer`]) and the global solve are being wired in; today a
-//! script's document is the result of independent per-primitive snaps, and relations
-//! come only from model files.
+//! [`run_steps`] runs a modelling session headless (the script runner's core), as the
+//! application does on each release: snap the dropped part, infer its relations with the
+//! placed parts ([`Document::infer_relations`]), then solve the model globally
+//! ([`Document::solve`], module `solve`), switching off relations that conflict.
+
+mod release;
+mod solve;
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
 use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
-use crate::core::relation::{Mode, RelationKind};
+use crate::core::relation::{InferenceSettings, Mode, RelationKind};
 use crate::core::sketch::{Sketch, StrokeId};
-use crate::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+use crate::core::snap::{snap, Assignment, SnapContext, SnapResult, SnapSettings};
+use crate::core::solve::Clock;
+
+pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_FLOOR};
 
 /// Identifies a primitive of a [`Document`]; ids are never reused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -60,6 +66,16 @@ pub struct Skipped {
     pub reason: String,
 }
 
+/// What a part's own snap found: the strokes of each projected curve, which the global
+/// solve keeps fitting, and the RMS it reached alone, which the solve must not spoil.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapRecord {
+    /// The strokes of each projected curve.
+    pub assignment: Assignment,
+    /// RMS of the part's own snap, in sketch units.
+    pub rms: f64,
+}
+
 /// The assembled model.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Document {
@@ -68,6 +84,12 @@ pub struct Document {
     /// Steps that were skipped.
     pub skipped: Vec<Skipped>,
     relations: Vec<Relation>,
+    /// The snaps of parts placed in this session (parts loaded from a model file have
+    /// none and are held where they are).
+    snaps: BTreeMap<PrimitiveId, SnapRecord>,
+    /// The multipliers of the last global solves by constraint (label, occurrence), to
+    /// warm-start the next one.
+    multipliers: BTreeMap<(String, usize), f64>,
 }
 
 impl Document {
@@ -86,13 +108,26 @@ impl Document {
 
     /// Adds a snapped primitive with its fit.
     pub fn add_snapped(&mut self, result: &SnapResult) -> PrimitiveId {
-        self.add(Placed {
+        let id = self.add(Placed {
             primitive: result.primitive.clone(),
             fit: Fit {
                 strokes: result.assignment.stroke_ids(),
                 rms: result.rms,
             },
-        })
+        });
+        self.snaps.insert(
+            id,
+            SnapRecord {
+                assignment: result.assignment.clone(),
+                rms: result.rms,
+            },
+        );
+        id
+    }
+
+    /// The snap of a part placed in this session.
+    pub fn snap_record(&self, id: PrimitiveId) -> Option<&SnapRecord> {
+        self.snaps.get(&id)
     }
 
     /// Inserts a primitive under a given id (loading a file); later ids stay above it.
@@ -104,6 +139,7 @@ impl Document {
     /// Removes a primitive and the relations it takes part in.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
         self.relations.retain(|r| !r.members.contains(&id));
+        self.snaps.remove(&id);
         self.primitives.remove(&id)
     }
 
@@ -194,18 +230,36 @@ pub enum StepOutcome {
         id: PrimitiveId,
         /// The snap.
         snap: SnapResult,
+        /// The relations inferred on its release (indices into
+        /// [`Document::relations`]).
+        relations: Vec<usize>,
+        /// The global solve that followed.
+        solve: GlobalOutcome,
     },
     /// The step was skipped.
     Skipped(Skipped),
 }
 
-/// Runs steps over a sketch as the interactive tool would (each step: assignment and
-/// snap; relations and the global solve join with the relations work). A step that
-/// cannot be snapped is recorded in [`Document::skipped`] and the run goes on.
+/// Settings of a modelling session: snapping, inference and the global solve.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SessionSettings {
+    /// Snapping.
+    pub snap: SnapSettings,
+    /// Relation inference.
+    pub inference: InferenceSettings,
+    /// The global solve.
+    pub global: GlobalSettings,
+}
+
+/// Runs steps over a sketch as the interactive tool would: each step is snapped, its
+/// relations with the placed parts are inferred, and the model is solved globally. A step
+/// that cannot be snapped is recorded in [`Document::skipped`] and the run goes on.
+/// `clock` (optional) times the solves.
 pub fn run_steps(
     sketch: &Sketch,
     steps: &[Step],
-    settings: &SnapSettings,
+    settings: &SessionSettings,
+    clock: Option<&dyn Clock>,
 ) -> (Document, Vec<StepOutcome>) {
     let context = SnapContext::from_sketch(sketch);
     let default_size = sketch
@@ -221,13 +275,27 @@ pub fn run_steps(
             Step::Invalid { reason } => Err(reason.clone()),
             Step::Place { kind, placement } => {
                 let dropped = Primitive::from_placement(*kind, placement, default_size);
-                snap(&context, &dropped, settings).map_err(|e| e.to_string())
+                snap(&context, &dropped, &settings.snap).map_err(|e| e.to_string())
             }
         };
         outcomes.push(match outcome {
             Ok(result) => {
                 let id = document.add_snapped(&result);
-                StepOutcome::Placed { id, snap: result }
+                let relations = document.infer_relations(id, &settings.inference);
+                let solve = document.solve(
+                    Some(&[id]),
+                    &settings.global,
+                    Companions {
+                        clock,
+                        ..Companions::default()
+                    },
+                );
+                StepOutcome::Placed {
+                    id,
+                    snap: result,
+                    relations,
+                    solve,
+                }
             }
             Err(reason) => {
                 let skipped = Skipped {

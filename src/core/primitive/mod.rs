@@ -370,6 +370,41 @@ impl Primitive {
         }
     }
 
+    /// The primitive reflected in the view-parallel plane through its centre (depth z ↦
+    /// 2·c_z − z). Its projection, and so its fit to the strokes, is the same: an
+    /// orthographic drawing cannot tell the two apart, and relations decide between
+    /// them.
+    #[must_use]
+    pub fn mirrored_in_depth(&self) -> Self {
+        let depth = self.center().z;
+        let point = |p: DVec3| DVec3::new(p.x, p.y, 2.0 * depth - p.z);
+        let dir = |d: DVec3| DVec3::new(d.x, d.y, -d.z);
+        let mut out = self.clone();
+        match &mut out {
+            Self::Cylinder(p) => p.axis = dir(p.axis),
+            Self::Cone(p) => p.axis = dir(p.axis),
+            Self::Sgc(p) => p.axis = dir(p.axis),
+            Self::Sphere(_) => {}
+            // M·R·M with M = diag(1, 1, −1) is the rotation of quaternion (−x, −y, z, w);
+            // its columns are the reflected axes up to sign, which a box does not mind.
+            Self::Cuboid(p) => {
+                p.rotation = glam::DQuat::from_xyzw(
+                    -p.rotation.x,
+                    -p.rotation.y,
+                    p.rotation.z,
+                    p.rotation.w,
+                );
+            }
+            Self::Bgc(p) => {
+                for s in &mut p.spine {
+                    *s = point(*s);
+                }
+                p.plane_normal = dir(p.plane_normal);
+            }
+        }
+        out
+    }
+
     /// A triangle mesh with about `segments` segments around each circle.
     pub fn mesh(&self, segments: usize) -> TriMesh {
         each_kind!(self, p => p.mesh(segments.max(3)))

@@ -92,6 +92,20 @@ fn planes(part: &Part<'_>) -> &'static [&'static str] {
     }
 }
 
+/// The projected centre and the unit normal of a part's flat feature `name`.
+fn plane_of(part: &Part<'_>, name: &str) -> Option<(glam::DVec2, glam::DVec3)> {
+    part.features
+        .iter()
+        .find(|f| f.name == name)
+        .map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, normal, .. }
+            | FeatureGeometry::Rectangle { center, normal, .. } => (
+                glam::DVec2::new(center.x, center.y),
+                normal.to_dvec3(),
+            ),
+        })
+}
+
 /// A union–find over entities named by (part, key).
 #[derive(Default)]
 struct Classes {
@@ -338,6 +352,9 @@ impl Inference<'_, '_> {
         let mut centred = Vec::new();
         for &a in circles(&new_part) {
             for &b in circles(&other_part) {
+                if (a == "outline") != (b == "outline") {
+                    continue; // a tube's end at a ball's centre is inside the ball
+                }
                 let p = self.pair(RelationKind::Concentric, other, a, b);
                 if self.holds(&p) {
                     centred.push((a, b));
@@ -348,16 +365,36 @@ impl Inference<'_, '_> {
                 }
             }
         }
+        // At most one plane per pair of parts: a leg's top drawn inside a table top's
+        // outline lies, in the drawing, within both faces of the top, but it can meet
+        // one only. The faces in contact (outward normals opposed: a leg's top under
+        // the table's underside, a stud's bottom on a brick's top) win, then the pair
+        // whose centres are nearer in the drawing.
+        let mut planar: Vec<(bool, f64, Proposal)> = Vec::new();
         for &a in planes(&new_part) {
             for &b in planes(&other_part) {
                 if coaxial && centred.contains(&(a, b)) {
                     continue; // one axis and one centre: one plane already
                 }
                 let p = self.pair(RelationKind::Coplanar, other, a, b);
-                if !self.propose(p.clone().swapped()) {
-                    self.propose(p);
-                }
+                let p = if self.holds(&p.clone().swapped()) {
+                    p.swapped()
+                } else if self.holds(&p) {
+                    p
+                } else {
+                    continue;
+                };
+                let (Some((ca, na)), Some((cb, nb))) =
+                    (plane_of(&new_part, a), plane_of(&other_part, b))
+                else {
+                    continue;
+                };
+                planar.push((na.dot(nb) < 0.0, ca.distance(cb), p));
             }
+        }
+        planar.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.total_cmp(&y.1)));
+        if let Some((_, _, p)) = planar.into_iter().next() {
+            self.propose(p);
         }
     }
 

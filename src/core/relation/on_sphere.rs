@@ -2,8 +2,9 @@
 //! (‖c − C‖ − R)/s = 0 and n × (c − C)/s = 0, with the sphere's centre C and radius R taken
 //! from its `outline` and s = R + r. Inferred when, in the view plane, the circle's centre
 //! lies within the sphere's outline grown by [`InferenceSettings::distance`]·s and its
-//! axis, projected, points at the sphere's projected centre within θ (or the circle is
-//! seen face-on over the sphere).
+//! axis, projected, points at the sphere's projected centre within θ or passes within
+//! 2·[`InferenceSettings::distance`]·s of it (or the circle is seen face-on over the
+//! sphere).
 
 use super::{
     circle, components, offset_2d, InferenceSettings, Member, RelationError, RelationKind,
@@ -38,7 +39,12 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
         // Seen along its axis, over the sphere: it may face the centre in depth.
         return true;
     }
-    (axis.normalize().perp_dot(d.normalize())).abs() <= settings.sin_angle()
+    // The axis line passes near the centre: within θ in angle, or within twice the
+    // distance threshold. A ball is drawn with few strokes, and its centre is the least
+    // certain of the positions inference compares.
+    let across = axis.normalize().perp_dot(d).abs();
+    across <= settings.sin_angle() * d.length()
+        || across <= 2.0 * settings.distance * (radius + r)
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ use thiserror::Error;
 
 pub use assign::{assign, AssignedStroke, Assignment};
 pub use context::{SnapContext, SnapStroke};
-pub use objective::{build_problem, fit_rms, Frame};
+pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
 use crate::core::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::core::solve::{

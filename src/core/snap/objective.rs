@@ -25,7 +25,7 @@ use glam::{DVec2, DVec3};
 
 use super::assign::Assignment;
 use crate::core::ad::{Expr, Graph, Real, Vec2};
-use crate::core::primitive::{Curve2, CurveClass, Primitive};
+use crate::core::primitive::{Curve2, CurveClass, FeatureCurve, Primitive};
 use crate::core::solve::Problem;
 
 /// The robust loss scale τ, relative to the primitive's size.
@@ -181,14 +181,34 @@ impl<'g> OutlineRun<'g> {
     }
 }
 
-/// Builds the snapping problem of `primitive` (already in `frame`) for the strokes of
-/// `assignment` (view-plane samples, converted into the frame here).
-pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Frame) -> Problem {
-    let g = Graph::new();
-    let x = g.vars(primitive.params().len());
-    let shape = primitive.shape(&x);
+/// The terms of one primitive's snapping problem over variables `x` of a shared graph:
+/// φ_p and the internal constraints C_p. [`build_problem`] compiles them alone; the
+/// global solve ([`crate::core::model`]) sums them over every primitive.
+#[derive(Debug)]
+pub struct FitTerms<'g> {
+    /// φ_p.
+    pub objective: Expr<'g>,
+    /// The equality constraints c = 0 of the parameterisation, labelled.
+    pub equalities: Vec<(&'static str, Expr<'g>)>,
+    /// The inequality constraints g ≥ 0, labelled.
+    pub inequalities: Vec<(&'static str, Expr<'g>)>,
+    /// The named 3D feature curves over the same variables, which relations refer to.
+    pub features: Vec<FeatureCurve<Expr<'g>>>,
+}
+
+/// The terms of the snapping problem of `primitive` (already in `frame`) for the strokes
+/// of `assignment` (view-plane samples, converted into the frame here), over variables
+/// `x` (one per parameter of `primitive`) of graph `g`.
+pub fn fit_terms<'g>(
+    g: &'g Graph,
+    x: &[Expr<'g>],
+    primitive: &Primitive,
+    assignment: &Assignment,
+    frame: &Frame,
+) -> FitTerms<'g> {
+    let shape = primitive.shape(x);
     let numeric = primitive.current_shape();
-    let mut terms: Vec<Expr<'_>> = Vec::new();
+    let mut terms: Vec<Expr<'g>> = Vec::new();
     let ellipse_assigned = |name: &str| {
         shape
             .curves
@@ -206,21 +226,21 @@ pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Fra
         }
         // A BGC's outline runs on past an end that an assigned end ellipse fixes (see
         // [`OutlineRun`]).
-        let runs: Vec<OutlineRun<'_>> = match (primitive, curve.class, &curve.curve) {
+        let runs: Vec<OutlineRun<'g>> = match (primitive, curve.class, &curve.curve) {
             (Primitive::Bgc(_), CurveClass::Silhouette, Curve2::Polyline(points)) => {
                 let ends = [ellipse_assigned("bottom"), ellipse_assigned("top")];
                 let now: Vec<DVec2> = match &numeric.curves[k].curve {
                     Curve2::Polyline(now) => now.iter().map(|p| p.to_dvec2()).collect(),
                     Curve2::Ellipse { .. } => Vec::new(),
                 };
-                OutlineRun::at_ends(&g, points, &now, ends)
+                OutlineRun::at_ends(g, points, &now, ends)
             }
             _ => Vec::new(),
         };
-        let per_sample: Vec<Expr<'_>> = samples
+        let per_sample: Vec<Expr<'g>> = samples
             .iter()
             .map(|p| {
-                let d2 = distance(&g, &curve.curve, *p).square();
+                let d2 = distance(g, &curve.curve, *p).square();
                 let d2 = runs
                     .iter()
                     .filter(|run| run.reaches(*p))
@@ -254,13 +274,26 @@ pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Fra
     for r in &shape.regularizers {
         terms.push(r.square() * REGULARIZER_WEIGHT);
     }
-    let objective = g.sum(terms);
-    let mut builder = Problem::builder(&g, objective);
-    for (label, c) in &shape.equalities {
-        builder = builder.equality(*label, *c);
+    FitTerms {
+        objective: g.sum(terms),
+        equalities: shape.equalities,
+        inequalities: shape.inequalities,
+        features: shape.features,
     }
-    for (label, c) in &shape.inequalities {
-        builder = builder.inequality(*label, *c);
+}
+
+/// Builds the snapping problem of `primitive` (already in `frame`) for the strokes of
+/// `assignment` (view-plane samples, converted into the frame here).
+pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Frame) -> Problem {
+    let g = Graph::new();
+    let x = g.vars(primitive.params().len());
+    let terms = fit_terms(&g, &x, primitive, assignment, frame);
+    let mut builder = Problem::builder(&g, terms.objective);
+    for (label, c) in terms.equalities {
+        builder = builder.equality(label, c);
+    }
+    for (label, c) in terms.inequalities {
+        builder = builder.inequality(label, c);
     }
     builder.build()
 }

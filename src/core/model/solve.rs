@@ -1,0 +1,627 @@
+//! The global solve (problem 2 of seed 002): min Σφ_p s.t. every C_p and every hard ψ_g,
+//! with soft relations as weighted terms of the objective, from x_start = (the current
+//! primitives: the previous solution and the new part's snap).
+//!
+//! **Frames.** Each primitive keeps the variables of its own snapping problem, in its own
+//! normalised frame (centre at the origin, size 1, see [`Frame`]), so φ_p is exactly the
+//! per-primitive objective and every part is equally well scaled, whatever their sizes.
+//! Relations need one frame for all: a feature's position maps to the common frame by the
+//! constant affine map x ↦ (x·s_p + o_p − O)/S (radii and half extents by s_p/S, normals
+//! unchanged), where O is the parts' mean centre and S their median size. The residuals
+//! are scale-free, so S only keeps numbers near 1.
+//!
+//! **Components.** φ is a sum over parts and each relation couples its members only, so
+//! the problem splits into the connected components of the relation graph. Only the
+//! components holding a changed part are solved; the others are at their optimum
+//! already.
+//!
+//! **Conflicts.** A solve is *broken* when the hard relations cannot be met (‖ψ‖∞ above
+//! [`GlobalSettings::violation_tol`] at the caps) or a part's fit gets much worse than its
+//! own snap (RMS more than [`GlobalSettings::max_worsening`] times, with a floor of
+//! [`WORSENING_FLOOR`] of its size so that near-perfect snaps are not held to noise). The
+//! relation responsible is then switched off and the component solved again from the
+//! same start:
+//! - when infeasible, the hard relation with the largest residual;
+//! - when a fit got worse, among the hard relations of the parts that got worse, the one
+//!   pulling hardest: the largest Σ|λ| (its multipliers are the forces it exerts against
+//!   the fits).
+//!
+//! After [`GlobalSettings::max_conflicts`] rounds a still broken component is put back
+//! as it was: the user is never left with a broken model.
+
+use std::collections::BTreeSet;
+use std::time::Duration;
+
+use glam::DVec3;
+
+use super::{Document, PrimitiveId, Relation};
+use crate::core::ad::{Expr, Graph, Vec3};
+use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
+use crate::core::relation::{residuals, Member, Mode};
+use crate::core::snap::{fit_rms, fit_terms, Assignment, Frame};
+use crate::core::solve::{
+    AugLagSettings, CancelFlag, Clock, Multipliers, Problem, SolveObserver, SolveReport,
+    Solver, Start, Termination,
+};
+
+/// A part's fit may worsen freely up to this fraction of its size (RMS), whatever its own
+/// snap achieved.
+pub const WORSENING_FLOOR: f64 = 0.005;
+
+/// Weight of a part without strokes (loaded without its sketch) on staying where it is,
+/// per squared parameter change in its frame.
+const ANCHOR_WEIGHT: f64 = 1.0;
+
+/// Settings of the global solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlobalSettings {
+    /// The solver's settings and caps (iterations, evaluations, time).
+    pub solver: AugLagSettings,
+    /// Weight of a soft relation: w·‖ψ‖² is added to the objective (default 1, which
+    /// weighs a 1 % residual like a 1 %-of-size fit error of one curve).
+    pub soft_weight: f64,
+    /// Largest ‖ψ‖∞ of a hard relation taken as satisfied after a solve (default 1e-3:
+    /// 0.06° for a direction, 0.1 % of the features' size for a position; the solver
+    /// itself aims at 1e-5).
+    pub violation_tol: f64,
+    /// Largest ratio of a part's RMS after the solve to its RMS after its own snap
+    /// (default 3).
+    pub max_worsening: f64,
+    /// Most relations switched off per solve (default 8).
+    pub max_conflicts: usize,
+}
+
+impl Default for GlobalSettings {
+    fn default() -> Self {
+        let solver = AugLagSettings::default()
+            .with_constraint_tol(1e-5)
+            .and_then(|s| s.with_gradient_tol(1e-5))
+            .and_then(|s| s.with_max_outer_iterations(30))
+            .and_then(|s| s.with_max_evaluations(3000))
+            .and_then(|s| s.with_time_limit(Duration::from_secs(10)))
+            .unwrap_or_default();
+        Self {
+            solver,
+            soft_weight: 1.0,
+            violation_tol: 1e-3,
+            max_worsening: 3.0,
+            max_conflicts: 8,
+        }
+    }
+}
+
+/// A relation switched off because it conflicted, with the reason in words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conflict {
+    /// Its index in [`Document::relations`].
+    pub relation: usize,
+    /// A message naming it and saying why.
+    pub message: String,
+}
+
+/// What a global solve did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GlobalOutcome {
+    /// The parts solved (those of the components holding a changed part).
+    pub solved: Vec<PrimitiveId>,
+    /// Hard and soft relations taken into account.
+    pub relations: usize,
+    /// Relations switched off, in order.
+    pub conflicts: Vec<Conflict>,
+    /// The last solve's report (`None` when nothing needed solving).
+    pub report: Option<SolveReport>,
+    /// Solves run (1 plus one per conflict).
+    pub solves: usize,
+    /// Whether the result was refused and the parts put back as they were.
+    pub reverted: bool,
+}
+
+/// Where the solver stands, for a status bar or a log: the companions of a solve.
+#[derive(Default)]
+pub struct Companions<'a> {
+    /// Stops the solve when raised.
+    pub cancel: Option<&'a CancelFlag>,
+    /// Measures time and enforces the time cap.
+    pub clock: Option<&'a dyn Clock>,
+    /// Receives the intermediate iterates.
+    pub observer: Option<&'a mut dyn SolveObserver>,
+}
+
+impl std::fmt::Debug for Companions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Companions")
+            .field("cancel", &self.cancel)
+            .field("clock", &self.clock.is_some())
+            .field("observer", &self.observer.is_some())
+            .finish()
+    }
+}
+
+/// A clock that starts when it is made, over another clock: the solver reads time from
+/// its own start.
+struct Since<'a> {
+    clock: &'a dyn Clock,
+    start: Duration,
+}
+
+impl Clock for Since<'_> {
+    fn elapsed(&self) -> Duration {
+        self.clock.elapsed().saturating_sub(self.start)
+    }
+}
+
+/// One part of a solve: the primitive, its strokes and its snap's RMS.
+struct Part<'d> {
+    id: PrimitiveId,
+    primitive: &'d Primitive,
+    assignment: Option<&'d Assignment>,
+    own_rms: Option<f64>,
+    frame: Frame,
+    local: Primitive,
+    /// Its variables' range in the solve's x.
+    start: usize,
+    len: usize,
+}
+
+/// The compiled problem of a set of parts and relations, with where each relation's
+/// equations are.
+struct Compiled {
+    problem: Problem,
+    /// (relation index, range of its equalities among the problem's equalities).
+    hard: Vec<(usize, std::ops::Range<usize>)>,
+}
+
+/// A feature mapped from a part's frame into the common frame (see the module docs).
+fn to_common<'g>(
+    f: &FeatureCurve<Expr<'g>>,
+    scale: f64,
+    offset: DVec3,
+) -> FeatureCurve<Expr<'g>> {
+    let point = |v: Vec3<Expr<'g>>| {
+        Vec3::new(
+            v.x * scale + offset.x,
+            v.y * scale + offset.y,
+            v.z * scale + offset.z,
+        )
+    };
+    let geometry = match &f.geometry {
+        FeatureGeometry::Circle {
+            center,
+            normal,
+            radius,
+        } => FeatureGeometry::Circle {
+            center: point(*center),
+            normal: *normal,
+            radius: *radius * scale,
+        },
+        FeatureGeometry::Rectangle {
+            center,
+            normal,
+            half_extents,
+        } => FeatureGeometry::Rectangle {
+            center: point(*center),
+            normal: *normal,
+            half_extents: half_extents.map(|(axis, h)| (axis, h * scale)),
+        },
+    };
+    FeatureCurve {
+        name: f.name,
+        geometry,
+    }
+}
+
+/// Builds the global problem of `parts` with the `relations` (index, relation) whose
+/// members are all among them.
+fn compile(
+    parts: &[Part<'_>],
+    relations: &[(usize, &Relation)],
+    settings: &GlobalSettings,
+) -> Compiled {
+    let g = Graph::new();
+    let origin = parts.iter().map(|p| p.frame.origin).sum::<DVec3>() / parts.len() as f64;
+    let mut sizes: Vec<f64> = parts.iter().map(|p| p.frame.scale).collect();
+    sizes.sort_by(f64::total_cmp);
+    let unit = sizes[sizes.len() / 2];
+    let mut objective = Vec::new();
+    let mut equalities: Vec<(String, Expr<'_>)> = Vec::new();
+    let mut inequalities: Vec<(String, Expr<'_>)> = Vec::new();
+    let mut features = Vec::with_capacity(parts.len());
+    for part in parts {
+        let x = g.vars(part.len);
+        let name = format!("{} {}", part.primitive.kind().name(), part.id.0);
+        let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
+            let t = fit_terms(&g, &x, &part.local, assignment, &part.frame);
+            (t.objective, t.equalities, t.inequalities, t.features)
+        } else {
+            let shape = part.local.shape(&x);
+            let now = part.local.params();
+            let anchor = g.sum(x.iter().zip(&now).map(|(v, n)| (*v - *n).square()));
+            (
+                anchor * ANCHOR_WEIGHT,
+                shape.equalities,
+                shape.inequalities,
+                shape.features,
+            )
+        };
+        objective.push(value);
+        equalities.extend(eqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
+        inequalities.extend(ineqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
+        let scale = part.frame.scale / unit;
+        let offset = (part.frame.origin - origin) / unit;
+        features.push(
+            feats
+                .iter()
+                .map(|f| to_common(f, scale, offset))
+                .collect::<Vec<_>>(),
+        );
+    }
+    let mut hard = Vec::new();
+    let mut soft = Vec::new();
+    for (index, relation) in relations {
+        let members: Option<Vec<Member<'_, Expr<'_>>>> = relation
+            .members
+            .iter()
+            .enumerate()
+            .map(|(k, id)| {
+                let i = parts.iter().position(|p| p.id == *id)?;
+                Some(Member {
+                    features: &features[i],
+                    feature: relation.features.get(k).and_then(|f| f.as_deref()),
+                })
+            })
+            .collect();
+        let Some(members) = members else { continue };
+        let Ok(psi) = residuals(relation.kind, &members) else {
+            continue;
+        };
+        match relation.mode {
+            Mode::Hard => {
+                let first = equalities.len();
+                let label = describe(*index, relation);
+                equalities.extend(psi.into_iter().map(|e| (label.clone(), e)));
+                hard.push((*index, first..equalities.len()));
+            }
+            Mode::Soft => soft.extend(psi.into_iter().map(|e| e.square() * settings.soft_weight)),
+            Mode::Off => {}
+        }
+    }
+    objective.extend(soft);
+    let total = g.sum(objective);
+    let mut builder = Problem::builder(&g, total);
+    for (label, e) in equalities {
+        builder = builder.equality(label, e);
+    }
+    for (label, e) in inequalities {
+        builder = builder.inequality(label, e);
+    }
+    Compiled {
+        problem: builder.build(),
+        hard,
+    }
+}
+
+/// A relation in words: `relation 3 (coaxial: cylinder 0 top, cone 2 bottom)`.
+fn describe(index: usize, relation: &Relation) -> String {
+    let members: Vec<String> = relation
+        .members
+        .iter()
+        .enumerate()
+        .map(|(k, id)| match relation.features.get(k).and_then(|f| f.as_deref()) {
+            Some(f) => format!("#{} {f}", id.0),
+            None => format!("#{}", id.0),
+        })
+        .collect();
+    format!(
+        "relation {index} ({} of {})",
+        relation.kind.name(),
+        members.join(", ")
+    )
+}
+
+/// Whether a relation takes part in solves.
+fn active(relation: &Relation) -> bool {
+    relation.mode != Mode::Off
+}
+
+/// The parts connected to `changed` through active relations.
+fn component(document: &Document, changed: &[PrimitiveId]) -> BTreeSet<PrimitiveId> {
+    let mut reached: BTreeSet<PrimitiveId> = changed
+        .iter()
+        .copied()
+        .filter(|id| document.get(*id).is_some())
+        .collect();
+    loop {
+        let before = reached.len();
+        for r in document.relations.iter().filter(|r| active(r)) {
+            if r.members.iter().any(|m| reached.contains(m)) {
+                reached.extend(r.members.iter().copied());
+            }
+        }
+        if reached.len() == before {
+            return reached;
+        }
+    }
+}
+
+impl Document {
+    /// Solves the components of the model holding the `changed` parts (every part when
+    /// `changed` is `None`) with their relations, switching off conflicting relations (see
+    /// the module docs), and stores the solved primitives with their new fits.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use geosnap::core::model::{Document, Fit, GlobalSettings, Placed, Relation};
+    /// use geosnap::core::primitive::{Cylinder, Primitive};
+    /// use geosnap::core::relation::{Mode, RelationKind};
+    ///
+    /// let tilted = |x: f64, axis: DVec3| Placed {
+    ///     primitive: Primitive::Cylinder(Cylinder {
+    ///         center: DVec3::new(x, 0.0, 0.0),
+    ///         axis: axis.normalize(),
+    ///         length: 10.0,
+    ///         radius: 2.0,
+    ///     }),
+    ///     fit: Fit::default(),
+    /// };
+    /// let mut doc = Document::new();
+    /// let a = doc.add(tilted(0.0, DVec3::Y));
+    /// let b = doc.add(tilted(8.0, DVec3::new(0.1, 1.0, 0.0)));
+    /// doc.add_relation(Relation {
+    ///     kind: RelationKind::Parallel,
+    ///     members: vec![a, b],
+    ///     features: vec![Some("top".into()), Some("top".into())],
+    ///     mode: Mode::Hard,
+    /// })
+    /// .map_err(anyhow::Error::msg)?;
+    /// let outcome = doc.solve(None, &GlobalSettings::default(), Default::default());
+    /// assert!(outcome.conflicts.is_empty());
+    /// let axis = |id| match &doc.get(id).unwrap().primitive {
+    ///     Primitive::Cylinder(c) => c.axis,
+    ///     _ => unreachable!(),
+    /// };
+    /// assert!(axis(a).cross(axis(b)).length() < 1e-4);
+    /// # Ok::<(), anyhow::Error>(())
+    /// ```
+    pub fn solve(
+        &mut self,
+        changed: Option<&[PrimitiveId]>,
+        settings: &GlobalSettings,
+        mut companions: Companions<'_>,
+    ) -> GlobalOutcome {
+        let all: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
+        let ids = component(self, changed.unwrap_or(&all));
+        let mut outcome = GlobalOutcome {
+            solved: ids.iter().copied().collect(),
+            ..GlobalOutcome::default()
+        };
+        if ids.is_empty() {
+            return outcome;
+        }
+        loop {
+            let relations: Vec<(usize, &Relation)> = self
+                .relations
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| active(r) && r.members.iter().all(|m| ids.contains(m)))
+                .collect();
+            outcome.relations = relations.len();
+            let mut parts = Vec::with_capacity(ids.len());
+            let mut start = 0;
+            for id in &ids {
+                let Some(placed) = self.primitives.get(id) else {
+                    continue;
+                };
+                let record = self.snaps.get(id);
+                let frame = Frame::of(&placed.primitive);
+                let local = frame.into_frame(&placed.primitive);
+                let len = local.params().len();
+                parts.push(Part {
+                    id: *id,
+                    primitive: &placed.primitive,
+                    assignment: record.map(|r| &r.assignment),
+                    own_rms: record.map(|r| r.rms),
+                    frame,
+                    local,
+                    start,
+                    len,
+                });
+                start += len;
+            }
+            let mut compiled = compile(&parts, &relations, settings);
+            let x0: Vec<f64> = parts.iter().flat_map(|p| p.local.params()).collect();
+            let keys = constraint_keys(&compiled.problem);
+            let (ne, ni) = (
+                compiled.problem.equality_count(),
+                compiled.problem.inequality_count(),
+            );
+            let warm: Vec<f64> = keys
+                .iter()
+                .map(|k| self.multipliers.get(k).copied().unwrap_or(0.0))
+                .collect();
+            let start = Start {
+                x: x0,
+                multipliers: Some(Multipliers {
+                    equality: warm[..ne].to_vec(),
+                    inequality: warm[ne..ne + ni].iter().map(|v| v.max(0.0)).collect(),
+                }),
+                penalty: None,
+            };
+            let mut solver = Solver::new(&settings.solver);
+            if let Some(flag) = companions.cancel {
+                solver = solver.cancel(flag);
+            }
+            let since = companions.clock.map(|clock| Since {
+                clock,
+                start: clock.elapsed(),
+            });
+            if let Some(clock) = &since {
+                solver = solver.clock(clock);
+            }
+            if let Some(observer) = companions.observer.as_deref_mut() {
+                solver = solver.observer(observer);
+            }
+            outcome.solves += 1;
+            let Ok(report) = solver.solve(&mut compiled.problem, &start) else {
+                outcome.reverted = true;
+                return outcome;
+            };
+            log::debug!(
+                "global solve of {} part(s), {} relation(s): {:?} after {} outer, {} inner, {} evaluations, ‖c‖∞ {:.2e} at {:?}, objective {:.3e}",
+                parts.len(),
+                relations.len(),
+                report.termination,
+                report.outer_iterations,
+                report.inner_iterations,
+                report.evaluations,
+                report.max_violation,
+                report
+                    .worst_constraint
+                    .and_then(|k| compiled.problem.constraint_label(k)),
+                report.objective
+            );
+            let solved: Vec<(PrimitiveId, Primitive, f64)> = parts
+                .iter()
+                .map(|p| {
+                    let local = p.local.with_params(&report.x[p.start..p.start + p.len]);
+                    let primitive = p.frame.out_of_frame(&local);
+                    let rms = p.assignment.map_or(0.0, |a| fit_rms(&primitive, a));
+                    (p.id, primitive, rms)
+                })
+                .collect();
+            let blamed = if report.termination == Termination::Cancelled
+                || !solved.iter().all(|(_, p, _)| p.is_finite())
+            {
+                outcome.report = Some(report);
+                outcome.reverted = true;
+                return outcome;
+            } else {
+                let values = compiled.problem.constraints(&report.x);
+                blame(&parts, &solved, &compiled.hard, &values, &report, &relations, settings)
+            };
+            match blamed {
+                None => {
+                    let values = report
+                        .multipliers
+                        .equality
+                        .iter()
+                        .chain(&report.multipliers.inequality);
+                    for (key, value) in keys.into_iter().zip(values) {
+                        self.multipliers.insert(key, *value);
+                    }
+                    for (id, primitive, rms) in solved {
+                        if let Some(placed) = self.primitives.get_mut(&id) {
+                            placed.primitive = primitive;
+                            placed.fit.rms = rms;
+                        }
+                    }
+                    outcome.report = Some(report);
+                    return outcome;
+                }
+                Some(conflict) => {
+                    outcome.report = Some(report);
+                    let exhausted = outcome.conflicts.len() >= settings.max_conflicts;
+                    if exhausted {
+                        outcome.reverted = true;
+                        return outcome;
+                    }
+                    if let Some(r) = self.relations.get_mut(conflict.relation) {
+                        r.mode = Mode::Off;
+                    }
+                    outcome.conflicts.push(conflict);
+                }
+            }
+        }
+    }
+}
+
+/// A key per constraint of `problem` that stays the same between solves of a growing
+/// model: its label and how many constraints before it have that label.
+fn constraint_keys(problem: &Problem) -> Vec<(String, usize)> {
+    let count = problem.equality_count() + problem.inequality_count();
+    let mut seen: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    (0..count)
+        .map(|k| {
+            let label = problem.constraint_label(k).unwrap_or("");
+            let n = seen.entry(label).or_insert(0);
+            *n += 1;
+            (label.to_owned(), *n - 1)
+        })
+        .collect()
+}
+
+/// The relation responsible for a broken solve, or `None` when the solve is fine.
+fn blame(
+    parts: &[Part<'_>],
+    solved: &[(PrimitiveId, Primitive, f64)],
+    hard: &[(usize, std::ops::Range<usize>)],
+    values: &[f64],
+    report: &SolveReport,
+    relations: &[(usize, &Relation)],
+    settings: &GlobalSettings,
+) -> Option<Conflict> {
+    let relation = |index: usize| relations.iter().find(|(i, _)| *i == index).map(|r| r.1);
+    // Infeasible: the hard relation with the largest residual.
+    let residual = |range: &std::ops::Range<usize>| {
+        range
+            .clone()
+            .map(|i| values.get(i).map_or(0.0, |v| v.abs()))
+            .fold(0.0, f64::max)
+    };
+    let worst = hard
+        .iter()
+        .map(|(index, range)| (*index, residual(range)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((index, value)) = worst {
+        if value > settings.violation_tol {
+            let r = relation(index)?;
+            return Some(Conflict {
+                relation: index,
+                message: format!(
+                    "{} switched off: the hard relations cannot all hold (its residual stays at {value:.2e})",
+                    describe(index, r)
+                ),
+            });
+        }
+    }
+    // A fit got much worse: the strongest pull among the relations of those parts.
+    let worse: Vec<(PrimitiveId, f64, f64)> = parts
+        .iter()
+        .zip(solved)
+        .filter_map(|(part, (_, primitive, rms))| {
+            let own = part.own_rms?;
+            let allowed =
+                settings.max_worsening * own.max(WORSENING_FLOOR * part.primitive.size());
+            (*rms > allowed && primitive.is_finite()).then_some((part.id, own, *rms))
+        })
+        .collect();
+    if worse.is_empty() {
+        return None;
+    }
+    let pull = |range: &std::ops::Range<usize>| {
+        range
+            .clone()
+            .map(|i| report.multipliers.equality.get(i).map_or(0.0, |l| l.abs()))
+            .sum::<f64>()
+    };
+    let (index, _) = hard
+        .iter()
+        .filter(|(index, _)| {
+            relation(*index)
+                .is_some_and(|r| r.members.iter().any(|m| worse.iter().any(|w| w.0 == *m)))
+        })
+        .map(|(index, range)| (*index, pull(range)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let r = relation(index)?;
+    let (id, own, rms) = worse[0];
+    Some(Conflict {
+        relation: index,
+        message: format!(
+            "{} switched off: with it, part #{} fits its strokes {:.1}× worse (RMS {rms:.3} against {own:.3})",
+            describe(index, r),
+            id.0,
+            rms / own.max(f64::MIN_POSITIVE)
+        ),
+    })
+}
