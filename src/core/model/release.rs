@@ -119,3 +119,52 @@ impl Document {
         added
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::core::model::{Document, Fit, Placed};
+    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::relation::{InferenceSettings, RelationKind};
+
+    fn leg(x: f64, axis: DVec3) -> Placed {
+        Placed {
+            primitive: Primitive::Cylinder(Cylinder {
+                center: DVec3::new(x, 0.0, 0.0),
+                axis: axis.normalize(),
+                length: 10.0,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        }
+    }
+
+    #[test]
+    fn a_part_snapped_in_the_wrong_mirror_pose_is_turned_by_its_relations() {
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        // The same leg seen in the same drawing, but snapped leaning the other way in
+        // depth: parallel to nothing as it is.
+        let b = doc.add(leg(6.0, DVec3::new(0.0, 0.9, -0.44)));
+        let added = doc.infer_relations(b, &InferenceSettings::default());
+        let kinds: Vec<RelationKind> = added.iter().map(|&i| doc.relations()[i].kind).collect();
+        assert!(kinds.contains(&RelationKind::Parallel), "{kinds:?}");
+        let Primitive::Cylinder(turned) = &doc.get(b).expect("placed").primitive else {
+            unreachable!("a cylinder")
+        };
+        assert!((turned.axis.z - 0.44 / DVec3::new(0.0, 0.9, 0.44).length()).abs() < 1e-12);
+        assert!(doc.relations().iter().all(|r| r.members.contains(&a)));
+    }
+
+    #[test]
+    fn a_part_alone_gets_no_relations_and_stays_as_snapped() {
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        let before = doc.clone();
+        assert!(doc
+            .infer_relations(a, &InferenceSettings::default())
+            .is_empty());
+        assert_eq!(doc, before);
+    }
+}

@@ -625,3 +625,106 @@ fn blame(
         ),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::{GlobalSettings, Mode};
+    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
+    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::relation::RelationKind;
+
+    fn cylinder(x: f64, axis: DVec3) -> Placed {
+        Placed {
+            primitive: Primitive::Cylinder(Cylinder {
+                center: DVec3::new(x, 0.0, 0.0),
+                axis: axis.normalize(),
+                length: 10.0,
+                radius: 2.0,
+            }),
+            fit: Fit::default(),
+        }
+    }
+
+    fn relate(doc: &mut Document, kind: RelationKind, a: PrimitiveId, b: PrimitiveId) {
+        doc.add_relation(Relation {
+            kind,
+            members: vec![a, b],
+            features: vec![Some("top".into()), Some("top".into())],
+            mode: Mode::Hard,
+        })
+        .expect("the relation suits its members");
+    }
+
+    fn axis(doc: &Document, id: PrimitiveId) -> DVec3 {
+        match &doc.get(id).expect("placed").primitive {
+            Primitive::Cylinder(c) => c.axis,
+            _ => unreachable!("only cylinders here"),
+        }
+    }
+
+    #[test]
+    fn contradicting_hard_relations_end_with_one_switched_off_and_named() {
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.1)));
+        relate(&mut doc, RelationKind::Parallel, a, b);
+        relate(&mut doc, RelationKind::Orthogonal, a, b);
+        let outcome = doc.solve(None, &GlobalSettings::default(), Default::default());
+        assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
+        assert!(!outcome.reverted, "the rest is solved: {outcome:?}");
+        let off = outcome.conflicts[0].relation;
+        assert_eq!(doc.relations()[off].mode, Mode::Off);
+        let message = &outcome.conflicts[0].message;
+        assert!(
+            message.contains(&format!("relation {off} ("))
+                && message.contains(doc.relations()[off].kind.name()),
+            "the message names the relation: {message}"
+        );
+        // The relation left on holds.
+        let kept = doc.relations()[1 - off].kind;
+        let d = axis(&doc, a).dot(axis(&doc, b));
+        match kept {
+            RelationKind::Parallel => assert!(d.abs() > 1.0 - 1e-6, "parallel: {d}"),
+            _ => assert!(d.abs() < 1e-3, "orthogonal: {d}"),
+        }
+    }
+
+    #[test]
+    fn only_the_changed_parts_component_is_solved() {
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let b = doc.add(cylinder(8.0, DVec3::new(0.1, 1.0, 0.0)));
+        let c = doc.add(cylinder(16.0, DVec3::new(0.2, 1.0, 0.0)));
+        let d = doc.add(cylinder(24.0, DVec3::new(0.3, 1.0, 0.0)));
+        relate(&mut doc, RelationKind::Parallel, a, b);
+        relate(&mut doc, RelationKind::Parallel, c, d);
+        let before = doc.clone();
+        let outcome = doc.solve(Some(&[b]), &GlobalSettings::default(), Default::default());
+        assert_eq!(outcome.solved, vec![a, b]);
+        assert!(axis(&doc, a).cross(axis(&doc, b)).length() < 1e-4);
+        assert_eq!(doc.get(c), before.get(c), "another component is left alone");
+        assert_eq!(doc.get(d), before.get(d));
+    }
+
+    #[test]
+    fn off_relations_are_ignored_and_soft_ones_compromise() {
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.0)));
+        relate(&mut doc, RelationKind::Parallel, a, b);
+        doc.relations_mut()[0].mode = Mode::Off;
+        let before = doc.clone();
+        doc.solve(None, &GlobalSettings::default(), Default::default());
+        let angle = |doc: &Document| axis(doc, a).angle_between(axis(doc, b));
+        assert!((angle(&doc) - angle(&before)).abs() < 1e-9, "off: nothing moves");
+        doc.relations_mut()[0].mode = Mode::Soft;
+        doc.solve(None, &GlobalSettings::default(), Default::default());
+        let soft = angle(&doc);
+        assert!(soft < 0.5 * angle(&before), "soft: closer ({soft})");
+        doc.relations_mut()[0].mode = Mode::Hard;
+        doc.solve(None, &GlobalSettings::default(), Default::default());
+        assert!(angle(&doc) < 1e-3, "hard: parallel ({})", angle(&doc));
+    }
+}

@@ -586,4 +586,58 @@ mod tests {
             assert!(dir.perp_dot(tangent).abs() < 1e-9 * dir.length() * tangent.length());
         }
     }
+
+    #[test]
+    fn a_mirror_in_depth_projects_alike() {
+        use super::{Cone, Cuboid, Primitive, Sgc, Sphere};
+        use glam::DQuat;
+        let parts = [
+            Primitive::Cone(Cone {
+                center: DVec3::new(1.0, 2.0, 3.0),
+                axis: DVec3::new(0.3, 0.8, 0.52).normalize(),
+                length: 5.0,
+                radius_bottom: 2.0,
+                radius_top: 1.0,
+            }),
+            Primitive::Sgc(Sgc {
+                center: DVec3::new(-1.0, 0.5, -2.0),
+                axis: DVec3::new(-0.2, 0.9, -0.4).normalize(),
+                length: 6.0,
+                radii: vec![1.0, 1.5, 1.2, 0.8],
+            }),
+            Primitive::Sphere(Sphere {
+                center: DVec3::new(0.0, 1.0, 4.0),
+                radius: 2.0,
+            }),
+            Primitive::Cuboid(Cuboid {
+                center: DVec3::new(2.0, -1.0, 0.5),
+                rotation: DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -0.7, 0.2),
+                size: DVec3::new(1.0, 2.0, 3.0),
+            }),
+        ];
+        for p in parts {
+            let m = p.mirrored_in_depth();
+            assert!((m.center() - p.center()).length() < 1e-12);
+            let points = |q: &Primitive| -> Vec<Vec<glam::DVec2>> {
+                let mut curves: Vec<Vec<glam::DVec2>> = q
+                    .current_shape()
+                    .curves
+                    .iter()
+                    .map(|c| c.curve.points(16))
+                    .collect();
+                // A box's edges may come in another order; compare them as sets.
+                for c in &mut curves {
+                    c.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+                }
+                curves.sort_by(|a, b| a[0].x.total_cmp(&b[0].x).then(a[0].y.total_cmp(&b[0].y)));
+                curves
+            };
+            for (a, b) in points(&p).iter().zip(points(&m).iter()) {
+                for (u, v) in a.iter().zip(b) {
+                    assert!((*u - *v).length() < 1e-9, "{:?}: {u} vs {v}", p.kind());
+                }
+            }
+            assert_eq!(m.mirrored_in_depth().params().len(), p.params().len());
+        }
+    }
 }
