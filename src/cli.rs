@@ -16,7 +16,7 @@ use geosnap::core::sketch::{
 };
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
 use geosnap::io::model_file::{load_model, save_model};
-use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem};
+use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem, OverlayRelation};
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
 use glam::DVec2;
@@ -184,8 +184,12 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
     }
     let steps = &script.steps;
     let clock = MonotonicClock::start();
-    let (document, outcomes) =
-        run_steps(&loaded.sketch, steps, &SessionSettings::default(), Some(&clock));
+    let (document, outcomes) = run_steps(
+        &loaded.sketch,
+        steps,
+        &SessionSettings::default(),
+        Some(&clock),
+    );
     let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
     save_model(out, &document, &sketch_reference(&script.sketch, out))
         .with_context(|| format!("writing {}", out.display()))?;
@@ -263,7 +267,11 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
         document.len(),
         document.skipped.len(),
         document.relations().len(),
-        if kinds.is_empty() { String::new() } else { format!(": {}", kinds.join(", ")) },
+        if kinds.is_empty() {
+            String::new()
+        } else {
+            format!(": {}", kinds.join(", "))
+        },
         if conflicts.is_empty() {
             String::new()
         } else {
@@ -287,7 +295,8 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
                 strokes: &placed.fit.strokes,
             })
             .collect();
-        save_overlay(png, &loaded.sketch, &items)
+        let relations = OverlayRelation::of_document(&document);
+        save_overlay(png, &loaded.sketch, &items, &relations)
             .with_context(|| format!("writing the overlay {}", png.display()))?;
         println!("overlay: {}", png.display());
     }

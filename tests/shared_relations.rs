@@ -110,15 +110,20 @@ fn the_tables_legs_are_parallel_equal_and_meet_the_top() {
     let parts: Vec<PrimitiveId> = doc.primitives().map(|(id, _)| id).collect();
     let (top, legs) = (parts[0], &parts[1..]);
     assert_eq!(legs.len(), 4);
-    assert!(joined(&classes(&doc, &[RelationKind::Parallel, RelationKind::Coaxial]), &parts));
+    assert!(joined(
+        &classes(&doc, &[RelationKind::Parallel, RelationKind::Coaxial]),
+        &parts
+    ));
     assert!(joined(&classes(&doc, &[RelationKind::SameRadius]), legs));
     assert!(joined(&classes(&doc, &[RelationKind::EqualLength]), legs));
     for leg in legs {
         assert!(
-            doc.relations().iter().any(|r| r.kind == RelationKind::Coplanar
-                && r.mode != Mode::Off
-                && r.members.contains(&top)
-                && r.members.contains(leg)),
+            doc.relations()
+                .iter()
+                .any(|r| r.kind == RelationKind::Coplanar
+                    && r.mode != Mode::Off
+                    && r.members.contains(&top)
+                    && r.members.contains(leg)),
             "leg #{} meets the top",
             leg.0
         );

@@ -1,6 +1,9 @@
 //! The overlay PNG: the strokes in grey, each primitive's projected curves in its own
 //! colour, and the strokes it was assigned drawn over in that colour, so a person can
-//! check a run at a glance. Drawn with tiny-skia.
+//! check a run at a glance; and a small label per relation (`PAR`, `COAX`, `R=`, ...)
+//! linked by thin lines to the features it relates (grey for soft relations, light red
+//! for those switched off). Drawn with tiny-skia; the labels use a small built-in stroke
+//! font, as tiny-skia draws no text.
 
 use std::path::Path;
 
@@ -8,7 +11,9 @@ use glam::DVec2;
 use tiny_skia::{Color, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke as Pen, Transform};
 
 use crate::core::geom::projection::sketch_from_view;
-use crate::core::primitive::Primitive;
+use crate::core::model::Document;
+use crate::core::primitive::{FeatureGeometry, Primitive};
+use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::{Sketch, StrokeClass, StrokeId};
 use crate::io::atomic::write_atomic;
 
@@ -19,6 +24,101 @@ pub struct OverlayItem<'a> {
     pub primitive: &'a Primitive,
     /// Its assigned strokes.
     pub strokes: &'a [StrokeId],
+}
+
+/// One relation to mark: its kind, the sketch-space points of the features it relates,
+/// and its mode.
+#[derive(Clone, Debug)]
+pub struct OverlayRelation {
+    /// The kind.
+    pub kind: RelationKind,
+    /// The projected centre of each member's feature, in sketch space.
+    pub anchors: Vec<DVec2>,
+    /// The mode.
+    pub mode: Mode,
+}
+
+impl OverlayRelation {
+    /// The marks of every relation of `document`.
+    pub fn of_document(document: &Document) -> Vec<Self> {
+        document
+            .relations()
+            .iter()
+            .map(|r| Self {
+                kind: r.kind,
+                anchors: r
+                    .members
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, id)| {
+                        let primitive = &document.get(*id)?.primitive;
+                        let feature = r.features.get(k).and_then(|f| f.as_deref());
+                        let shape = primitive.current_shape();
+                        let centre = feature
+                            .and_then(|name| shape.features.iter().find(|f| f.name == name))
+                            .map_or(primitive.center(), |f| match &f.geometry {
+                                FeatureGeometry::Circle { center, .. }
+                                | FeatureGeometry::Rectangle { center, .. } => center.to_dvec3(),
+                            });
+                        Some(sketch_from_view(centre.truncate()))
+                    })
+                    .collect(),
+                mode: r.mode,
+            })
+            .collect()
+    }
+}
+
+/// The label of a relation kind.
+fn label(kind: RelationKind) -> &'static str {
+    match kind {
+        RelationKind::Parallel => "PAR",
+        RelationKind::Orthogonal => "ORTH",
+        RelationKind::Coaxial => "COAX",
+        RelationKind::Concentric => "CONC",
+        RelationKind::Coplanar => "COPL",
+        RelationKind::CollinearCenters => "COL",
+        RelationKind::SameRadius => "R=",
+        RelationKind::EqualLength => "L=",
+        RelationKind::OnSphere => "SPH",
+    }
+}
+
+/// The strokes of a glyph on a 4 × 6 grid (y down), as polylines.
+fn glyph(c: char) -> &'static [&'static [(u8, u8)]] {
+    match c {
+        'A' => &[&[(0, 6), (0, 2), (2, 0), (4, 2), (4, 6)], &[(0, 3), (4, 3)]],
+        'C' => &[&[(4, 0), (0, 0), (0, 6), (4, 6)]],
+        'H' => &[&[(0, 0), (0, 6)], &[(4, 0), (4, 6)], &[(0, 3), (4, 3)]],
+        'L' => &[&[(0, 0), (0, 6), (4, 6)]],
+        'N' => &[&[(0, 6), (0, 0), (4, 6), (4, 0)]],
+        'O' => &[&[(0, 0), (4, 0), (4, 6), (0, 6), (0, 0)]],
+        'P' => &[&[(0, 6), (0, 0), (4, 0), (4, 3), (0, 3)]],
+        'R' => &[&[(0, 6), (0, 0), (4, 0), (4, 3), (0, 3), (4, 6)]],
+        'S' => &[&[(4, 0), (0, 0), (0, 3), (4, 3), (4, 6), (0, 6)]],
+        'T' => &[&[(0, 0), (4, 0)], &[(2, 0), (2, 6)]],
+        'X' => &[&[(0, 0), (4, 6)], &[(4, 0), (0, 6)]],
+        '=' => &[&[(0, 2), (4, 2)], &[(0, 4), (4, 4)]],
+        _ => &[],
+    }
+}
+
+/// Where labels go: the mean of the anchors, moved down while it would cover an earlier
+/// label.
+fn place(anchors: &[DVec2], taken: &mut Vec<DVec2>, step: f64) -> Option<DVec2> {
+    let n = anchors.len();
+    if n == 0 {
+        return None;
+    }
+    let mut at = anchors.iter().copied().sum::<DVec2>() / n as f64;
+    while taken
+        .iter()
+        .any(|t| (t.y - at.y).abs() < step && (t.x - at.x).abs() < 4.0 * step)
+    {
+        at.y += step;
+    }
+    taken.push(at);
+    Some(at)
 }
 
 /// Why an overlay could not be written.
@@ -61,7 +161,11 @@ const MAX_SIDE: f64 = 1400.0;
 ///
 /// [`OverlayError::Encode`] if the image cannot be made (for example an empty sketch of
 /// zero size is drawn as a small blank image instead).
-pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>, OverlayError> {
+pub fn overlay_png(
+    sketch: &Sketch,
+    items: &[OverlayItem<'_>],
+    relations: &[OverlayRelation],
+) -> Result<Vec<u8>, OverlayError> {
     let (canvas, mut pixmap) = Canvas::new(sketch)?;
     let draw =
         |pixmap: &mut Pixmap, points: &[DVec2], closed: bool, rgb: (u8, u8, u8), width: f32| {
@@ -113,6 +217,35 @@ pub fn overlay_png(sketch: &Sketch, items: &[OverlayItem<'_>]) -> Result<Vec<u8>
             rgb,
             2.0,
         );
+    }
+    // Relations: a label at the mean of the features, linked to each of them.
+    let unit = 2.0 / canvas.scale; // one grid step of the font: 2 pixels
+    let mut taken = Vec::new();
+    for relation in relations {
+        let rgb = match relation.mode {
+            Mode::Hard => (40, 40, 40),
+            Mode::Soft => (130, 130, 130),
+            Mode::Off => (235, 150, 150),
+        };
+        let Some(at) = place(&relation.anchors, &mut taken, 9.0 * unit) else {
+            continue;
+        };
+        for anchor in &relation.anchors {
+            draw(&mut pixmap, &[at, *anchor], false, (190, 190, 190), 0.75);
+        }
+        let text = label(relation.kind);
+        let width = text.chars().count() as f64 * 6.0 * unit;
+        let origin = at - DVec2::new(width / 2.0, 3.0 * unit);
+        for (k, c) in text.chars().enumerate() {
+            let left = origin + DVec2::new(k as f64 * 6.0 * unit, 0.0);
+            for line in glyph(c) {
+                let points: Vec<DVec2> = line
+                    .iter()
+                    .map(|(x, y)| left + DVec2::new(f64::from(*x), f64::from(*y)) * unit)
+                    .collect();
+                draw(&mut pixmap, &points, false, rgb, 1.5);
+            }
+        }
     }
     pixmap
         .encode_png()
@@ -217,9 +350,10 @@ pub fn save_overlay(
     path: impl AsRef<Path>,
     sketch: &Sketch,
     items: &[OverlayItem<'_>],
+    relations: &[OverlayRelation],
 ) -> Result<(), OverlayError> {
     let path = path.as_ref();
-    let bytes = overlay_png(sketch, items)?;
+    let bytes = overlay_png(sketch, items, relations)?;
     write_atomic(path, &bytes).map_err(|source| OverlayError::Write {
         path: path.to_owned(),
         source,
@@ -230,8 +364,9 @@ pub fn save_overlay(
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::{overlay_png, OverlayItem};
+    use super::{glyph, label, overlay_png, OverlayItem, OverlayRelation};
     use crate::core::primitive::{Primitive, Sphere};
+    use crate::core::relation::{Mode, RelationKind};
     use crate::core::sketch::{Sketch, Stroke, StrokeId};
 
     #[test]
@@ -255,9 +390,23 @@ mod tests {
                 primitive: &sphere,
                 strokes: &[StrokeId(0)],
             }],
+            &[OverlayRelation {
+                kind: RelationKind::Coaxial,
+                anchors: vec![DVec2::new(10.0, 10.0), DVec2::new(50.0, 25.0)],
+                mode: Mode::Off,
+            }],
         )
         .unwrap();
         assert_eq!(&png[1..4], b"PNG");
-        assert!(overlay_png(&Sketch::default(), &[]).is_ok());
+        assert!(overlay_png(&Sketch::default(), &[], &[]).is_ok());
+    }
+
+    #[test]
+    fn every_relation_label_can_be_drawn() {
+        for kind in RelationKind::ALL {
+            for c in label(kind).chars() {
+                assert!(!glyph(c).is_empty(), "{kind:?}: no glyph for {c:?}");
+            }
+        }
     }
 }

@@ -45,8 +45,7 @@ pub(crate) fn run_script_document(
     }
     let loaded = load_sketch(&script.sketch).expect("the sketch loads");
     let steps = &script.steps;
-    let (document, outcomes) =
-        run_steps(&loaded.sketch, steps, &SessionSettings::default(), None);
+    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SessionSettings::default(), None);
     let name = script_path
         .file_name()
         .unwrap_or_default()

@@ -55,10 +55,12 @@ impl Document {
                 let names = members
                     .iter()
                     .enumerate()
-                    .map(|(k, &i)| match r.features.get(k).and_then(|f| f.as_deref()) {
-                        Some(name) => static_name(&features[i], name).map(Some),
-                        None => Some(None),
-                    })
+                    .map(
+                        |(k, &i)| match r.features.get(k).and_then(|f| f.as_deref()) {
+                            Some(name) => static_name(&features[i], name).map(Some),
+                            None => Some(None),
+                        },
+                    )
                     .collect::<Option<Vec<_>>>()?;
                 Some(Proposal {
                     kind: r.kind,

@@ -40,8 +40,8 @@ use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
 use crate::core::snap::{fit_rms, fit_terms, Assignment, Frame};
 use crate::core::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, Problem, SolveObserver, SolveReport,
-    Solver, Start, Termination,
+    AugLagSettings, CancelFlag, Clock, Multipliers, Problem, SolveObserver, SolveReport, Solver,
+    Start, Termination,
 };
 
 /// A part's fit may worsen freely up to this fraction of its size (RMS), whatever its own
@@ -172,11 +172,7 @@ struct Compiled {
 }
 
 /// A feature mapped from a part's frame into the common frame (see the module docs).
-fn to_common<'g>(
-    f: &FeatureCurve<Expr<'g>>,
-    scale: f64,
-    offset: DVec3,
-) -> FeatureCurve<Expr<'g>> {
+fn to_common<'g>(f: &FeatureCurve<Expr<'g>>, scale: f64, offset: DVec3) -> FeatureCurve<Expr<'g>> {
     let point = |v: Vec3<Expr<'g>>| {
         Vec3::new(
             v.x * scale + offset.x,
@@ -306,10 +302,12 @@ fn describe(index: usize, relation: &Relation) -> String {
         .members
         .iter()
         .enumerate()
-        .map(|(k, id)| match relation.features.get(k).and_then(|f| f.as_deref()) {
-            Some(f) => format!("#{} {f}", id.0),
-            None => format!("#{}", id.0),
-        })
+        .map(
+            |(k, id)| match relation.features.get(k).and_then(|f| f.as_deref()) {
+                Some(f) => format!("#{} {f}", id.0),
+                None => format!("#{}", id.0),
+            },
+        )
         .collect();
     format!(
         "relation {index} ({} of {})",
@@ -498,7 +496,15 @@ impl Document {
                 return outcome;
             } else {
                 let values = compiled.problem.constraints(&report.x);
-                blame(&parts, &solved, &compiled.hard, &values, &report, &relations, settings)
+                blame(
+                    &parts,
+                    &solved,
+                    &compiled.hard,
+                    &values,
+                    &report,
+                    &relations,
+                    settings,
+                )
             };
             match blamed {
                 None => {
@@ -591,8 +597,7 @@ fn blame(
         .zip(solved)
         .filter_map(|(part, (_, primitive, rms))| {
             let own = part.own_rms?;
-            let allowed =
-                settings.max_worsening * own.max(WORSENING_FLOOR * part.primitive.size());
+            let allowed = settings.max_worsening * own.max(WORSENING_FLOOR * part.primitive.size());
             (*rms > allowed && primitive.is_finite()).then_some((part.id, own, *rms))
         })
         .collect();
@@ -718,7 +723,10 @@ mod tests {
         let before = doc.clone();
         doc.solve(None, &GlobalSettings::default(), Default::default());
         let angle = |doc: &Document| axis(doc, a).angle_between(axis(doc, b));
-        assert!((angle(&doc) - angle(&before)).abs() < 1e-9, "off: nothing moves");
+        assert!(
+            (angle(&doc) - angle(&before)).abs() < 1e-9,
+            "off: nothing moves"
+        );
         doc.relations_mut()[0].mode = Mode::Soft;
         doc.solve(None, &GlobalSettings::default(), Default::default());
         let soft = angle(&doc);

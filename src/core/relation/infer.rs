@@ -99,10 +99,9 @@ fn plane_of(part: &Part<'_>, name: &str) -> Option<(glam::DVec2, glam::DVec3)> {
         .find(|f| f.name == name)
         .map(|f| match &f.geometry {
             FeatureGeometry::Circle { center, normal, .. }
-            | FeatureGeometry::Rectangle { center, normal, .. } => (
-                glam::DVec2::new(center.x, center.y),
-                normal.to_dvec3(),
-            ),
+            | FeatureGeometry::Rectangle { center, normal, .. } => {
+                (glam::DVec2::new(center.x, center.y), normal.to_dvec3())
+            }
         })
 }
 

@@ -43,8 +43,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     // distance threshold. A ball is drawn with few strokes, and its centre is the least
     // certain of the positions inference compares.
     let across = axis.normalize().perp_dot(d).abs();
-    across <= settings.sin_angle() * d.length()
-        || across <= 2.0 * settings.distance * (radius + r)
+    across <= settings.sin_angle() * d.length() || across <= 2.0 * settings.distance * (radius + r)
 }
 
 #[cfg(test)]
