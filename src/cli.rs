@@ -199,6 +199,53 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
         loaded.sketch.strokes.len(),
         steps.len()
     );
+    let (mut solve_ms, conflicts) = print_steps(&outcomes);
+    let kinds = relation_counts(&document);
+    println!(
+        "{} primitives, {} skipped; {} relations{}{}",
+        document.len(),
+        document.skipped.len(),
+        document.relations().len(),
+        if kinds.is_empty() {
+            String::new()
+        } else {
+            format!(": {}", kinds.join(", "))
+        },
+        if conflicts.is_empty() {
+            String::new()
+        } else {
+            format!("; {} conflict(s) resolved", conflicts.len())
+        }
+    );
+    solve_ms.sort_by(f64::total_cmp);
+    println!(
+        "{} global solve(s), median {:.1} ms, max {:.1} ms; {:.1} ms in all; wrote {}",
+        solve_ms.len(),
+        solve_ms.get(solve_ms.len() / 2).copied().unwrap_or(0.0),
+        solve_ms.last().copied().unwrap_or(0.0),
+        elapsed.as_secs_f64() * 1e3,
+        out.display()
+    );
+    if let Some(png) = overlay {
+        let items: Vec<OverlayItem<'_>> = document
+            .primitives()
+            .map(|(_, placed)| OverlayItem {
+                primitive: &placed.primitive,
+                strokes: &placed.fit.strokes,
+            })
+            .collect();
+        let relations = OverlayRelation::of_document(&document);
+        save_overlay(png, &loaded.sketch, &items, &relations)
+            .with_context(|| format!("writing the overlay {}", png.display()))?;
+        println!("overlay: {}", png.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Prints one line per step (and its solve); returns the solve times (ms) and the
+/// conflict messages.
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
     let mut solve_ms = Vec::new();
     let mut conflicts = Vec::new();
     for (index, outcome) in outcomes.iter().enumerate() {
@@ -243,7 +290,13 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
             StepOutcome::Skipped(s) => println!("  step {index}: skipped: {}", s.reason),
         }
     }
-    let mut by_kind: std::collections::BTreeMap<&str, (usize, usize)> = Default::default();
+    (solve_ms, conflicts)
+}
+
+/// The relations by kind, in words: `2 coaxial, 1 concentric (+1 off)`.
+fn relation_counts(document: &geosnap::core::model::Document) -> Vec<String> {
+    let mut by_kind: std::collections::BTreeMap<&str, (usize, usize)> =
+        std::collections::BTreeMap::new();
     for r in document.relations() {
         let entry = by_kind.entry(r.kind.name()).or_default();
         if r.mode == geosnap::core::relation::Mode::Off {
@@ -252,7 +305,7 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
             entry.0 += 1;
         }
     }
-    let kinds: Vec<String> = by_kind
+    by_kind
         .iter()
         .map(|(kind, (on, off))| {
             if *off > 0 {
@@ -261,46 +314,7 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
                 format!("{on} {kind}")
             }
         })
-        .collect();
-    println!(
-        "{} primitives, {} skipped; {} relations{}{}",
-        document.len(),
-        document.skipped.len(),
-        document.relations().len(),
-        if kinds.is_empty() {
-            String::new()
-        } else {
-            format!(": {}", kinds.join(", "))
-        },
-        if conflicts.is_empty() {
-            String::new()
-        } else {
-            format!("; {} conflict(s) resolved", conflicts.len())
-        }
-    );
-    solve_ms.sort_by(f64::total_cmp);
-    println!(
-        "{} global solve(s), median {:.1} ms, max {:.1} ms; {:.1} ms in all; wrote {}",
-        solve_ms.len(),
-        solve_ms.get(solve_ms.len() / 2).copied().unwrap_or(0.0),
-        solve_ms.last().copied().unwrap_or(0.0),
-        elapsed.as_secs_f64() * 1e3,
-        out.display()
-    );
-    if let Some(png) = overlay {
-        let items: Vec<OverlayItem<'_>> = document
-            .primitives()
-            .map(|(_, placed)| OverlayItem {
-                primitive: &placed.primitive,
-                strokes: &placed.fit.strokes,
-            })
-            .collect();
-        let relations = OverlayRelation::of_document(&document);
-        save_overlay(png, &loaded.sketch, &items, &relations)
-            .with_context(|| format!("writing the overlay {}", png.display()))?;
-        println!("overlay: {}", png.display());
-    }
-    Ok(ExitCode::SUCCESS)
+        .collect()
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]

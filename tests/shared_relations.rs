@@ -51,14 +51,14 @@ fn run(name: &str, dir: &Path) -> Document {
 
 /// The classes of parts joined by active relations of `kinds` (any features).
 fn classes(document: &Document, kinds: &[RelationKind]) -> BTreeMap<PrimitiveId, PrimitiveId> {
-    let mut root: BTreeMap<PrimitiveId, PrimitiveId> =
-        document.primitives().map(|(id, _)| (id, id)).collect();
     fn find(root: &BTreeMap<PrimitiveId, PrimitiveId>, mut id: PrimitiveId) -> PrimitiveId {
         while root[&id] != id {
             id = root[&id];
         }
         id
     }
+    let mut root: BTreeMap<PrimitiveId, PrimitiveId> =
+        document.primitives().map(|(id, _)| (id, id)).collect();
     for r in document.relations() {
         if r.mode == Mode::Off || !kinds.contains(&r.kind) {
             continue;

@@ -8,6 +8,7 @@ use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
 
 /// The scripts in a folder, sorted.
+#[allow(dead_code, reason = "not every test binary uses every helper")]
 pub(crate) fn scripts_in(dir: &Path) -> Vec<PathBuf> {
     let mut scripts: Vec<PathBuf> = std::fs::read_dir(dir)
         .expect("the folder is readable")
@@ -20,6 +21,7 @@ pub(crate) fn scripts_in(dir: &Path) -> Vec<PathBuf> {
 }
 
 /// Runs one script; returns one line per step and the failures.
+#[allow(dead_code, reason = "not every test binary uses every helper")]
 pub(crate) fn run_script(
     script_path: &Path,
     sketch_dir: Option<&Path>,
@@ -65,11 +67,11 @@ pub(crate) fn run_script_document(
                     "{name} step {i}: {} relation(s); solved {} part(s){}",
                     relations.len(),
                     solve.solved.len(),
-                    solve
-                        .conflicts
-                        .iter()
-                        .map(|c| format!("; {}", c.message))
-                        .collect::<String>()
+                    solve.conflicts.iter().fold(String::new(), |mut out, c| {
+                        out.push_str("; ");
+                        out.push_str(&c.message);
+                        out
+                    })
                 ));
                 lines.push(format!(
                     "{name} step {i}: {} rms {:.2} = {:.2} % of size, {} strokes",

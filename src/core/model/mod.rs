@@ -229,12 +229,12 @@ pub enum StepOutcome {
         /// Its id.
         id: PrimitiveId,
         /// The snap.
-        snap: SnapResult,
+        snap: Box<SnapResult>,
         /// The relations inferred on its release (indices into
         /// [`Document::relations`]).
         relations: Vec<usize>,
         /// The global solve that followed.
-        solve: GlobalOutcome,
+        solve: Box<GlobalOutcome>,
     },
     /// The step was skipped.
     Skipped(Skipped),
@@ -292,9 +292,9 @@ pub fn run_steps(
                 );
                 StepOutcome::Placed {
                     id,
-                    snap: result,
+                    snap: Box::new(result),
                     relations,
-                    solve,
+                    solve: Box::new(solve),
                 }
             }
             Err(reason) => {

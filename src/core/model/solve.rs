@@ -350,7 +350,7 @@ impl Document {
     ///
     /// ```
     /// use glam::DVec3;
-    /// use geosnap::core::model::{Document, Fit, GlobalSettings, Placed, Relation};
+    /// use geosnap::core::model::{Companions, Document, Fit, GlobalSettings, Placed, Relation};
     /// use geosnap::core::primitive::{Cylinder, Primitive};
     /// use geosnap::core::relation::{Mode, RelationKind};
     ///
@@ -373,7 +373,7 @@ impl Document {
     ///     mode: Mode::Hard,
     /// })
     /// .map_err(anyhow::Error::msg)?;
-    /// let outcome = doc.solve(None, &GlobalSettings::default(), Default::default());
+    /// let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
     /// assert!(outcome.conflicts.is_empty());
     /// let axis = |id| match &doc.get(id).unwrap().primitive {
     ///     Primitive::Cylinder(c) => c.axis,
@@ -405,47 +405,9 @@ impl Document {
                 .filter(|(_, r)| active(r) && r.members.iter().all(|m| ids.contains(m)))
                 .collect();
             outcome.relations = relations.len();
-            let mut parts = Vec::with_capacity(ids.len());
-            let mut start = 0;
-            for id in &ids {
-                let Some(placed) = self.primitives.get(id) else {
-                    continue;
-                };
-                let record = self.snaps.get(id);
-                let frame = Frame::of(&placed.primitive);
-                let local = frame.into_frame(&placed.primitive);
-                let len = local.params().len();
-                parts.push(Part {
-                    id: *id,
-                    primitive: &placed.primitive,
-                    assignment: record.map(|r| &r.assignment),
-                    own_rms: record.map(|r| r.rms),
-                    frame,
-                    local,
-                    start,
-                    len,
-                });
-                start += len;
-            }
+            let parts = self.parts(&ids);
             let mut compiled = compile(&parts, &relations, settings);
-            let x0: Vec<f64> = parts.iter().flat_map(|p| p.local.params()).collect();
-            let keys = constraint_keys(&compiled.problem);
-            let (ne, ni) = (
-                compiled.problem.equality_count(),
-                compiled.problem.inequality_count(),
-            );
-            let warm: Vec<f64> = keys
-                .iter()
-                .map(|k| self.multipliers.get(k).copied().unwrap_or(0.0))
-                .collect();
-            let start = Start {
-                x: x0,
-                multipliers: Some(Multipliers {
-                    equality: warm[..ne].to_vec(),
-                    inequality: warm[ne..ne + ni].iter().map(|v| v.max(0.0)).collect(),
-                }),
-                penalty: None,
-            };
+            let (start, keys) = self.warm_start(&parts, &compiled.problem);
             let mut solver = Solver::new(&settings.solver);
             if let Some(flag) = companions.cancel {
                 solver = solver.cancel(flag);
@@ -465,20 +427,7 @@ impl Document {
                 outcome.reverted = true;
                 return outcome;
             };
-            log::debug!(
-                "global solve of {} part(s), {} relation(s): {:?} after {} outer, {} inner, {} evaluations, ‖c‖∞ {:.2e} at {:?}, objective {:.3e}",
-                parts.len(),
-                relations.len(),
-                report.termination,
-                report.outer_iterations,
-                report.inner_iterations,
-                report.evaluations,
-                report.max_violation,
-                report
-                    .worst_constraint
-                    .and_then(|k| compiled.problem.constraint_label(k)),
-                report.objective
-            );
+            log_report(parts.len(), relations.len(), &report, &compiled.problem);
             let solved: Vec<(PrimitiveId, Primitive, f64)> = parts
                 .iter()
                 .map(|p| {
@@ -508,20 +457,7 @@ impl Document {
             };
             match blamed {
                 None => {
-                    let values = report
-                        .multipliers
-                        .equality
-                        .iter()
-                        .chain(&report.multipliers.inequality);
-                    for (key, value) in keys.into_iter().zip(values) {
-                        self.multipliers.insert(key, *value);
-                    }
-                    for (id, primitive, rms) in solved {
-                        if let Some(placed) = self.primitives.get_mut(&id) {
-                            placed.primitive = primitive;
-                            placed.fit.rms = rms;
-                        }
-                    }
+                    self.accept(solved, keys, &report);
                     outcome.report = Some(report);
                     return outcome;
                 }
@@ -537,6 +473,96 @@ impl Document {
                     }
                     outcome.conflicts.push(conflict);
                 }
+            }
+        }
+    }
+}
+
+impl Document {
+    /// The parts of a solve of `ids`, with their frames and variable ranges.
+    fn parts(&self, ids: &BTreeSet<PrimitiveId>) -> Vec<Part<'_>> {
+        let mut parts = Vec::with_capacity(ids.len());
+        let mut start = 0;
+        for id in ids {
+            let Some(placed) = self.primitives.get(id) else {
+                continue;
+            };
+            let record = self.snaps.get(id);
+            let frame = Frame::of(&placed.primitive);
+            let local = frame.into_frame(&placed.primitive);
+            let len = local.params().len();
+            parts.push(Part {
+                id: *id,
+                primitive: &placed.primitive,
+                assignment: record.map(|r| &r.assignment),
+                own_rms: record.map(|r| r.rms),
+                frame,
+                local,
+                start,
+                len,
+            });
+            start += len;
+        }
+        parts
+    }
+
+    /// The start of a solve: the parts as they are, and the multipliers of the same
+    /// constraints in earlier solves (zero for new ones); with the constraints' keys.
+    fn warm_start(&self, parts: &[Part<'_>], problem: &Problem) -> (Start, Vec<(String, usize)>) {
+        let keys = constraint_keys(problem);
+        let ne = problem.equality_count();
+        let warm: Vec<f64> = keys
+            .iter()
+            .map(|k| self.multipliers.get(k).copied().unwrap_or(0.0))
+            .collect();
+        let start = Start {
+            x: parts.iter().flat_map(|p| p.local.params()).collect(),
+            multipliers: Some(Multipliers {
+                equality: warm[..ne].to_vec(),
+                inequality: warm[ne..].iter().map(|v| v.max(0.0)).collect(),
+            }),
+            penalty: None,
+        };
+        (start, keys)
+    }
+}
+
+/// Logs how a solve went (at debug level).
+fn log_report(parts: usize, relations: usize, report: &SolveReport, problem: &Problem) {
+    log::debug!(
+        "global solve of {parts} part(s), {relations} relation(s): {:?} after {} outer, {} inner, {} evaluations, ‖c‖∞ {:.2e} at {:?}, objective {:.3e}",
+        report.termination,
+        report.outer_iterations,
+        report.inner_iterations,
+        report.evaluations,
+        report.max_violation,
+        report
+            .worst_constraint
+            .and_then(|k| problem.constraint_label(k)),
+        report.objective
+    );
+}
+
+impl Document {
+    /// Stores a solve's parts and remembers its multipliers for the next one.
+    fn accept(
+        &mut self,
+        solved: Vec<(PrimitiveId, Primitive, f64)>,
+        keys: Vec<(String, usize)>,
+        report: &SolveReport,
+    ) {
+        let values = report
+            .multipliers
+            .equality
+            .iter()
+            .chain(&report.multipliers.inequality);
+        for (key, value) in keys.into_iter().zip(values) {
+            self.multipliers.insert(key, *value);
+        }
+        for (id, primitive, rms) in solved {
+            if let Some(placed) = self.primitives.get_mut(&id) {
+                placed.primitive = primitive;
+                placed.fit.rms = rms;
             }
         }
     }
@@ -635,7 +661,7 @@ fn blame(
 mod tests {
     use glam::DVec3;
 
-    use super::{GlobalSettings, Mode};
+    use super::{Companions, GlobalSettings, Mode};
     use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
     use crate::core::primitive::{Cylinder, Primitive};
     use crate::core::relation::RelationKind;
@@ -676,7 +702,7 @@ mod tests {
         let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.1)));
         relate(&mut doc, RelationKind::Parallel, a, b);
         relate(&mut doc, RelationKind::Orthogonal, a, b);
-        let outcome = doc.solve(None, &GlobalSettings::default(), Default::default());
+        let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
         assert!(!outcome.reverted, "the rest is solved: {outcome:?}");
         let off = outcome.conflicts[0].relation;
@@ -706,7 +732,11 @@ mod tests {
         relate(&mut doc, RelationKind::Parallel, a, b);
         relate(&mut doc, RelationKind::Parallel, c, d);
         let before = doc.clone();
-        let outcome = doc.solve(Some(&[b]), &GlobalSettings::default(), Default::default());
+        let outcome = doc.solve(
+            Some(&[b]),
+            &GlobalSettings::default(),
+            Companions::default(),
+        );
         assert_eq!(outcome.solved, vec![a, b]);
         assert!(axis(&doc, a).cross(axis(&doc, b)).length() < 1e-4);
         assert_eq!(doc.get(c), before.get(c), "another component is left alone");
@@ -721,18 +751,18 @@ mod tests {
         relate(&mut doc, RelationKind::Parallel, a, b);
         doc.relations_mut()[0].mode = Mode::Off;
         let before = doc.clone();
-        doc.solve(None, &GlobalSettings::default(), Default::default());
+        doc.solve(None, &GlobalSettings::default(), Companions::default());
         let angle = |doc: &Document| axis(doc, a).angle_between(axis(doc, b));
         assert!(
             (angle(&doc) - angle(&before)).abs() < 1e-9,
             "off: nothing moves"
         );
         doc.relations_mut()[0].mode = Mode::Soft;
-        doc.solve(None, &GlobalSettings::default(), Default::default());
+        doc.solve(None, &GlobalSettings::default(), Companions::default());
         let soft = angle(&doc);
         assert!(soft < 0.5 * angle(&before), "soft: closer ({soft})");
         doc.relations_mut()[0].mode = Mode::Hard;
-        doc.solve(None, &GlobalSettings::default(), Default::default());
+        doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert!(angle(&doc) < 1e-3, "hard: parallel ({})", angle(&doc));
     }
 }
