@@ -2,6 +2,7 @@
 //!
 //! - `geosnap run SCRIPT --out MODEL [--overlay PNG]`: a placement script, headless.
 //! - `geosnap check FILE…`: loads sketches, scripts or models and reports problems.
+//! - `geosnap solve MODEL --out MODEL`: re-solves a model with its relations.
 //! - `geosnap selftest`: the solver on the Hock–Schittkowski problems.
 
 use std::path::{Path, PathBuf};
@@ -10,7 +11,9 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{run_steps, SessionSettings, Step, StepOutcome};
+use geosnap::core::model::{
+    run_steps, Companions, GlobalSettings, SessionSettings, Step, StepOutcome,
+};
 use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
@@ -61,6 +64,16 @@ enum Command {
         #[arg(long)]
         overlay: Option<PathBuf>,
     },
+    /// Re-solve a model file with its relations (as edited by hand, say): relations that
+    /// conflict are switched off with a message; the parts keep the places their fits
+    /// gave them, as the model file has no strokes.
+    Solve {
+        /// The model file (`*.model.json`).
+        model: PathBuf,
+        /// Where to write the solved model.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Solve the built-in Hock–Schittkowski test problems and report each result.
     Selftest {
         /// Print the reports as JSON lines instead of a table.
@@ -88,6 +101,7 @@ pub(crate) fn main() -> ExitCode {
             overlay,
         }) => check(&files, strokes, overlay.as_deref()),
         Some(Command::Sample { dir }) => sample(&dir),
+        Some(Command::Solve { model, out }) => solve_model(&model, &out),
         None => Ok(no_command()),
     };
     match result {
@@ -315,6 +329,42 @@ fn relation_counts(document: &geosnap::core::model::Document) -> Vec<String> {
             }
         })
         .collect()
+}
+
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
+    let mut loaded =
+        load_model(path).with_context(|| format!("reading the model {}", path.display()))?;
+    let clock = MonotonicClock::start();
+    let outcome = loaded.document.solve(
+        None,
+        &GlobalSettings::default(),
+        Companions {
+            clock: Some(&clock),
+            ..Companions::default()
+        },
+    );
+    for conflict in &outcome.conflicts {
+        println!("conflict: {}", conflict.message);
+    }
+    if outcome.reverted {
+        println!("the solve was refused: the model is written as it was");
+    }
+    if let Some(report) = &outcome.report {
+        println!(
+            "solved {} part(s) with {} relation(s): {}, ‖ψ‖∞ {:.1e}, {} evaluations, {:.1} ms",
+            outcome.solved.len(),
+            outcome.relations,
+            report.termination,
+            report.max_violation,
+            report.evaluations,
+            report.elapsed.as_secs_f64() * 1e3
+        );
+    }
+    save_model(out, &loaded.document, &loaded.sketch)
+        .with_context(|| format!("writing {}", out.display()))?;
+    println!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]

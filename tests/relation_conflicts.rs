@@ -1,0 +1,104 @@
+//! An impossible set of hard relations added by hand to a model file: `geosnap solve`
+//! switches one of them off, names it, and writes a model in which the rest hold.
+
+use std::process::Command;
+
+use serde_json::{json, Value};
+
+fn cylinder(id: u32, x: f64, axis: [f64; 3]) -> Value {
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    json!({
+        "id": id, "kind": "cylinder", "center": [x, 0.0, 0.0],
+        "axis": [axis[0] / n, axis[1] / n, axis[2] / n], "length": 40.0, "radius": 6.0
+    })
+}
+
+#[test]
+fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
+    let dir = std::env::temp_dir().join(format!("geosnap-conflicts-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let model = json!({
+        "format": "geosnap-model",
+        "version": 1,
+        "sketch": "none.svg",
+        "primitives": [
+            cylinder(0, 0.0, [0.0, 1.0, 0.0]),
+            cylinder(1, 30.0, [0.2, 1.0, 0.1]),
+            cylinder(2, 60.0, [0.9, 0.3, 0.0]),
+        ],
+        "relations": [
+            { "kind": "parallel", "members": [0, 1], "features": ["top", "top"], "mode": "hard" },
+            { "kind": "parallel", "members": [1, 2], "features": ["top", "top"], "mode": "hard" },
+            // Contradicts the two above: 0 ∥ 1 ∥ 2 and 0 ⊥ 2 cannot all hold.
+            { "kind": "orthogonal", "members": [0, 2], "features": ["top", "top"], "mode": "hard" },
+            { "kind": "same_radius", "members": [0, 2], "features": ["top", "bottom"], "mode": "hard" }
+        ]
+    });
+    let input = dir.join("hand.model.json");
+    let output = dir.join("solved.model.json");
+    std::fs::write(&input, serde_json::to_vec_pretty(&model).expect("json")).expect("written");
+    let run = Command::new(env!("CARGO_BIN_EXE_geosnap"))
+        .args(["solve"])
+        .arg(&input)
+        .arg("--out")
+        .arg(&output)
+        .output()
+        .expect("geosnap runs");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let conflicts: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("conflict:"))
+        .collect();
+    assert_eq!(conflicts.len(), 1, "{stdout}");
+    assert!(
+        conflicts[0].contains("switched off") && conflicts[0].contains("relation "),
+        "the message names the relation: {}",
+        conflicts[0]
+    );
+    let solved: Value =
+        serde_json::from_slice(&std::fs::read(&output).expect("the output is written"))
+            .expect("the output is JSON");
+    let relations = solved["relations"].as_array().expect("relations");
+    let off: Vec<usize> = relations
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r["mode"] == "off")
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(off.len(), 1, "{relations:?}");
+    assert!(
+        off[0] <= 2,
+        "one of the three contradicting relations: {off:?}"
+    );
+    assert!(
+        conflicts[0].contains(&format!("relation {} (", off[0])),
+        "{}",
+        conflicts[0]
+    );
+    // The others hold in the written model.
+    let axis = |i: usize| -> [f64; 3] {
+        let a = &solved["primitives"][i]["axis"];
+        [0, 1, 2].map(|k| a[k].as_f64().expect("a number"))
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let pairs = [(0, 1, true), (1, 2, true), (0, 2, false)];
+    for (k, (i, j, parallel)) in pairs.into_iter().enumerate() {
+        if k == off[0] {
+            continue;
+        }
+        let d = dot(axis(i), axis(j)).abs();
+        if parallel {
+            assert!(d > 1.0 - 1e-5, "{i} ∥ {j}: {d}");
+        } else {
+            assert!(d < 1e-3, "{i} ⊥ {j}: {d}");
+        }
+    }
+    let radius = |i: usize| solved["primitives"][i]["radius"].as_f64().expect("radius");
+    assert!((radius(0) - radius(2)).abs() < 1e-3 * radius(0));
+    std::fs::remove_dir_all(&dir).ok();
+}
