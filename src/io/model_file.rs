@@ -65,7 +65,7 @@ fn v3(v: DVec3) -> Value {
 }
 
 /// The JSON of one primitive (without `id` and `fit`).
-fn primitive_json(p: &Primitive) -> Map<String, Value> {
+pub(crate) fn primitive_json(p: &Primitive) -> Map<String, Value> {
     let value = match p {
         Primitive::Cylinder(c) => json!({
             "kind": "cylinder", "center": v3(c.center), "axis": v3(c.axis),
@@ -252,7 +252,7 @@ fn positive(v: f64, field: &str) -> Result<f64, String> {
 }
 
 /// One primitive from its JSON.
-fn parse_primitive(v: &Value) -> Result<Primitive, String> {
+pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, String> {
     let kind = v
         .get("kind")
         .and_then(Value::as_str)
