@@ -39,8 +39,9 @@
 //!   (child node names), `features` (when any is named) and `mode`.
 //!   [`import_gltf_extras`] reads them back into a [`Document`].
 //!
-//! An empty model gives a valid file whose scene has no nodes (the model-level `extras`
-//! then sit on the scene) and a warning in the [`ExportReport`]. A primitive with a
+//! An empty model gives a valid file whose scene is empty: it holds only the root node,
+//! without children or mesh, still carrying the model-level `extras`; the
+//! [`ExportReport`] has a warning. A primitive with a
 //! non-finite parameter or a non-positive size is an [`ExportError`] naming it, and
 //! nothing is written. The file is replaced atomically ([`write_atomic`]).
 
@@ -346,25 +347,22 @@ pub fn encode_gltf(
         triangles += part.indices.len() / 3;
         children.push(out.part(part, index, s)?);
     }
-    let model_extras = model_extras(document, s, offset * s);
-    let mut scene = gj::Scene {
+    // The root node is always there, so the scene is never without nodes (glTF allows
+    // that, but the `gltf` crate, and so Rust viewers, cannot read it); an empty model's
+    // root has neither children nor a mesh.
+    let root = out.root.push(gj::Node {
+        name: Some(ROOT_NAME.to_owned()),
+        children: (!children.is_empty()).then_some(children),
+        translation: Some(f32s(offset * s, "the origin offset")?),
+        extras: raw(&model_extras(document, s, offset * s))?,
+        ..gj::Node::default()
+    });
+    let scene = gj::Scene {
         extensions: None,
         extras: None,
         name: Some("geosnap".to_owned()),
-        nodes: Vec::new(),
+        nodes: vec![root],
     };
-    if children.is_empty() {
-        scene.extras = raw(&model_extras)?;
-    } else {
-        let root = out.root.push(gj::Node {
-            name: Some(ROOT_NAME.to_owned()),
-            children: Some(children),
-            translation: Some(f32s(offset * s, "the origin offset")?),
-            extras: raw(&model_extras)?,
-            ..gj::Node::default()
-        });
-        scene.nodes.push(root);
-    }
     let scene = out.root.push(scene);
     out.root.scene = Some(scene);
     out.root.asset.generator = Some(format!("geosnap {}", env!("CARGO_PKG_VERSION")));
@@ -969,20 +967,17 @@ pub fn parse_gltf_extras(data: &[u8]) -> Result<ImportedModel, ImportError> {
         .and_then(|i| root.scenes.get(i.value()))
         .or_else(|| root.scenes.first())
         .ok_or_else(|| bad("the file has no scene".to_owned()))?;
-    let (model, children) = match scene.nodes.as_slice() {
-        [] => (extras_of(&scene.extras)?, Vec::new()),
-        [node] => {
-            let node = root
-                .nodes
-                .get(node.value())
-                .ok_or_else(|| bad("the root node is missing".to_owned()))?;
-            (
-                extras_of(&node.extras)?,
-                node.children.clone().unwrap_or_default(),
-            )
-        }
-        _ => return Err(bad("the scene has more than one root node".to_owned())),
+    let [node] = scene.nodes.as_slice() else {
+        return Err(bad(
+            "the scene does not have exactly one root node".to_owned()
+        ));
     };
+    let node = root
+        .nodes
+        .get(node.value())
+        .ok_or_else(|| bad("the root node is missing".to_owned()))?;
+    let model = extras_of(&node.extras)?;
+    let children = node.children.clone().unwrap_or_default();
     if model.get("format").and_then(Value::as_str) != Some(EXTRAS_FORMAT) {
         return Err(bad(format!("the root's format is not \"{EXTRAS_FORMAT}\"")));
     }
@@ -1068,4 +1063,371 @@ fn parse_relation(r: &Value, ids: &BTreeMap<String, PrimitiveId>) -> Result<Rela
         features,
         mode,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec3};
+    use serde_json::Value;
+
+    use super::{
+        base64, colour, encode_gltf, export_gltf, ground_offset, parse_gltf_extras, primitive_json,
+        ExportError, ExportSettings, GltfFormat, Origin, Part,
+    };
+    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
+    use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
+    use crate::core::relation::{Mode, RelationKind};
+
+    /// One primitive of every kind, tilted, off the origin, with three relations.
+    fn every_kind() -> Document {
+        let tilted = DVec3::new(0.3, 0.9, 0.2).normalize();
+        let arc: Vec<DVec3> = (0..7)
+            .map(|i| {
+                let t = 0.25 * f64::from(i);
+                DVec3::new(400.0 + 80.0 * t.cos(), 80.0 * t.sin(), -20.0)
+            })
+            .collect();
+        let primitives = [
+            Primitive::Cylinder(Cylinder {
+                center: DVec3::new(10.0, -200.0, 5.0),
+                axis: tilted,
+                length: 120.0,
+                radius: 20.0,
+            }),
+            Primitive::Cone(Cone {
+                center: DVec3::new(-150.0, -100.0, 0.0),
+                axis: -DVec3::Y,
+                length: 90.0,
+                radius_bottom: 40.0,
+                radius_top: 10.0,
+            }),
+            Primitive::Sphere(Sphere {
+                center: DVec3::new(100.0, 50.0, -30.0),
+                radius: 35.0,
+            }),
+            Primitive::Cuboid(Cuboid {
+                center: DVec3::new(250.0, -300.0, 10.0),
+                rotation: DQuat::from_euler(glam::EulerRot::YXZ, 0.4, -0.2, 0.7),
+                size: DVec3::new(80.0, 40.0, 60.0),
+            }),
+            Primitive::Sgc(Sgc {
+                center: DVec3::new(-300.0, -250.0, 0.0),
+                axis: DVec3::new(0.0, 0.8, 0.6),
+                length: 200.0,
+                radii: vec![30.0, 45.0, 50.0, 42.0, 30.0, 22.0, 20.0, 25.0],
+            }),
+            Primitive::Bgc(Bgc::through(arc, 12.0)),
+        ];
+        let mut doc = Document::new();
+        for primitive in primitives {
+            doc.add(Placed {
+                primitive,
+                fit: Fit::default(),
+            });
+        }
+        let relation = |kind, members: &[u32], features: &[Option<&str>], mode| Relation {
+            kind,
+            members: members.iter().map(|m| PrimitiveId(*m)).collect(),
+            features: features.iter().map(|f| f.map(str::to_owned)).collect(),
+            mode,
+        };
+        let relations = [
+            relation(
+                RelationKind::Parallel,
+                &[0, 4],
+                &[Some("top"), Some("bottom")],
+                Mode::Hard,
+            ),
+            relation(
+                RelationKind::CollinearCenters,
+                &[0, 1, 4],
+                &[Some("top"), None, Some("bottom")],
+                Mode::Soft,
+            ),
+            relation(RelationKind::EqualLength, &[0, 1], &[], Mode::Off),
+        ];
+        for r in relations {
+            doc.add_relation(r).unwrap();
+        }
+        doc
+    }
+
+    fn temp_path(name: &str) -> std::path::PathBuf {
+        std::env::temp_dir().join(format!("geosnap-gltf-unit-{}-{name}", std::process::id()))
+    }
+
+    /// The numbers of a JSON value, depth first.
+    fn numbers(v: &Value, out: &mut Vec<f64>) {
+        match v {
+            Value::Number(n) => out.extend(n.as_f64()),
+            Value::Array(a) => a.iter().for_each(|x| numbers(x, out)),
+            Value::Object(m) => m.values().for_each(|x| numbers(x, out)),
+            _ => {}
+        }
+    }
+
+    #[test]
+    fn base64_matches_the_rfc_4648_examples() {
+        let cases = [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ];
+        for (plain, encoded) in cases {
+            assert_eq!(base64(plain.as_bytes()), encoded, "{plain:?}");
+        }
+        assert_eq!(base64(&[0xff, 0xfe, 0x00]), "//4A");
+    }
+
+    #[test]
+    fn settings_out_of_range_are_named() {
+        assert!(ExportSettings::default().validate().is_ok());
+        for scale in [f64::NAN, 0.0, -0.001, f64::INFINITY] {
+            let settings = ExportSettings {
+                metres_per_unit: scale,
+                ..ExportSettings::default()
+            };
+            let error = encode_gltf(&every_kind(), GltfFormat::Glb, &settings).unwrap_err();
+            assert!(
+                matches!(
+                    error,
+                    ExportError::InvalidSetting {
+                        name: "metres_per_unit",
+                        ..
+                    }
+                ),
+                "{error}"
+            );
+        }
+        for segments in [0, 2, 1025] {
+            let settings = ExportSettings {
+                segments,
+                ..ExportSettings::default()
+            };
+            let error = settings.validate().unwrap_err();
+            assert!(error.to_string().contains("segments"), "{error}");
+        }
+    }
+
+    #[test]
+    fn the_format_follows_the_extension() {
+        use std::path::Path;
+        assert_eq!(
+            GltfFormat::from_path(Path::new("a/b.GLB")),
+            Some(GltfFormat::Glb)
+        );
+        assert_eq!(
+            GltfFormat::from_path(Path::new("b.gltf")),
+            Some(GltfFormat::Gltf)
+        );
+        assert_eq!(GltfFormat::from_path(Path::new("b.obj")), None);
+        assert_eq!(GltfFormat::from_path(Path::new("glb")), None);
+        let path = temp_path("model.obj");
+        let error = export_gltf(&every_kind(), &path, &ExportSettings::default()).unwrap_err();
+        assert!(
+            matches!(error, ExportError::UnknownExtension { .. }),
+            "{error}"
+        );
+        assert!(!path.exists(), "nothing is written");
+    }
+
+    #[test]
+    fn bad_primitives_are_clear_errors_and_leave_the_old_file() {
+        let sphere = |radius| {
+            Primitive::Sphere(Sphere {
+                center: DVec3::ZERO,
+                radius,
+            })
+        };
+        let cylinder = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::ZERO,
+            length: 1.0,
+            radius: 1.0,
+        });
+        let mut bgc = Bgc::through(vec![DVec3::ZERO, DVec3::X, DVec3::X], 1.0);
+        let twin = Primitive::Bgc(bgc.clone());
+        bgc.spine[1] = DVec3::new(f64::NAN, 0.0, 0.0);
+        let cases = [
+            (sphere(f64::NAN), "sphere_0", "NaN"),
+            (sphere(-2.0), "sphere_0", "radius must be positive, got -2"),
+            (sphere(0.0), "sphere_0", "radius must be positive, got 0"),
+            (cylinder, "cylinder_0", "axis has no direction"),
+            (twin, "bgc_0", "spine points 1 and 2 coincide"),
+            (Primitive::Bgc(bgc), "bgc_0", "NaN"),
+        ];
+        let path = temp_path("bad.glb");
+        std::fs::write(&path, b"the old file").unwrap();
+        for (primitive, node, reason) in cases {
+            let mut doc = Document::new();
+            doc.add(Placed {
+                primitive,
+                fit: Fit::default(),
+            });
+            let error = export_gltf(&doc, &path, &ExportSettings::default()).unwrap_err();
+            let text = error.to_string();
+            assert!(
+                matches!(error, ExportError::InvalidPrimitive { .. }),
+                "{text}"
+            );
+            assert!(text.contains(node) && text.contains(reason), "{text}");
+            assert_eq!(std::fs::read(&path).unwrap(), b"the old file");
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn an_empty_model_is_a_valid_file_with_an_empty_scene_and_a_warning() {
+        for format in [GltfFormat::Glb, GltfFormat::Gltf] {
+            let (bytes, report) =
+                encode_gltf(&Document::new(), format, &ExportSettings::default()).unwrap();
+            assert_eq!(report.nodes, 0);
+            assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+            let back = parse_gltf_extras(&bytes).unwrap();
+            assert!(back.document.is_empty());
+            let json = super::json_chunk(&bytes).unwrap();
+            let root: Value = serde_json::from_slice(json).unwrap();
+            assert_eq!(root["nodes"].as_array().unwrap().len(), 1, "{root}");
+            assert!(root["nodes"][0].get("children").is_none(), "{root}");
+            assert!(root.get("meshes").is_none(), "{root}");
+            assert!(root.get("buffers").is_none(), "no empty buffer");
+        }
+    }
+
+    #[test]
+    fn the_glb_container_is_sized_and_aligned() {
+        let (bytes, report) =
+            encode_gltf(&every_kind(), GltfFormat::Glb, &ExportSettings::default()).unwrap();
+        assert_eq!(report.bytes, bytes.len());
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        assert_eq!(&bytes[0..4], b"glTF");
+        assert_eq!(word(4), 2);
+        assert_eq!(word(8), bytes.len());
+        let json = word(12);
+        assert_eq!(&bytes[16..20], b"JSON");
+        assert_eq!(json % 4, 0);
+        let bin = 20 + json;
+        assert_eq!(&bytes[bin + 4..bin + 8], b"BIN\0");
+        assert_eq!(word(bin) % 4, 0);
+        assert_eq!(bin + 8 + word(bin), bytes.len());
+        let root: Value = serde_json::from_slice(&bytes[20..20 + json]).unwrap();
+        assert_eq!(
+            root["buffers"][0]["byteLength"].as_u64(),
+            Some(word(bin) as u64)
+        );
+        for view in root["bufferViews"].as_array().unwrap() {
+            assert_eq!(view["byteOffset"].as_u64().unwrap() % 4, 0, "{view}");
+        }
+    }
+
+    #[test]
+    fn local_meshes_face_outwards_with_unit_normals_and_centred_frames() {
+        for (id, placed) in every_kind().primitives() {
+            let part = Part::new(id, &placed.primitive, 24).unwrap();
+            assert!(part
+                .normals
+                .iter()
+                .all(|n| (n.length() - 1.0).abs() < 1e-12));
+            for t in part.indices.chunks(3) {
+                let [a, b, c] = [0, 1, 2].map(|k| t[k] as usize);
+                let (pa, pb, pc) = (part.positions[a], part.positions[b], part.positions[c]);
+                let face = (pb - pa).cross(pc - pa);
+                let normal = part.normals[a] + part.normals[b] + part.normals[c];
+                assert!(
+                    face.dot(normal) > 0.0,
+                    "{}: triangle {t:?} winds clockwise",
+                    part.name
+                );
+            }
+            // Solids of revolution run along local +Y, centred.
+            let (lo, hi) = part
+                .positions
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(*p), hi.max(*p))
+                });
+            match &placed.primitive {
+                Primitive::Cylinder(c) => {
+                    assert!((hi.y - c.length / 2.0).abs() < 1e-9 && (lo.y + hi.y).abs() < 1e-9);
+                    let sag = c.radius * (1.0 - (std::f64::consts::PI / 24.0).cos());
+                    assert!(hi.x <= c.radius && hi.x >= c.radius - sag - 1e-9, "{hi}");
+                }
+                Primitive::Cuboid(b) => assert!((hi - b.size / 2.0).length() < 1e-9),
+                Primitive::Bgc(_) => assert!(lo.z.abs() < 13.0 && hi.z.abs() < 13.0),
+                _ => assert!((lo + hi).length() < 1e-9 * hi.length(), "{lo} {hi}"),
+            }
+        }
+    }
+
+    #[test]
+    fn extras_round_trip_every_kind_and_the_relations() {
+        let doc = every_kind();
+        let settings = ExportSettings {
+            metres_per_unit: 0.0254,
+            origin: Origin::Model,
+            ..ExportSettings::default()
+        };
+        for format in [GltfFormat::Glb, GltfFormat::Gltf] {
+            let (bytes, report) = encode_gltf(&doc, format, &settings).unwrap();
+            assert_eq!(report.nodes, 6);
+            assert!(report.warnings.is_empty());
+            let back = parse_gltf_extras(&bytes).unwrap();
+            assert!((back.metres_per_unit - 0.0254).abs() < 1e-15);
+            assert_eq!(back.document.relations(), doc.relations());
+            let ids: Vec<_> = back.document.primitives().map(|(id, _)| id).collect();
+            assert_eq!(ids, doc.primitives().map(|(id, _)| id).collect::<Vec<_>>());
+            for (id, placed) in doc.primitives() {
+                let again = &back.document.get(id).unwrap().primitive;
+                assert_eq!(again.kind(), placed.primitive.kind());
+                let (mut a, mut b) = (Vec::new(), Vec::new());
+                numbers(&Value::Object(primitive_json(&placed.primitive)), &mut a);
+                numbers(&Value::Object(primitive_json(again)), &mut b);
+                assert_eq!(a.len(), b.len());
+                for (x, y) in a.iter().zip(&b) {
+                    assert!(
+                        (x - y).abs() <= 1e-12 * x.abs().max(1.0),
+                        "{id:?}: {x} vs {y}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_ground_origin_centres_the_model_on_y_0() {
+        let doc = every_kind();
+        let parts: Vec<Part> = doc
+            .primitives()
+            .map(|(id, p)| Part::new(id, &p.primitive, 16).unwrap())
+            .collect();
+        let offset = ground_offset(&parts);
+        let (lo, hi) = parts
+            .iter()
+            .map(|p| p.bounds)
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+            .unwrap();
+        let (lo, hi) = (lo + offset, hi + offset);
+        assert!(lo.y.abs() < 1e-9 && (lo.x + hi.x).abs() < 1e-9 && (lo.z + hi.z).abs() < 1e-9);
+    }
+
+    #[test]
+    fn colours_are_distinct_and_in_range() {
+        let colours: Vec<[f32; 4]> = (0..200).map(colour).collect();
+        for (i, a) in colours.iter().enumerate() {
+            assert!(a.iter().all(|c| (0.0..=1.0).contains(c)), "{a:?}");
+            for b in &colours[..i] {
+                let d: f32 = (0..3).map(|k| (a[k] - b[k]).abs()).sum();
+                assert!(d > 1e-4, "colour {i} repeats: {a:?}");
+            }
+        }
+        // Neighbours differ visibly.
+        for w in colours.windows(2) {
+            let d: f32 = (0..3).map(|k| (w[0][k] - w[1][k]).abs()).sum();
+            assert!(d > 0.1, "{w:?}");
+        }
+    }
 }
