@@ -58,7 +58,7 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
         /// Metres per model unit (one sketch unit); the default makes a unit a millimetre.
-        #[arg(long, default_value_t = DEFAULT_METRES_PER_UNIT)]
+        #[arg(long, default_value_t = DEFAULT_METRES_PER_UNIT, allow_negative_numbers = true)]
         scale: f64,
         /// Segments around each circle.
         #[arg(long, default_value_t = DEFAULT_SEGMENTS)]

@@ -439,6 +439,15 @@ fn every_export_passes_the_khronos_validator() {
     };
     export_gltf(&models[0].1, &coarse, &settings).expect("exports");
     files.push(coarse);
+    // A sphere of 200 × 401 vertices: u32 indices.
+    let dense = dir.join("dense.gltf");
+    let settings = ExportSettings {
+        segments: 400,
+        ..ExportSettings::default()
+    };
+    let tiny = &models.last().expect("the tiny model").1;
+    export_gltf(tiny, &dense, &settings).expect("exports");
+    files.push(dense);
 
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/gltf_validate.mjs");
     let output = Command::new("node")
@@ -455,5 +464,45 @@ fn every_export_passes_the_khronos_validator() {
         files.len(),
         "one clean report per file"
     );
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+#[test]
+fn the_cli_exports_a_model_file_and_refuses_bad_settings() {
+    let dir = scratch("cli");
+    let (_, document) = sample_models().swap_remove(0);
+    let model = dir.join("sample.model.json");
+    geosnap::io::model_file::save_model(&model, &document, "sample.svg").expect("saved");
+    let geosnap = env!("CARGO_BIN_EXE_geosnap");
+    let out = dir.join("sample.gltf");
+    let run = Command::new(geosnap)
+        .arg("export")
+        .arg(&model)
+        .arg("--out")
+        .arg(&out)
+        .args(["--scale", "0.01", "--segments", "12"])
+        .output()
+        .expect("the binary runs");
+    assert!(run.status.success(), "{run:?}");
+    let back = import_gltf_extras(&out).expect("the export reads back");
+    assert!((back.metres_per_unit - 0.01).abs() < 1e-15, "the --scale");
+    assert_eq!(back.document.len(), document.len(), "every primitive");
+    for (args, message) in [
+        (["--scale", "-1"], "metres_per_unit = -1"),
+        (["--segments", "2"], "segments = 2"),
+    ] {
+        let run = Command::new(geosnap)
+            .arg("export")
+            .arg(&model)
+            .arg("--out")
+            .arg(dir.join("bad.glb"))
+            .args(args)
+            .output()
+            .expect("the binary runs");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?} must fail");
+        assert!(stderr.contains(message), "{stderr}");
+        assert!(!dir.join("bad.glb").exists(), "nothing written");
+    }
     std::fs::remove_dir_all(&dir).expect("cleaned up");
 }

@@ -26,8 +26,8 @@
 //! - **Meshes** come from [`Primitive::mesh`]: counter-clockwise front faces seen from
 //!   outside, smooth normals on curved sides, separate vertices with flat normals on
 //!   caps and box faces (sharp edges), caps closing cylinders, cones and both kinds of
-//!   generalized cylinder. Positions and normals are `f32`, indices `u32`, each in its
-//!   own 4-byte aligned buffer view; a position accessor's `min`/`max` are computed from
+//!   generalized cylinder. Positions and normals are `f32`, indices `u16` (`u32` for a
+//!   mesh of more than 65 535 vertices), each in its own 4-byte aligned buffer view; a position accessor's `min`/`max` are computed from
 //!   the `f32` values written.
 //! - **Materials.** One PBR metallic-roughness material per primitive, named like its
 //!   node, dielectric, with a base colour of its own (hues spaced by the golden ratio).
@@ -41,9 +41,9 @@
 //!
 //! An empty model gives a valid file whose scene is empty: it holds only the root node,
 //! without children or mesh, still carrying the model-level `extras`; the
-//! [`ExportReport`] has a warning. A primitive with a
-//! non-finite parameter or a non-positive size is an [`ExportError`] naming it, and
-//! nothing is written. The file is replaced atomically ([`write_atomic`]).
+//! [`ExportReport`] has a warning. A primitive with a non-finite parameter or a
+//! non-positive size is an [`ExportError`] naming it, and nothing is written. The file
+//! is replaced atomically ([`write_atomic`]).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -53,10 +53,10 @@ use gltf_json as gj;
 use gltf_json::validation::{Checked, USize64};
 use serde_json::{json, Map, Value};
 
-use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
+use crate::core::model::{Document, Fit, Placed, PrimitiveId};
 use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, PrimitiveKind, Sgc};
 use crate::io::atomic::write_atomic;
-use crate::io::model_file::{parse_primitive, primitive_json};
+use crate::io::model_file::{parse_primitive, parse_relation_with, primitive_json, relation_json};
 
 /// Metres per sketch unit unless set otherwise: one unit is one millimetre.
 pub const DEFAULT_METRES_PER_UNIT: f64 = 0.001;
@@ -616,17 +616,7 @@ fn model_extras(document: &Document, s: f64, offset_m: DVec3) -> Value {
     let relations: Vec<Value> = document
         .relations()
         .iter()
-        .map(|r| {
-            let mut map = Map::new();
-            map.insert("kind".into(), json!(r.kind));
-            let members: Vec<String> = r.members.iter().map(|m| name_of(*m)).collect();
-            map.insert("members".into(), json!(members));
-            if r.features.iter().any(Option::is_some) {
-                map.insert("features".into(), json!(r.features));
-            }
-            map.insert("mode".into(), json!(r.mode));
-            Value::Object(map)
-        })
+        .map(|r| relation_json(r, |m| json!(name_of(m))))
         .collect();
     json!({
         "format": EXTRAS_FORMAT,
@@ -702,15 +692,45 @@ impl Builder {
         })
     }
 
-    /// A `VEC3` float accessor, with `min`/`max` when `bounds` is set.
+    /// An accessor of `count` elements over `bytes` (one buffer view of its own).
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        (component, kind): (gj::accessor::ComponentType, gj::accessor::Type),
+        bounds: Option<(Value, Value)>,
+    ) -> gj::Index<gj::Accessor> {
+        let target = match kind {
+            gj::accessor::Type::Scalar => gj::buffer::Target::ElementArrayBuffer,
+            _ => gj::buffer::Target::ArrayBuffer,
+        };
+        let view = self.view(bytes, target);
+        let (min, max) = bounds.unzip();
+        self.root.push(gj::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(count),
+            component_type: Checked::Valid(gj::accessor::GenericComponentType(component)),
+            extensions: None,
+            extras: None,
+            type_: Checked::Valid(kind),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+
+    /// A `VEC3` float vertex attribute, with `min`/`max` (of these `f32` values) when
+    /// `bounds` is set.
     fn vec3(&mut self, data: &[[f32; 3]], bounds: bool) -> gj::Index<gj::Accessor> {
         let bytes: Vec<u8> = data
             .iter()
             .flatten()
             .flat_map(|c| c.to_le_bytes())
             .collect();
-        let view = self.view(&bytes, gj::buffer::Target::ArrayBuffer);
-        let (min, max) = if bounds {
+        let bounds = bounds.then(|| {
             let mut lo = [f32::INFINITY; 3];
             let mut hi = [f32::NEG_INFINITY; 3];
             for p in data {
@@ -720,48 +740,29 @@ impl Builder {
                 }
             }
             let value = |v: [f32; 3]| json!(v.map(f64::from));
-            (Some(value(lo)), Some(value(hi)))
-        } else {
-            (None, None)
-        };
-        self.root.push(gj::Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64::from(data.len()),
-            component_type: Checked::Valid(gj::accessor::GenericComponentType(
-                gj::accessor::ComponentType::F32,
-            )),
-            extensions: None,
-            extras: None,
-            type_: Checked::Valid(gj::accessor::Type::Vec3),
-            min,
-            max,
-            name: None,
-            normalized: false,
-            sparse: None,
-        })
+            (value(lo), value(hi))
+        });
+        let layout = (gj::accessor::ComponentType::F32, gj::accessor::Type::Vec3);
+        self.accessor(&bytes, data.len(), layout, bounds)
     }
 
-    /// A `SCALAR` `u32` index accessor.
+    /// Triangle indices: a `SCALAR` accessor, `u16` when every index fits (a mesh of at
+    /// most 65 535 vertices, as at the usual tessellations), else `u32`.
     fn indices(&mut self, indices: &[u32]) -> gj::Index<gj::Accessor> {
-        let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let view = self.view(&bytes, gj::buffer::Target::ElementArrayBuffer);
-        self.root.push(gj::Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64::from(indices.len()),
-            component_type: Checked::Valid(gj::accessor::GenericComponentType(
-                gj::accessor::ComponentType::U32,
-            )),
-            extensions: None,
-            extras: None,
-            type_: Checked::Valid(gj::accessor::Type::Scalar),
-            min: None,
-            max: None,
-            name: None,
-            normalized: false,
-            sparse: None,
-        })
+        // 65 535 itself would be the primitive-restart value.
+        let short = indices.iter().all(|i| *i < u32::from(u16::MAX));
+        let (bytes, component): (Vec<u8>, _) = if short {
+            let bytes = indices
+                .iter()
+                .flat_map(|i| (*i as u16).to_le_bytes())
+                .collect();
+            (bytes, gj::accessor::ComponentType::U16)
+        } else {
+            let bytes = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+            (bytes, gj::accessor::ComponentType::U32)
+        };
+        let layout = (component, gj::accessor::Type::Scalar);
+        self.accessor(&bytes, indices.len(), layout, None)
     }
 
     /// Adds one primitive's accessors, material, mesh and node; returns the node.
@@ -1024,8 +1025,8 @@ pub fn parse_gltf_extras(data: &[u8]) -> Result<ImportedModel, ImportError> {
         Some(_) => return Err(bad("`relations` is not a list".to_owned())),
     };
     for (index, r) in relations.iter().enumerate() {
-        let relation =
-            parse_relation(r, &ids).map_err(|e| bad(format!("relation {index}: {e}")))?;
+        let relation = parse_relation_with(r, |m| m.as_str().and_then(|n| ids.get(n).copied()))
+            .map_err(|e| bad(format!("relation {index}: {e}")))?;
         document
             .add_relation(relation)
             .map_err(|e| bad(format!("relation {index}: {e}")))?;
@@ -1033,35 +1034,6 @@ pub fn parse_gltf_extras(data: &[u8]) -> Result<ImportedModel, ImportError> {
     Ok(ImportedModel {
         document,
         metres_per_unit: s,
-    })
-}
-
-/// One relation of the root's extras, its members named by node.
-fn parse_relation(r: &Value, ids: &BTreeMap<String, PrimitiveId>) -> Result<Relation, String> {
-    let field = |name: &str| r.get(name).cloned().unwrap_or(Value::Null);
-    let kind = serde_json::from_value(field("kind"))
-        .map_err(|_| format!("unknown kind {}", field("kind")))?;
-    let mode = serde_json::from_value(field("mode"))
-        .map_err(|_| format!("unknown mode {}", field("mode")))?;
-    let members = field("members")
-        .as_array()
-        .ok_or("`members` is not a list")?
-        .iter()
-        .map(|m| {
-            m.as_str()
-                .and_then(|name| ids.get(name).copied())
-                .ok_or_else(|| format!("member {m} is not a primitive node"))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let features = match field("features") {
-        Value::Null => Vec::new(),
-        other => serde_json::from_value(other).map_err(|_| "`features` must be names or null")?,
-    };
-    Ok(Relation {
-        kind,
-        members,
-        features,
-        mode,
     })
 }
 
@@ -1412,6 +1384,30 @@ mod tests {
             .unwrap();
         let (lo, hi) = (lo + offset, hi + offset);
         assert!(lo.y.abs() < 1e-9 && (lo.x + hi.x).abs() < 1e-9 && (lo.z + hi.z).abs() < 1e-9);
+    }
+
+    #[test]
+    fn indices_are_u16_unless_a_mesh_needs_u32() {
+        let sphere = |segments| {
+            let mut doc = Document::new();
+            doc.add(Placed {
+                primitive: Primitive::Sphere(Sphere {
+                    center: DVec3::ZERO,
+                    radius: 1.0,
+                }),
+                fit: Fit::default(),
+            });
+            let settings = ExportSettings {
+                segments,
+                ..ExportSettings::default()
+            };
+            let (bytes, _) = encode_gltf(&doc, GltfFormat::Glb, &settings).unwrap();
+            let root: Value = serde_json::from_slice(super::json_chunk(&bytes).unwrap()).unwrap();
+            root["accessors"][2]["componentType"].as_u64()
+        };
+        assert_eq!(sphere(32), Some(5123), "u16");
+        // 200 rings of 401 vertices: more than u16 can index.
+        assert_eq!(sphere(400), Some(5125), "u32");
     }
 
     #[test]
