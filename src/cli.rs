@@ -1,6 +1,8 @@
 //! The command line: `geosnap [COMMAND]`.
 //!
-//! - `geosnap run SCRIPT --out MODEL [--overlay PNG]`: a placement script, headless.
+//! - `geosnap run SCRIPT --out MODEL [--overlay PNG] [--gltf FILE]`: a placement script,
+//!   headless.
+//! - `geosnap export MODEL --out FILE.glb|FILE.gltf [--scale M] [--segments N]`: glTF 2.0.
 //! - `geosnap check FILE…`: loads sketches, scripts or models and reports problems.
 //! - `geosnap solve MODEL --out MODEL`: re-solves a model with its relations.
 //! - `geosnap selftest`: the solver on the Hock–Schittkowski problems.
@@ -18,6 +20,7 @@ use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
+use geosnap::io::gltf::{export_gltf, ExportSettings, DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS};
 use geosnap::io::model_file::{load_model, save_model};
 use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem, OverlayRelation};
 use geosnap::io::script::load_script;
@@ -44,6 +47,24 @@ enum Command {
         /// An overlay PNG to write: strokes, fitted primitives and their strokes.
         #[arg(long)]
         overlay: Option<PathBuf>,
+        /// Also export the model as glTF 2.0 (`.glb` or `.gltf`), with the defaults of
+        /// `geosnap export`.
+        #[arg(long)]
+        gltf: Option<PathBuf>,
+    },
+    /// Export a model file as glTF 2.0: metres, +Y up, one node per primitive.
+    Export {
+        /// The model (`*.model.json`).
+        model: PathBuf,
+        /// The file to write: `.glb` (binary) or `.gltf` (JSON, buffer embedded).
+        #[arg(long)]
+        out: PathBuf,
+        /// Metres per model unit (one sketch unit); the default makes a unit a millimetre.
+        #[arg(long, default_value_t = DEFAULT_METRES_PER_UNIT, allow_negative_numbers = true)]
+        scale: f64,
+        /// Segments around each circle.
+        #[arg(long, default_value_t = DEFAULT_SEGMENTS)]
+        segments: usize,
     },
     /// Write the built-in sample sketch and its script into a folder.
     Sample {
@@ -94,7 +115,14 @@ pub(crate) fn main() -> ExitCode {
             script,
             out,
             overlay,
-        }) => run(&script, &out, overlay.as_deref()),
+            gltf,
+        }) => run(&script, &out, overlay.as_deref(), gltf.as_deref()),
+        Some(Command::Export {
+            model,
+            out,
+            scale,
+            segments,
+        }) => export(&model, &out, scale, segments),
         Some(Command::Check {
             files,
             strokes,
@@ -188,7 +216,12 @@ fn sketch_reference(sketch: &Path, model: &Path) -> String {
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]
-fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCode> {
+fn run(
+    script_path: &Path,
+    out: &Path,
+    overlay: Option<&Path>,
+    gltf: Option<&Path>,
+) -> Result<ExitCode> {
     let script = load_script(script_path)
         .with_context(|| format!("reading script {}", script_path.display()))?;
     let loaded = load_sketch(&script.sketch)
@@ -252,6 +285,9 @@ fn run(script_path: &Path, out: &Path, overlay: Option<&Path>) -> Result<ExitCod
         save_overlay(png, &loaded.sketch, &items, &relations)
             .with_context(|| format!("writing the overlay {}", png.display()))?;
         println!("overlay: {}", png.display());
+    }
+    if let Some(path) = gltf {
+        write_gltf(&document, path, &ExportSettings::default())?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -365,6 +401,40 @@ fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
         .with_context(|| format!("writing {}", out.display()))?;
     println!("wrote {}", out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> Result<ExitCode> {
+    let loaded = load_model(model).with_context(|| format!("reading {}", model.display()))?;
+    let settings = ExportSettings {
+        metres_per_unit: scale,
+        segments,
+        ..ExportSettings::default()
+    };
+    write_gltf(&loaded.document, out, &settings)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Exports a document as glTF and reports what was written.
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn write_gltf(
+    document: &geosnap::core::model::Document,
+    path: &Path,
+    settings: &ExportSettings,
+) -> Result<()> {
+    let report = export_gltf(document, path, settings)
+        .with_context(|| format!("exporting glTF {}", path.display()))?;
+    for warning in &report.warnings {
+        eprintln!("warning: {warning}");
+    }
+    println!(
+        "glTF: {} primitive nodes, {} triangles, {} bytes, {} m per unit; wrote {}",
+        report.nodes,
+        report.triangles,
+        report.bytes,
+        settings.metres_per_unit,
+        path.display()
+    );
+    Ok(())
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]

@@ -17,7 +17,8 @@
 //!   [`core::ad`], reverse-mode automatic differentiation, and [`core::solve`], the
 //!   augmented-Lagrangian solver.
 //! - [`io`]: files (may use `std::fs`, never the GUI): SVG import into sketch space, the
-//!   native sketch file, and atomic writes.
+//!   native sketch file, scripts and model files, glTF export ([`io::gltf`]), and atomic
+//!   writes.
 //! - [`clock`]: the real clock handed to solves.
 //! - `cli` (binary only): the command line.
 //! - `render`, `app`: the desktop application, behind the default `gui` feature.

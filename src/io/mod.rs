@@ -10,6 +10,8 @@
 //!   opens either kind of file.
 //! - [`script`]: placement scripts (formats.md §2); [`model_file`]: model files
 //!   (formats.md §3); [`overlay`]: the overlay PNG of a run.
+//! - [`gltf`]: glTF 2.0 export (`.glb`, `.gltf`) with the model's meaning in `extras`,
+//!   and the reader of those extras.
 //! - [`atomic`]: [`write_atomic`], which replaces a file so that a crash or a full disk
 //!   never leaves it half written.
 //!
@@ -18,6 +20,7 @@
 
 pub mod atomic;
 mod error;
+pub mod gltf;
 pub mod model_file;
 pub mod overlay;
 pub mod script;

@@ -65,7 +65,7 @@ fn v3(v: DVec3) -> Value {
 }
 
 /// The JSON of one primitive (without `id` and `fit`).
-fn primitive_json(p: &Primitive) -> Map<String, Value> {
+pub(crate) fn primitive_json(p: &Primitive) -> Map<String, Value> {
     let value = match p {
         Primitive::Cylinder(c) => json!({
             "kind": "cylinder", "center": v3(c.center), "axis": v3(c.axis),
@@ -100,6 +100,20 @@ fn primitive_json(p: &Primitive) -> Map<String, Value> {
     }
 }
 
+/// The JSON of a relation, its members written by `member` (an id here, a node name in
+/// glTF extras).
+pub(crate) fn relation_json(r: &Relation, member: impl Fn(PrimitiveId) -> Value) -> Value {
+    let mut map = Map::new();
+    map.insert("kind".into(), json!(r.kind));
+    let members: Vec<Value> = r.members.iter().map(|m| member(*m)).collect();
+    map.insert("members".into(), Value::Array(members));
+    if r.features.iter().any(Option::is_some) {
+        map.insert("features".into(), json!(r.features));
+    }
+    map.insert("mode".into(), json!(r.mode));
+    Value::Object(map)
+}
+
 /// The model file's JSON for a document.
 pub fn model_json(document: &Document, sketch: &str) -> Value {
     let primitives: Vec<Value> = document
@@ -126,19 +140,7 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
     let relations: Vec<Value> = document
         .relations()
         .iter()
-        .map(|r| {
-            let mut map = Map::new();
-            map.insert("kind".into(), json!(r.kind));
-            map.insert(
-                "members".into(),
-                json!(r.members.iter().map(|m| m.0).collect::<Vec<_>>()),
-            );
-            if r.features.iter().any(Option::is_some) {
-                map.insert("features".into(), json!(r.features));
-            }
-            map.insert("mode".into(), json!(r.mode));
-            Value::Object(map)
-        })
+        .map(|r| relation_json(r, |m| json!(m.0)))
         .collect();
     json!({
         "format": MODEL_FORMAT,
@@ -252,7 +254,7 @@ fn positive(v: f64, field: &str) -> Result<f64, String> {
 }
 
 /// One primitive from its JSON.
-fn parse_primitive(v: &Value) -> Result<Primitive, String> {
+pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, String> {
     let kind = v
         .get("kind")
         .and_then(Value::as_str)
@@ -422,19 +424,27 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
 
 /// One entry of `relations` (members are checked against the document by the caller).
 fn parse_relation(r: &Value) -> Result<Relation, String> {
+    parse_relation_with(r, |m| {
+        m.as_u64()
+            .and_then(|i| u32::try_from(i).ok())
+            .map(PrimitiveId)
+    })
+}
+
+/// One relation's JSON, its members read by `member` (an id here, a node name in glTF
+/// extras).
+pub(crate) fn parse_relation_with(
+    r: &Value,
+    member: impl Fn(&Value) -> Option<PrimitiveId>,
+) -> Result<Relation, String> {
     let kind: RelationKind = serde_json::from_value(r.get("kind").cloned().unwrap_or_default())
         .map_err(|_| format!("unknown `kind` {}", r.get("kind").unwrap_or(&Value::Null)))?;
     let members = r
         .get("members")
         .and_then(Value::as_array)
-        .ok_or("`members` must be a list of primitive ids")?
+        .ok_or("`members` must be a list of primitives")?
         .iter()
-        .map(|m| {
-            m.as_u64()
-                .and_then(|i| u32::try_from(i).ok())
-                .map(PrimitiveId)
-                .ok_or_else(|| format!("member {m} is not a primitive id"))
-        })
+        .map(|m| member(m).ok_or_else(|| format!("member {m} is not a primitive")))
         .collect::<Result<Vec<_>, _>>()?;
     let features = match r.get("features") {
         None | Some(Value::Null) => Vec::new(),
