@@ -9,10 +9,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use base64::Engine as _;
-use geosnap::core::model::{run_steps, Document, Fit, Placed, PrimitiveId, Relation};
+use geosnap::core::model::{
+    run_steps, Document, Fit, Placed, PrimitiveId, Relation, SessionSettings,
+};
 use geosnap::core::primitive::{Bgc, Primitive, Sphere};
 use geosnap::core::relation::{Mode, RelationKind};
-use geosnap::core::snap::SnapSettings;
 use geosnap::io::gltf::{
     export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, ROOT_NAME,
 };
@@ -23,8 +24,9 @@ use glam::{DMat4, DQuat, DVec3};
 /// The environment variable that names the validator and makes its test mandatory.
 const VALIDATOR_ENV: &str = "GEOSNAP_GLTF_VALIDATOR";
 
-/// Each sample's name and model, with relations added between its first primitives so
-/// the root's `extras` have something to carry (inference is not wired into scripts yet).
+/// Each sample's name and model (with its inferred relations), with relations added
+/// between its first primitives so that every multi-part sample's root `extras` carry a
+/// hard and a soft relation.
 fn sample_models() -> Vec<(String, Document)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sketches");
     let mut scripts: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -39,8 +41,12 @@ fn sample_models() -> Vec<(String, Document)> {
         .map(|script_path| {
             let script = load_script(script_path).expect("the script loads");
             let sketch = load_sketch(&script.sketch).expect("the sketch loads");
-            let (mut document, _) =
-                run_steps(&sketch.sketch, &script.steps, &SnapSettings::default());
+            let (mut document, _) = run_steps(
+                &sketch.sketch,
+                &script.steps,
+                &SessionSettings::default(),
+                None,
+            );
             assert!(!document.is_empty(), "{}", script_path.display());
             let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();
             if let [a, b, ..] = ids[..] {
