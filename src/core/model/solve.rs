@@ -58,6 +58,37 @@ const ANCHOR_WEIGHT: f64 = 1.0;
 /// per-part snaps' 10: on the shared sketches it cuts evaluations 3–10×.
 const LBFGS_MEMORY: usize = 100;
 
+/// Samples per stroke and curve the global solve fits (evenly thinned from the snap's
+/// up to 32). φ_p averages over samples, so thinning keeps its minimum where it was
+/// while each evaluation gets cheaper; the reported fits use every sample.
+const SOLVE_SAMPLES: usize = 12;
+
+/// The assignment with each stroke's samples evenly thinned to at most `n` (end points
+/// kept, as the outline ends are pulled to the extreme samples).
+fn thinned(assignment: &Assignment, n: usize) -> Assignment {
+    let n = n.max(2);
+    Assignment {
+        curves: assignment
+            .curves
+            .iter()
+            .map(|strokes| {
+                strokes
+                    .iter()
+                    .map(|a| {
+                        let m = a.samples.len();
+                        let mut out = a.clone();
+                        if m > n {
+                            out.samples =
+                                (0..n).map(|i| a.samples[i * (m - 1) / (n - 1)]).collect();
+                        }
+                        out
+                    })
+                    .collect()
+            })
+            .collect(),
+    }
+}
+
 /// Settings of the global solve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlobalSettings {
@@ -115,7 +146,7 @@ pub struct GlobalOutcome {
     pub relations: usize,
     /// Relations switched off, in order.
     pub conflicts: Vec<Conflict>,
-    /// The last solve's report (`None` when nothing needed solving).
+    /// The last solve's report (`None` when nothing needed solving: no relations).
     pub report: Option<SolveReport>,
     /// Solves run (1 plus one per conflict).
     pub solves: usize,
@@ -233,7 +264,8 @@ fn compile(
         let x = g.vars(part.len);
         let name = format!("{} {}", part.primitive.kind().name(), part.id.0);
         let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
-            let t = fit_terms(&g, &x, &part.local, assignment, &part.frame);
+            let assignment = thinned(assignment, SOLVE_SAMPLES);
+            let t = fit_terms(&g, &x, &part.local, &assignment, &part.frame);
             (t.objective, t.equalities, t.inequalities, t.features)
         } else {
             let shape = part.local.shape(&x);
@@ -412,6 +444,10 @@ impl Document {
                 .filter(|(_, r)| active(r) && r.members.iter().all(|m| ids.contains(m)))
                 .collect();
             outcome.relations = relations.len();
+            if relations.is_empty() {
+                // Unrelated parts are at their own snaps' optimum already.
+                return outcome;
+            }
             let parts = self.parts(&ids);
             let mut compiled = compile(&parts, &relations, settings);
             let (start, keys) = self.warm_start(&parts, &compiled.problem);
