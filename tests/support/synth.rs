@@ -828,3 +828,32 @@ impl Pen<'_> {
         self.end(arc.point(1.0), t1, t1, b.radii[k - 1], slope, "top");
     }
 }
+
+/// Draws a given cylinder, cone, sphere or box with `style` (an assembly's parts, placed
+/// by the caller in one view), as [`scene`] draws its random primitives. SGCs and BGCs
+/// need the smooth profile or spine they were made from and are not drawn here.
+pub(crate) fn draw(truth: &Primitive, style: Style, rng: &mut Rng) -> Vec<SynthStroke> {
+    let mut pen = Pen {
+        rng,
+        style,
+        size: truth.size(),
+        strokes: Vec::new(),
+    };
+    match truth {
+        Primitive::Cylinder(c) => {
+            pen.revolution(c.center, c.axis, c.length, &|_| (c.radius, 0.0));
+        }
+        Primitive::Cone(c) => {
+            let (rb, rt) = (c.radius_bottom, c.radius_top);
+            pen.revolution(c.center, c.axis, c.length, &|t| {
+                (rb + (rt - rb) * t, rt - rb)
+            });
+        }
+        Primitive::Sphere(s) => pen.sphere(s.center, s.radius),
+        Primitive::Cuboid(b) => pen.cuboid(b),
+        Primitive::Sgc(_) | Primitive::Bgc(_) => {
+            panic!("draw() takes cylinders, cones, spheres and boxes")
+        }
+    }
+    pen.strokes
+}
