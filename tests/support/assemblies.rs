@@ -172,29 +172,11 @@ impl Assembly {
 pub(crate) fn assembly(kind: AssemblyKind, seed: u64) -> Assembly {
     let mut rng = Rng::new(seed);
     let style = Style::random(&mut rng);
-    let (canonical, designed, view) = match kind {
-        AssemblyKind::Stack => {
-            let (p, d) = stack(&mut rng);
-            (p, d, view(&mut rng))
-        }
-        AssemblyKind::Table => {
-            let (p, d) = table(&mut rng);
-            (p, d, view(&mut rng))
-        }
-        AssemblyKind::SphereTubes => {
-            let (p, d) = sphere_tubes(&mut rng);
-            (p, d, DQuat::IDENTITY)
-        }
-        AssemblyKind::BrickStuds => {
-            let (p, d) = brick_studs(&mut rng);
-            (p, d, view(&mut rng))
-        }
-        AssemblyKind::BoxPipes => {
-            let v = view(&mut rng);
-            let (p, d) = box_pipes(&mut rng, v);
-            (p, d, v)
-        }
+    let view = match kind {
+        AssemblyKind::SphereTubes => DQuat::IDENTITY,
+        _ => view(&mut rng),
     };
+    let (canonical, designed) = canonical(kind, &mut rng, view);
     let size = rng.log_range(600.0, 1800.0);
     let centre = DVec3::new(
         rng.range(size, 3000.0 - size),
@@ -218,8 +200,25 @@ pub(crate) fn assembly(kind: AssemblyKind, seed: u64) -> Assembly {
     }
 }
 
+/// The parts of an assembly of `kind` and its designed relations, in the canonical
+/// frame, for the designer's `view` (the turn [`moved`] will give them; a ball's tubes
+/// are directed for the identity view, see the module docs).
+pub(crate) fn canonical(
+    kind: AssemblyKind,
+    rng: &mut Rng,
+    view: DQuat,
+) -> (Vec<Primitive>, Vec<Designed>) {
+    match kind {
+        AssemblyKind::Stack => stack(rng),
+        AssemblyKind::Table => table(rng),
+        AssemblyKind::SphereTubes => sphere_tubes(rng),
+        AssemblyKind::BrickStuds => brick_studs(rng),
+        AssemblyKind::BoxPipes => box_pipes(rng, view),
+    }
+}
+
 /// The part `p` turned by `r`, scaled by `s` about the origin and moved by `t`.
-fn moved(p: &Primitive, r: DQuat, s: f64, t: DVec3) -> Primitive {
+pub(crate) fn moved(p: &Primitive, r: DQuat, s: f64, t: DVec3) -> Primitive {
     match p {
         Primitive::Cylinder(c) => Primitive::Cylinder(Cylinder {
             center: r * c.center * s + t,
@@ -248,7 +247,7 @@ fn moved(p: &Primitive, r: DQuat, s: f64, t: DVec3) -> Primitive {
 }
 
 /// A designer's view of the canonical frame (module docs).
-fn view(rng: &mut Rng) -> DQuat {
+pub(crate) fn view(rng: &mut Rng) -> DQuat {
     let max_z = 25f64.to_radians().cos();
     loop {
         let pitch = rng.degrees(10.0, 45.0) * rng.sign();
