@@ -13,7 +13,8 @@
 //! - coaxial implies parallel (a coaxial pair joins the directions too), and a pair that
 //!   is both coaxial and concentric is coplanar there already;
 //! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
-//!   tube says nothing new about the box's other parallel edges;
+//!   tube says nothing new about the box's other parallel edges; and it is proposed only
+//!   between parts that touch in the drawing (see `touching`);
 //! - collinear centres are not proposed where the three centres are already on one
 //!   coaxial axis.
 //!
@@ -103,6 +104,45 @@ fn plane_of(part: &Part<'_>, name: &str) -> Option<(glam::DVec2, glam::DVec3)> {
                 (glam::DVec2::new(center.x, center.y), normal.to_dvec3())
             }
         })
+}
+
+/// The view-plane box around a part's features (each circle and face with its full
+/// extent), grown by `grow` times its diagonal.
+fn outline_box(part: &Part<'_>, grow: f64) -> Option<(glam::DVec2, glam::DVec2)> {
+    let mut lo = glam::DVec2::splat(f64::INFINITY);
+    let mut hi = glam::DVec2::splat(f64::NEG_INFINITY);
+    for f in part.features {
+        let (center, reach) = match &f.geometry {
+            FeatureGeometry::Circle { center, radius, .. } => (center, *radius),
+            FeatureGeometry::Rectangle {
+                center,
+                half_extents,
+                ..
+            } => (center, half_extents[0].1.hypot(half_extents[1].1)),
+        };
+        let c = glam::DVec2::new(center.x, center.y);
+        lo = lo.min(c - glam::DVec2::splat(reach));
+        hi = hi.max(c + glam::DVec2::splat(reach));
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let margin = glam::DVec2::splat(grow * (hi - lo).length());
+    Some((lo - margin, hi + margin))
+}
+
+/// Whether two parts touch or nearly touch in the drawing: their outline boxes, grown by
+/// `grow` of their diagonals, overlap. Orthogonality is a designed relation between
+/// parts that meet (a pipe on a box, a handle on a mug); between parts far apart a right
+/// angle is most often chance, and tubes radiating from a ball would be found
+/// orthogonal whenever two happen to be about 90° apart.
+fn touching(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
+    match (outline_box(a, grow), outline_box(b, grow)) {
+        (Some((alo, ahi)), Some((blo, bhi))) => {
+            alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y
+        }
+        _ => false,
+    }
 }
 
 /// A union–find over entities named by (part, key).
@@ -291,6 +331,16 @@ impl Inference<'_, '_> {
         self.settings.enabled(p.kind) && holds(p.kind, &members, self.settings)
     }
 
+    /// Whether some direction of `other` is parallel to one of the new part's.
+    fn parallel_to_new(&self, other: usize) -> bool {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        directions(&new_part).iter().any(|&a| {
+            directions(&other_part)
+                .iter()
+                .any(|&b| self.holds(&self.pair(RelationKind::Parallel, other, a, b)))
+        })
+    }
+
     /// Keeps `p` if it holds and says something new; whether it was kept.
     fn propose(&mut self, p: Proposal) -> bool {
         if self.holds(&p) && self.known.add(self.parts, &p) {
@@ -311,7 +361,8 @@ impl Inference<'_, '_> {
     }
 
     /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
-    /// some direction is parallel. Returns whether the parts are coaxial.
+    /// some direction is parallel and only between parts that touch in the drawing.
+    /// Returns whether the parts are coaxial.
     fn axes(&mut self, other: usize) -> bool {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
         let mut coaxial = false;
@@ -333,7 +384,7 @@ impl Inference<'_, '_> {
                 self.propose(p);
             }
         }
-        if !parallel_somewhere {
+        if !parallel_somewhere && touching(&new_part, &other_part, self.settings.distance) {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
                     self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
@@ -353,6 +404,15 @@ impl Inference<'_, '_> {
             for &b in circles(&other_part) {
                 if (a == "outline") != (b == "outline") {
                     continue; // a tube's end at a ball's centre is inside the ball
+                }
+                if let (Some((_, na)), Some((_, nb))) =
+                    (plane_of(&new_part, a), plane_of(&other_part, b))
+                {
+                    // Two ends sharing a centre and facing the same way put one solid
+                    // inside the other: parts drawn one behind the other, not a stack.
+                    if a != "outline" && na.dot(nb) > self.settings.angle_degrees.to_radians().cos() {
+                        continue;
+                    }
                 }
                 let p = self.pair(RelationKind::Concentric, other, a, b);
                 if self.holds(&p) {
@@ -432,7 +492,9 @@ impl Inference<'_, '_> {
             return;
         };
         for &other in others {
-            if self.known.coaxial(new, other) {
+            if self.known.coaxial(new, other) || self.parallel_to_new(other) {
+                // On a parallel part's end the line is its axis: coaxial says it; and
+                // parts drawn one behind the other would line up by chance.
                 continue;
             }
             for &c in circles(&self.parts[other]) {

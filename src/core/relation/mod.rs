@@ -178,14 +178,18 @@ pub struct InferenceSettings {
     /// The kinds inferred.
     pub enabled: Vec<RelationKind>,
     /// Largest angle (degrees) between directions taken as parallel, or off a right
-    /// angle for orthogonal.
+    /// angle for orthogonal (default 8°).
     pub angle_degrees: f64,
     /// Largest offset between positions taken as the same (concentric centres, a point
-    /// on an axis or in a plane), relative to the sum of the sizes involved.
+    /// on an axis or in a plane), relative to the sum of the sizes involved (default
+    /// 0.1).
     pub distance: f64,
-    /// Largest difference of radii taken as the same, relative to their sum.
+    /// Largest difference of radii taken as the same, relative to their sum (default
+    /// 0.05: radii 10 % apart).
     pub radius: f64,
-    /// Largest difference of lengths taken as equal, relative to their sum.
+    /// Largest difference of lengths taken as equal, relative to their sum (default
+    /// 0.03: lengths 6 % apart; a snap's length is good to a few per cent, and parts
+    /// 10 % apart are more often meant to differ).
     pub length: f64,
 }
 
@@ -196,7 +200,7 @@ impl Default for InferenceSettings {
             angle_degrees: 8.0,
             distance: 0.1,
             radius: 0.05,
-            length: 0.05,
+            length: 0.03,
         }
     }
 }
