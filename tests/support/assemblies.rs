@@ -9,7 +9,7 @@
 //! turned by a designer's view, scaled to 600–1800 sketch units and moved anywhere in a
 //! 3000 × 3000 sketch at a random depth.
 //!
-//! - [`AssemblyKind::Stack`]: 2–4 coaxial cylinders and cones, each one's top end on the
+//! - [`AssemblyKind::Stack`]: 2–3 coaxial cylinders and cones, each one's top end on the
 //!   next one's bottom end (designed: coaxial and concentric at every joint).
 //! - [`AssemblyKind::Table`]: a top (a disc or a slab) on 3–4 legs (a slab always has
 //!   4) standing parallel to its axis, equal in length and radius, their tops on its
@@ -270,10 +270,7 @@ pub(crate) fn view(rng: &mut Rng) -> DQuat {
 fn distinct(rng: &mut Rng, lo: f64, hi: f64, taken: &[f64]) -> f64 {
     let mut v = rng.range(lo, hi);
     for _ in 0..200 {
-        if taken
-            .iter()
-            .all(|t| v.max(*t) / v.min(*t) >= DISTINCT)
-        {
+        if taken.iter().all(|t| v.max(*t) / v.min(*t) >= DISTINCT) {
             return v;
         }
         v = rng.range(lo, hi);
@@ -292,7 +289,7 @@ fn upright_cylinder(x: f64, bottom: f64, z: f64, length: f64, radius: f64) -> Pr
 }
 
 fn stack(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
-    let n = 2 + (rng.next_u64() % 3) as usize;
+    let n = 2 + (rng.next_u64() % 2) as usize;
     let mut parts = Vec::with_capacity(n);
     let (mut radii, mut lengths) = (Vec::new(), Vec::new());
     let mut y = -0.5;
@@ -300,20 +297,21 @@ fn stack(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
         let length = distinct(rng, 0.22, 0.42, &lengths);
         lengths.push(length);
         if rng.chance(0.6) {
-            let radius = distinct(rng, 0.12, 0.32, &radii);
+            let radius = distinct(rng, 0.1, 0.36, &radii);
             radii.push(radius);
             parts.push(upright_cylinder(0.0, y, 0.0, length, radius));
         } else {
             // A cone whose contours are clearly there: |slope| ≤ 0.37 keeps |β| ≤ 0.8 in
             // every view (elevation ≤ 65°).
-            let (mut rb, mut rt);
-            loop {
-                rb = distinct(rng, 0.14, 0.32, &radii);
-                rt = distinct(rng, 0.1, 0.25, &[&radii[..], &[rb]].concat());
-                if (rb - rt).abs() / length <= 0.37 && rt.min(rb) >= 0.1 * length.max(2.0 * rb.max(rt)) {
+            let (mut rb, mut rt) = (0.3, 0.15);
+            for _ in 0..100 {
+                rb = distinct(rng, 0.12, 0.36, &radii);
+                rt = distinct(rng, 0.08, 0.3, &[&radii[..], &[rb]].concat());
+                if (rb - rt).abs() / length <= 0.37 {
                     break;
                 }
             }
+            rt = rb + (rt - rb).clamp(-0.37 * length, 0.37 * length);
             radii.extend([rb, rt]);
             parts.push(Primitive::Cone(Cone {
                 center: DVec3::new(0.0, y + length / 2.0, 0.0),
@@ -381,7 +379,11 @@ fn table(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
         designed.push(rel(RelationKind::Coplanar, (0, "bottom"), (leg, "top")));
         if leg + 1 < parts.len() {
             designed.push(rel(RelationKind::Parallel, (leg, "top"), (leg + 1, "top")));
-            designed.push(rel(RelationKind::SameRadius, (leg, "top"), (leg + 1, "top")));
+            designed.push(rel(
+                RelationKind::SameRadius,
+                (leg, "top"),
+                (leg + 1, "top"),
+            ));
             designed.push(equal_length(leg, leg + 1));
         }
     }
@@ -408,11 +410,7 @@ fn sphere_tubes(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
         let ok = dirs.iter().all(|e| {
             let angle = d.angle_between(*e).to_degrees();
             let apart = (40.0..=70.0).contains(&angle) || (110.0..=140.0).contains(&angle);
-            let drawn = d
-                .truncate()
-                .angle_to(e.truncate())
-                .abs()
-                .to_degrees();
+            let drawn = d.truncate().angle_to(e.truncate()).abs().to_degrees();
             apart && drawn >= 30.0
         });
         if ok {
@@ -430,8 +428,8 @@ fn sphere_tubes(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
             (r0, l0)
         } else {
             (
-                distinct(rng, 0.08, 0.16, &radii),
-                distinct(rng, 0.3, 0.65, &lengths),
+                distinct(rng, 0.07, 0.2, &radii),
+                distinct(rng, 0.25, 0.8, &lengths),
             )
         };
         radii.push(r);
@@ -445,9 +443,17 @@ fn sphere_tubes(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
     }
     let mut designed = Vec::new();
     for tube in 1..parts.len() {
-        designed.push(rel(RelationKind::OnSphere, (0, "outline"), (tube, "bottom")));
+        designed.push(rel(
+            RelationKind::OnSphere,
+            (0, "outline"),
+            (tube, "bottom"),
+        ));
         if equal && tube + 1 < parts.len() {
-            designed.push(rel(RelationKind::SameRadius, (tube, "top"), (tube + 1, "top")));
+            designed.push(rel(
+                RelationKind::SameRadius,
+                (tube, "top"),
+                (tube + 1, "top"),
+            ));
             designed.push(equal_length(tube, tube + 1));
         }
     }
@@ -478,7 +484,11 @@ fn brick_studs(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
     for stud in 1..parts.len() {
         designed.push(rel(RelationKind::Coplanar, (0, "top"), (stud, "bottom")));
         if stud + 1 < parts.len() {
-            designed.push(rel(RelationKind::SameRadius, (stud, "top"), (stud + 1, "top")));
+            designed.push(rel(
+                RelationKind::SameRadius,
+                (stud, "top"),
+                (stud + 1, "top"),
+            ));
             designed.push(equal_length(stud, stud + 1));
         }
     }

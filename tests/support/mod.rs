@@ -2,5 +2,8 @@
 
 #[allow(dead_code, reason = "only the relation tests use the assemblies")]
 pub(crate) mod assemblies;
-#[allow(dead_code, reason = "not every test binary uses every part of the renderer")]
+#[allow(
+    dead_code,
+    reason = "not every test binary uses every part of the renderer"
+)]
 pub(crate) mod synth;
