@@ -10,10 +10,15 @@
 //! unchanged), where O is the parts' mean centre and S their median size. The residuals
 //! are scale-free, so S only keeps numbers near 1.
 //!
-//! **Components.** φ is a sum over parts and each relation couples its members only, so
-//! the problem splits into the connected components of the relation graph. Only the
-//! components holding a changed part are solved; the others are at their optimum
-//! already.
+//! **Components and reach.** φ is a sum over parts and each relation couples its members
+//! only, so the problem splits into the connected components of the relation graph. Only
+//! the components holding a changed part are solved; the others are at their optimum
+//! already. Within them, a change frees the parts within [`GlobalSettings::reach`]
+//! relations of it (default 1: the released part and the parts it was related to) and
+//! holds the others, whose relations hold already, as constants; `reach: None` (and
+//! `solve(None, ..)`, as `geosnap solve` does) frees everything. A solve that comes out
+//! broken with parts held is repeated with the whole component free before any relation
+//! is blamed.
 //!
 //! **Conflicts.** A solve is *broken* when the hard relations cannot be met (‖ψ‖∞ above
 //! [`GlobalSettings::violation_tol`] at the caps) or a part's fit gets much worse than its
@@ -106,6 +111,12 @@ pub struct GlobalSettings {
     pub max_worsening: f64,
     /// Most relations switched off per solve (default 8).
     pub max_conflicts: usize,
+    /// How far a change reaches, in relations (default 1): a solve after a change frees
+    /// the changed parts and those related to them, and holds the rest of their
+    /// component where it is (its relations hold already, and those reaching the freed
+    /// parts are kept as constraints). `None` frees the whole component. A release then
+    /// costs about the same whatever the size of the model.
+    pub reach: Option<usize>,
 }
 
 impl Default for GlobalSettings {
@@ -124,6 +135,7 @@ impl Default for GlobalSettings {
             violation_tol: 1e-3,
             max_worsening: 3.0,
             max_conflicts: 8,
+            reach: Some(1),
         }
     }
 }
@@ -140,7 +152,8 @@ pub struct Conflict {
 /// What a global solve did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GlobalOutcome {
-    /// The parts solved (those of the components holding a changed part).
+    /// The parts solved (those of the components holding a changed part, within
+    /// [`GlobalSettings::reach`] of it).
     pub solved: Vec<PrimitiveId>,
     /// Hard and soft relations taken into account.
     pub relations: usize,
@@ -196,9 +209,11 @@ struct Part<'d> {
     own_rms: Option<f64>,
     frame: Frame,
     local: Primitive,
-    /// Its variables' range in the solve's x.
+    /// Its variables' range in the solve's x (empty when held).
     start: usize,
     len: usize,
+    /// Whether it is held where it is (beyond the reach of the change).
+    held: bool,
 }
 
 /// The compiled problem of a set of parts and relations, with where each relation's
@@ -261,6 +276,21 @@ fn compile(
     let mut inequalities: Vec<(String, Expr<'_>)> = Vec::new();
     let mut features = Vec::with_capacity(parts.len());
     for part in parts {
+        let scale = part.frame.scale / unit;
+        let offset = (part.frame.origin - origin) / unit;
+        if part.held {
+            // Held where it is: its features are constants.
+            let x: Vec<Expr<'_>> = part.local.params().iter().map(|v| g.constant(*v)).collect();
+            let shape = part.local.shape(&x);
+            features.push(
+                shape
+                    .features
+                    .iter()
+                    .map(|f| to_common(f, scale, offset))
+                    .collect::<Vec<_>>(),
+            );
+            continue;
+        }
         let x = g.vars(part.len);
         let name = format!("{} {}", part.primitive.kind().name(), part.id.0);
         let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
@@ -281,8 +311,6 @@ fn compile(
         objective.push(value);
         equalities.extend(eqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
         inequalities.extend(ineqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
-        let scale = part.frame.scale / unit;
-        let offset = (part.frame.origin - origin) / unit;
         features.push(
             feats
                 .iter()
@@ -360,6 +388,28 @@ fn active(relation: &Relation) -> bool {
     relation.mode != Mode::Off
 }
 
+/// The parts within `reach` relations of `changed` (active relations only).
+fn neighbourhood(
+    document: &Document,
+    changed: &[PrimitiveId],
+    reach: usize,
+) -> BTreeSet<PrimitiveId> {
+    let mut near: BTreeSet<PrimitiveId> = changed.iter().copied().collect();
+    for _ in 0..reach {
+        let mut next = near.clone();
+        for r in document.relations.iter().filter(|r| active(r)) {
+            if r.members.iter().any(|m| near.contains(m)) {
+                next.extend(r.members.iter().copied());
+            }
+        }
+        if next.len() == near.len() {
+            break;
+        }
+        near = next;
+    }
+    near
+}
+
 /// The parts connected to `changed` through active relations.
 fn component(document: &Document, changed: &[PrimitiveId]) -> BTreeSet<PrimitiveId> {
     let mut reached: BTreeSet<PrimitiveId> = changed
@@ -429,8 +479,15 @@ impl Document {
     ) -> GlobalOutcome {
         let all: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
         let ids = component(self, changed.unwrap_or(&all));
+        let mut held: BTreeSet<PrimitiveId> = match (changed, settings.reach) {
+            (Some(changed), Some(reach)) => {
+                let near = neighbourhood(self, changed, reach);
+                ids.difference(&near).copied().collect()
+            }
+            _ => BTreeSet::new(),
+        };
         let mut outcome = GlobalOutcome {
-            solved: ids.iter().copied().collect(),
+            solved: ids.difference(&held).copied().collect(),
             ..GlobalOutcome::default()
         };
         if ids.is_empty() {
@@ -441,14 +498,18 @@ impl Document {
                 .relations
                 .iter()
                 .enumerate()
-                .filter(|(_, r)| active(r) && r.members.iter().all(|m| ids.contains(m)))
+                .filter(|(_, r)| {
+                    active(r)
+                        && r.members.iter().all(|m| ids.contains(m))
+                        && r.members.iter().any(|m| !held.contains(m))
+                })
                 .collect();
             outcome.relations = relations.len();
             if relations.is_empty() {
                 // Unrelated parts are at their own snaps' optimum already.
                 return outcome;
             }
-            let parts = self.parts(&ids);
+            let parts = self.parts(&ids, &held);
             let mut compiled = compile(&parts, &relations, settings);
             let (start, keys) = self.warm_start(&parts, &compiled.problem);
             let mut solver = Solver::new(&settings.solver);
@@ -473,6 +534,7 @@ impl Document {
             log_report(parts.len(), relations.len(), &report, &compiled.problem);
             let solved: Vec<(PrimitiveId, Primitive, f64)> = parts
                 .iter()
+                .filter(|p| !p.held)
                 .map(|p| {
                     let local = p.local.with_params(&report.x[p.start..p.start + p.len]);
                     let primitive = p.frame.out_of_frame(&local);
@@ -504,6 +566,12 @@ impl Document {
                     outcome.report = Some(report);
                     return outcome;
                 }
+                Some(_) if !held.is_empty() => {
+                    // The held parts may be what makes it fail: free the whole
+                    // component before blaming a relation.
+                    held.clear();
+                    outcome.solved = ids.iter().copied().collect();
+                }
                 Some(conflict) => {
                     outcome.report = Some(report);
                     let exhausted = outcome.conflicts.len() >= settings.max_conflicts;
@@ -523,7 +591,11 @@ impl Document {
 
 impl Document {
     /// The parts of a solve of `ids`, with their frames and variable ranges.
-    fn parts(&self, ids: &BTreeSet<PrimitiveId>) -> Vec<Part<'_>> {
+    fn parts(
+        &self,
+        ids: &BTreeSet<PrimitiveId>,
+        held: &BTreeSet<PrimitiveId>,
+    ) -> Vec<Part<'_>> {
         let mut parts = Vec::with_capacity(ids.len());
         let mut start = 0;
         for id in ids {
@@ -533,7 +605,8 @@ impl Document {
             let record = self.snaps.get(id);
             let frame = Frame::of(&placed.primitive);
             let local = frame.into_frame(&placed.primitive);
-            let len = local.params().len();
+            let is_held = held.contains(id);
+            let len = if is_held { 0 } else { local.params().len() };
             parts.push(Part {
                 id: *id,
                 primitive: &placed.primitive,
@@ -543,6 +616,7 @@ impl Document {
                 local,
                 start,
                 len,
+                held: is_held,
             });
             start += len;
         }
@@ -559,7 +633,11 @@ impl Document {
             .map(|k| self.multipliers.get(k).copied().unwrap_or(0.0))
             .collect();
         let start = Start {
-            x: parts.iter().flat_map(|p| p.local.params()).collect(),
+            x: parts
+                .iter()
+                .filter(|p| !p.held)
+                .flat_map(|p| p.local.params())
+                .collect(),
             multipliers: Some(Multipliers {
                 equality: warm[..ne].to_vec(),
                 inequality: warm[ne..].iter().map(|v| v.max(0.0)).collect(),
