@@ -410,6 +410,17 @@ fn neighbourhood(
     near
 }
 
+/// The parts of `ids` beyond `reach` relations of `changed`.
+fn held_beyond(
+    document: &Document,
+    ids: &BTreeSet<PrimitiveId>,
+    changed: &[PrimitiveId],
+    reach: usize,
+) -> BTreeSet<PrimitiveId> {
+    let near = neighbourhood(document, changed, reach);
+    ids.difference(&near).copied().collect()
+}
+
 /// The parts connected to `changed` through active relations.
 fn component(document: &Document, changed: &[PrimitiveId]) -> BTreeSet<PrimitiveId> {
     let mut reached: BTreeSet<PrimitiveId> = changed
@@ -479,11 +490,8 @@ impl Document {
     ) -> GlobalOutcome {
         let all: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
         let ids = component(self, changed.unwrap_or(&all));
-        let mut held: BTreeSet<PrimitiveId> = match (changed, settings.reach) {
-            (Some(changed), Some(reach)) => {
-                let near = neighbourhood(self, changed, reach);
-                ids.difference(&near).copied().collect()
-            }
+        let mut held = match (changed, settings.reach) {
+            (Some(changed), Some(reach)) => held_beyond(self, &ids, changed, reach),
             _ => BTreeSet::new(),
         };
         let mut outcome = GlobalOutcome {
@@ -494,16 +502,7 @@ impl Document {
             return outcome;
         }
         loop {
-            let relations: Vec<(usize, &Relation)> = self
-                .relations
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| {
-                    active(r)
-                        && r.members.iter().all(|m| ids.contains(m))
-                        && r.members.iter().any(|m| !held.contains(m))
-                })
-                .collect();
+            let relations = self.relations_between(&ids, &held);
             outcome.relations = relations.len();
             if relations.is_empty() {
                 // Unrelated parts are at their own snaps' optimum already.
@@ -591,11 +590,7 @@ impl Document {
 
 impl Document {
     /// The parts of a solve of `ids`, with their frames and variable ranges.
-    fn parts(
-        &self,
-        ids: &BTreeSet<PrimitiveId>,
-        held: &BTreeSet<PrimitiveId>,
-    ) -> Vec<Part<'_>> {
+    fn parts(&self, ids: &BTreeSet<PrimitiveId>, held: &BTreeSet<PrimitiveId>) -> Vec<Part<'_>> {
         let mut parts = Vec::with_capacity(ids.len());
         let mut start = 0;
         for id in ids {
@@ -621,6 +616,24 @@ impl Document {
             start += len;
         }
         parts
+    }
+
+    /// The active relations among `ids` that reach a part not `held`, with their
+    /// indices.
+    fn relations_between(
+        &self,
+        ids: &BTreeSet<PrimitiveId>,
+        held: &BTreeSet<PrimitiveId>,
+    ) -> Vec<(usize, &Relation)> {
+        self.relations
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| {
+                active(r)
+                    && r.members.iter().all(|m| ids.contains(m))
+                    && r.members.iter().any(|m| !held.contains(m))
+            })
+            .collect()
     }
 
     /// The start of a solve: the parts as they are, and the multipliers of the same

@@ -410,7 +410,8 @@ impl Inference<'_, '_> {
                 {
                     // Two ends sharing a centre and facing the same way put one solid
                     // inside the other: parts drawn one behind the other, not a stack.
-                    if a != "outline" && na.dot(nb) > self.settings.angle_degrees.to_radians().cos() {
+                    if a != "outline" && na.dot(nb) > self.settings.angle_degrees.to_radians().cos()
+                    {
                         continue;
                     }
                 }
