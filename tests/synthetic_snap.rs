@@ -45,16 +45,16 @@
 
 mod support;
 
-use std::f64::consts::TAU;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
-use geosnap::core::primitive::{Curve2, CurveClass, Placement, Primitive, PrimitiveKind};
+use geosnap::core::primitive::{Curve2, CurveClass, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{StrokeClass, StrokeId};
 use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
-use glam::{DQuat, DVec2, DVec3};
+use glam::{DVec2, DVec3};
+use support::assemblies::{mirror, placement, PERMUTATIONS};
 use support::synth::{scene, Rng, Scene, Style};
 
 /// Cases per kind unless `GEOSNAP_SYNTH_CASES` says otherwise.
@@ -75,11 +75,6 @@ fn seed(kind: PrimitiveKind, index: usize) -> u64 {
         .position(|x| *x == kind)
         .unwrap_or(0) as u64;
     0x5EED_0000 + 1000 * (k + 1) + index as u64
-}
-
-/// The mirror image through the view plane, which an orthographic view cannot tell apart.
-fn mirror(v: DVec3) -> DVec3 {
-    DVec3::new(v.x, v.y, -v.z)
 }
 
 /// The smallest angle (degrees) between `truth` and `fit` over the mirror and, with
@@ -106,16 +101,6 @@ fn rel(fit: f64, truth: f64) -> f64 {
 fn line_angle(a: DVec3, b: DVec3) -> f64 {
     a.dot(b).abs().min(1.0).acos().to_degrees()
 }
-
-/// The six permutations of three indices.
-const PERMUTATIONS: [[usize; 3]; 6] = [
-    [0, 1, 2],
-    [0, 2, 1],
-    [1, 0, 2],
-    [1, 2, 0],
-    [2, 0, 1],
-    [2, 1, 0],
-];
 
 /// The errors of one snapped primitive against the truth.
 #[derive(Clone, Copy, Debug, Default)]
@@ -226,95 +211,6 @@ fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
         (t, f) => panic!("a {:?} snapped to a {:?}", t.kind(), f.kind()),
     }
     e
-}
-
-/// The truth box's frame relabelled by its symmetries (signs, permutations and the
-/// view's mirror) to the one nearest the palette's box with the same up direction: the
-/// box a person means when giving its "apparent extents". Returns (up axis, sizes).
-fn cuboid_as_a_person_sees_it(truth: &geosnap::core::primitive::Cuboid) -> (DVec3, [f64; 3]) {
-    let t = truth.axes();
-    let mut best: Option<(f64, DVec3, [f64; 3])> = None;
-    for m in [false, true] {
-        for p in PERMUTATIONS {
-            for signs in 0..8u32 {
-                let axis = |i: usize| {
-                    let s = if signs >> i & 1 == 1 { -1.0 } else { 1.0 };
-                    let a = t[p[i]] * s;
-                    if m {
-                        mirror(a)
-                    } else {
-                        a
-                    }
-                };
-                let c = [axis(0), axis(1), axis(2)];
-                if c[0].cross(c[1]).dot(c[2]) <= 0.0 || c[1].truncate().length() < 1e-6 {
-                    continue;
-                }
-                let mut place = Placement::at(DVec2::ZERO);
-                place.axis = DVec2::new(c[1].x, -c[1].y);
-                let Primitive::Cuboid(palette) =
-                    Primitive::from_placement(PrimitiveKind::Cuboid, &place, 1.0)
-                else {
-                    continue;
-                };
-                let d = palette.axes();
-                let score = (0..3).map(|i| c[i].dot(d[i])).sum::<f64>();
-                if best.as_ref().is_none_or(|b| score > b.0) {
-                    let sizes = [truth.size[p[0]], truth.size[p[1]], truth.size[p[2]]];
-                    best = Some((score, c[1], sizes));
-                }
-            }
-        }
-    }
-    let (_, up, sizes) = best.expect("a right-handed relabelling exists");
-    (up, sizes)
-}
-
-/// The placement a person (or a script step) gives for the truth: centre off by up to
-/// 15 % of the size, axis by up to 15° (a 3D rotation, then projected), sizes by ±25 %.
-fn placement(truth: &Primitive, rng: &mut Rng) -> Placement {
-    let size = truth.size();
-    let offset = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, 0.15) * size);
-    let mut p = Placement::at(sketch_from_view(truth.center().truncate() + offset));
-    let tilt = DQuat::from_axis_angle(rng.unit_vector(), rng.degrees(0.0, 15.0));
-    let sketch_axis = |a: DVec3| {
-        let a = tilt * a;
-        DVec2::new(a.x, -a.y)
-    };
-    let mut f = || rng.range(0.75, 1.25);
-    match truth {
-        Primitive::Cylinder(c) => {
-            p.axis = sketch_axis(c.axis);
-            p.length = Some(c.length * c.axis.truncate().length() * f());
-            p.radius = Some(c.radius * f());
-        }
-        Primitive::Cone(c) => {
-            p.axis = sketch_axis(c.axis);
-            p.length = Some(c.length * c.axis.truncate().length() * f());
-            p.radius_bottom = Some(c.radius_bottom * f());
-            p.radius_top = Some(c.radius_top * f());
-        }
-        Primitive::Sphere(s) => p.radius = Some(s.radius * f()),
-        Primitive::Cuboid(b) => {
-            let (up, sizes) = cuboid_as_a_person_sees_it(b);
-            p.axis = sketch_axis(up);
-            p.size = Some([sizes[0] * f(), sizes[1] * f(), sizes[2] * f()]);
-        }
-        Primitive::Sgc(s) => {
-            let mean = s.radii.iter().sum::<f64>() / s.radii.len() as f64;
-            p.axis = sketch_axis(s.axis);
-            p.length = Some(s.length * s.axis.truncate().length() * f());
-            p.radius = Some(mean * f());
-        }
-        Primitive::Bgc(b) => {
-            let chord = b.spine[b.spine.len() - 1] - b.spine[0];
-            let mean = b.radii.iter().sum::<f64>() / b.radii.len() as f64;
-            p.axis = sketch_axis(chord.normalize());
-            p.length = Some(chord.truncate().length() * f());
-            p.radius = Some(mean * f());
-        }
-    }
-    p
 }
 
 /// One case, run.

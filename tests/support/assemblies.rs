@@ -547,7 +547,7 @@ fn box_pipes(rng: &mut Rng, view: DQuat) -> (Vec<Primitive>, Vec<Designed>) {
 }
 
 /// The mirror image through the view plane, which an orthographic view cannot tell apart.
-fn mirror(v: DVec3) -> DVec3 {
+pub(crate) fn mirror(v: DVec3) -> DVec3 {
     DVec3::new(v.x, v.y, -v.z)
 }
 
@@ -604,9 +604,9 @@ fn cuboid_as_a_person_sees_it(truth: &Cuboid) -> (DVec3, [f64; 3]) {
     (up, sizes)
 }
 
-/// The placement a person (or a script step) gives for a part, as in `synthetic_snap`:
-/// centre off by up to 15 % of the part's size, axis by up to 15° (a 3D rotation, then
-/// projected), sizes by ±25 %.
+/// The placement a person (or a script step) gives for a part, the drops of both
+/// synthetic tests: centre off by up to 15 % of the part's size, axis by up to 15° (a 3D
+/// rotation, then projected), sizes by ±25 %.
 pub(crate) fn placement(truth: &Primitive, rng: &mut Rng) -> Placement {
     let size = truth.size();
     let offset = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, 0.15) * size);
@@ -635,7 +635,19 @@ pub(crate) fn placement(truth: &Primitive, rng: &mut Rng) -> Placement {
             p.axis = sketch_axis(up);
             p.size = Some([sizes[0] * f(), sizes[1] * f(), sizes[2] * f()]);
         }
-        Primitive::Sgc(_) | Primitive::Bgc(_) => unreachable!("assemblies have no SGC or BGC"),
+        Primitive::Sgc(s) => {
+            let mean = s.radii.iter().sum::<f64>() / s.radii.len() as f64;
+            p.axis = sketch_axis(s.axis);
+            p.length = Some(s.length * s.axis.truncate().length() * f());
+            p.radius = Some(mean * f());
+        }
+        Primitive::Bgc(b) => {
+            let chord = b.spine[b.spine.len() - 1] - b.spine[0];
+            let mean = b.radii.iter().sum::<f64>() / b.radii.len() as f64;
+            p.axis = sketch_axis(chord.normalize());
+            p.length = Some(chord.truncate().length() * f());
+            p.radius = Some(mean * f());
+        }
     }
     p
 }
