@@ -29,10 +29,27 @@ use glam::DVec2;
 
 /// Sketch-based 3D modelling with geosemantic snapping.
 #[derive(Debug, Parser)]
-#[command(name = "geosnap", version, about)]
+#[command(name = "geosnap", version, about, args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Without a command: open the desktop application on this file (a session, a
+    /// sketch, an SVG drawing or a PNG/JPEG reference image), or on the built-in sample.
+    file: Option<PathBuf>,
+    /// Measure frame times during a simulated palette drag over this many frames, write
+    /// them as JSON to `--frame-times` and quit.
+    #[arg(long, value_name = "FRAMES", requires = "frame_times")]
+    drag_benchmark: Option<usize>,
+    /// Where `--drag-benchmark` writes its figures.
+    #[arg(long, value_name = "JSON")]
+    frame_times: Option<PathBuf>,
+    /// Save a screenshot of the window (PNG) once the work has settled, and quit.
+    #[arg(long, value_name = "PNG")]
+    screenshot: Option<PathBuf>,
+    /// Before showing the window, play this placement script's drops as drags (for
+    /// screenshots and demos); its sketch is opened.
+    #[arg(long, value_name = "SCRIPT")]
+    play: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -109,6 +126,12 @@ enum Command {
 /// Runs the command line and turns errors into a message and exit code 1.
 pub(crate) fn main() -> ExitCode {
     let cli = Cli::parse();
+    let app = AppArgs {
+        file: cli.file,
+        drag_benchmark: cli.drag_benchmark.zip(cli.frame_times),
+        screenshot: cli.screenshot,
+        play: cli.play,
+    };
     let result = match cli.command {
         Some(Command::Selftest { json, argmin }) => selftest(json, argmin),
         Some(Command::Run {
@@ -130,7 +153,7 @@ pub(crate) fn main() -> ExitCode {
         }) => check(&files, strokes, overlay.as_deref()),
         Some(Command::Sample { dir }) => sample(&dir),
         Some(Command::Solve { model, out }) => solve_model(&model, &out),
-        None => Ok(no_command()),
+        None => open_app(app),
     };
     match result {
         Ok(code) => code,
@@ -141,16 +164,34 @@ pub(crate) fn main() -> ExitCode {
     }
 }
 
-#[expect(clippy::print_stdout, reason = "CLI output")]
-fn no_command() -> ExitCode {
-    println!(
-        "geosnap {}: snapping runs headless from placement scripts; the desktop \
-         application is not built yet.\n\
-         Try `geosnap run sketches/vase.script.json --out vase.model.json --overlay vase.png`, \
-         `geosnap selftest`, or `geosnap --help`.",
-        env!("CARGO_PKG_VERSION")
-    );
-    ExitCode::SUCCESS
+/// What the desktop application is asked to do.
+struct AppArgs {
+    file: Option<PathBuf>,
+    drag_benchmark: Option<(usize, PathBuf)>,
+    screenshot: Option<PathBuf>,
+    play: Option<PathBuf>,
+}
+
+#[cfg(feature = "gui")]
+fn open_app(args: AppArgs) -> Result<ExitCode> {
+    geosnap::app::run(geosnap::app::AppOptions {
+        file: args.file,
+        autosave_dir: None,
+        drag_benchmark: args.drag_benchmark,
+        screenshot: args.screenshot,
+        play: args.play,
+    })?;
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(not(feature = "gui"))]
+fn open_app(args: AppArgs) -> Result<ExitCode> {
+    let _ = (args.file, args.drag_benchmark, args.screenshot, args.play);
+    bail!(
+        "this build has no desktop application (built without the `gui` feature); \
+         try `geosnap run sketches/vase.script.json --out vase.model.json --overlay vase.png`, \
+         `geosnap selftest`, or `geosnap --help`"
+    )
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]

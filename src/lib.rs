@@ -21,7 +21,8 @@
 //!   writes.
 //! - [`clock`]: the real clock handed to solves.
 //! - `cli` (binary only): the command line.
-//! - `render`, `app`: the desktop application, behind the default `gui` feature.
+//! - `render` (the wgpu 3D view) and `app` (the egui/eframe application): the desktop
+//!   application, behind the default `gui` feature.
 //!
 //! # Example
 //!
@@ -52,7 +53,11 @@
 //! - `gui` (default): the egui/eframe desktop application with its wgpu viewport.
 //!   `cargo test --no-default-features` builds and tests everything else.
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod clock;
 pub mod core;
 pub mod io;
+#[cfg(feature = "gui")]
+pub mod render;
 pub mod samples;

@@ -182,6 +182,11 @@ impl Document {
         &mut self.relations
     }
 
+    /// Removes relation `index` (later relations move down by one).
+    pub fn remove_relation(&mut self, index: usize) -> Option<Relation> {
+        (index < self.relations.len()).then(|| self.relations.remove(index))
+    }
+
     /// The primitive with this id.
     pub fn get(&self, id: PrimitiveId) -> Option<&Placed> {
         self.primitives.get(&id)

@@ -1,0 +1,681 @@
+//! The sketch canvas: the reference image, the strokes (coloured by class, or by
+//! assignment for the selected part), the parts' projected outlines, the drag preview,
+//! and the tools. Pan with the right or middle button (or Space + drag), zoom with the
+//! wheel, F fits the drawing.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use egui::{Color32, Pos2, Rect, Sense, Stroke as Pen, Ui, Vec2};
+use glam::DVec2;
+
+use super::view3d::part_color;
+use super::{GeosnapApp, Tool};
+use crate::core::primitive::{Primitive, PrimitiveKind};
+use crate::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass, StrokeId};
+
+const FEATURE: Color32 = Color32::from_rgb(40, 110, 220);
+const SILHOUETTE: Color32 = Color32::from_rgb(45, 45, 50);
+const PREVIEW: Color32 = Color32::from_rgb(240, 130, 20);
+
+/// The canvas's pan and zoom: the sketch point at the view's centre and the points per
+/// sketch unit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CanvasView {
+    /// The sketch point shown at the centre.
+    pub center: DVec2,
+    /// Screen points per sketch unit.
+    pub zoom: f64,
+    fit_pending: bool,
+    rect: Rect,
+    classes: Option<(u64, Vec<(StrokeId, StrokeClass)>)>,
+}
+
+impl Default for CanvasView {
+    fn default() -> Self {
+        Self {
+            center: DVec2::ZERO,
+            zoom: 1.0,
+            fit_pending: true,
+            rect: Rect::from_min_size(Pos2::ZERO, Vec2::splat(1.0)),
+            classes: None,
+        }
+    }
+}
+
+impl CanvasView {
+    /// Fits the drawing at the next frame.
+    pub fn request_fit(&mut self) {
+        self.fit_pending = true;
+    }
+
+    /// The screen point of a sketch point.
+    pub fn to_screen(&self, p: DVec2) -> Pos2 {
+        let c = self.rect.center();
+        let d = (p - self.center) * self.zoom;
+        Pos2::new(c.x + d.x as f32, c.y + d.y as f32)
+    }
+
+    /// The sketch point of a screen point.
+    pub fn to_sketch(&self, p: Pos2) -> DVec2 {
+        let c = self.rect.center();
+        self.center + DVec2::new(f64::from(p.x - c.x), f64::from(p.y - c.y)) / self.zoom
+    }
+
+    /// The canvas's rectangle on screen (as of the last frame).
+    pub fn rect(&self) -> Rect {
+        self.rect
+    }
+
+    fn fit(&mut self, lo: DVec2, hi: DVec2) {
+        let size = (hi - lo).max(DVec2::splat(1e-6));
+        let w = f64::from(self.rect.width()).max(1.0);
+        let h = f64::from(self.rect.height()).max(1.0);
+        self.center = (lo + hi) / 2.0;
+        self.zoom = (w / size.x).min(h / size.y) * 0.9;
+        self.fit_pending = false;
+    }
+
+    /// Zooms by `factor` keeping the sketch point under `anchor` in place.
+    fn zoom_about(&mut self, anchor: Pos2, factor: f64) {
+        let before = self.to_sketch(anchor);
+        self.zoom = (self.zoom * factor).clamp(1e-4, 1e4);
+        let after = self.to_sketch(anchor);
+        self.center += before - after;
+    }
+}
+
+/// The simulated drag of the frame-time measurement.
+#[derive(Debug)]
+pub(crate) struct DragBenchmark {
+    frames: usize,
+    out: PathBuf,
+    frame: usize,
+    intervals: Vec<Duration>,
+    cpu: Vec<Duration>,
+    snaps: Vec<Duration>,
+    last: Option<Instant>,
+    last_generation: u64,
+}
+
+impl DragBenchmark {
+    pub(crate) fn new(frames: usize, out: PathBuf) -> Self {
+        Self {
+            frames: frames.max(10),
+            out,
+            frame: 0,
+            intervals: Vec::new(),
+            cpu: Vec::new(),
+            snaps: Vec::new(),
+            last: None,
+            last_generation: 0,
+        }
+    }
+}
+
+fn percentile(values: &[Duration], q: f64) -> f64 {
+    let mut ms: Vec<f64> = values.iter().map(|d| d.as_secs_f64() * 1e3).collect();
+    if ms.is_empty() {
+        return f64::NAN;
+    }
+    ms.sort_by(f64::total_cmp);
+    let k = ((ms.len() - 1) as f64 * q).round() as usize;
+    ms[k]
+}
+
+/// Light smoothing and even resampling of a drawn stroke (spacing in sketch units).
+pub(crate) fn smooth_and_resample(points: &[DVec2], spacing: f64) -> Vec<DVec2> {
+    if points.len() < 3 || !(spacing > 0.0) {
+        return points.to_vec();
+    }
+    let mut smooth = points.to_vec();
+    for _ in 0..2 {
+        let prev = smooth.clone();
+        for i in 1..prev.len() - 1 {
+            smooth[i] = prev[i - 1] * 0.25 + prev[i] * 0.5 + prev[i + 1] * 0.25;
+        }
+    }
+    let mut out = vec![smooth[0]];
+    let mut carry = 0.0;
+    for w in smooth.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let len = a.distance(b);
+        let mut t = spacing - carry;
+        while t <= len {
+            out.push(a.lerp(b, t / len));
+            t += spacing;
+        }
+        carry = (carry + len) % spacing;
+    }
+    let last = *smooth.last().expect("three points or more");
+    if out.last().is_some_and(|p| p.distance(last) > spacing * 0.25) {
+        out.push(last);
+    }
+    out
+}
+
+/// Distance from `p` to a polyline.
+fn distance_to_polyline(p: DVec2, points: &[DVec2]) -> f64 {
+    match points {
+        [] => f64::INFINITY,
+        [only] => p.distance(*only),
+        _ => points
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                let ab = b - a;
+                let t = ((p - a).dot(ab) / ab.length_squared().max(1e-18)).clamp(0.0, 1.0);
+                p.distance(a + ab * t)
+            })
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// The view-plane outline points of a primitive, in sketch space.
+fn outlines(primitive: &Primitive) -> Vec<(bool, Vec<DVec2>)> {
+    primitive
+        .current_shape()
+        .curves
+        .into_iter()
+        .map(|c| {
+            (
+                c.visible,
+                c.curve
+                    .points(48)
+                    .into_iter()
+                    .map(|p| DVec2::new(p.x, -p.y))
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+impl GeosnapApp {
+    fn stroke_classes(&mut self) -> &[(StrokeId, StrokeClass)] {
+        let revision = self.editor.strokes_revision();
+        let stale = self.canvas.classes.as_ref().is_none_or(|(r, _)| *r != revision);
+        if stale {
+            let classes = classify_sketch(&self.editor.sketch, &ClassifyOptions::default())
+                .into_iter()
+                .map(|c| (c.id, c.class))
+                .collect();
+            self.canvas.classes = Some((revision, classes));
+        }
+        self.canvas
+            .classes
+            .as_ref()
+            .map(|(_, c)| c.as_slice())
+            .unwrap_or_default()
+    }
+
+    /// The stroke nearest to a sketch point within `reach` sketch units.
+    fn stroke_at(&self, p: DVec2, reach: f64) -> Option<StrokeId> {
+        self.editor
+            .sketch
+            .strokes
+            .iter()
+            .map(|s| (s.id, distance_to_polyline(p, &s.points)))
+            .filter(|(_, d)| *d <= reach)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(id, _)| id)
+    }
+
+    /// The part whose outline (or inside of its outline's bounds) is nearest to `p`.
+    fn part_at(&self, p: DVec2, reach: f64) -> Option<crate::core::model::PrimitiveId> {
+        self.editor
+            .document
+            .primitives()
+            .filter_map(|(id, placed)| {
+                let lines = outlines(&placed.primitive);
+                let d = lines
+                    .iter()
+                    .map(|(_, pts)| distance_to_polyline(p, pts))
+                    .fold(f64::INFINITY, f64::min);
+                let (lo, hi) = lines.iter().flat_map(|(_, pts)| pts.iter()).fold(
+                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+                );
+                let inside = p.cmpge(lo).all() && p.cmple(hi).all();
+                let score = if inside { d.min(reach) * 0.5 } else { d };
+                (score <= reach).then_some((id, score))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(id, _)| id)
+    }
+
+    pub(crate) fn canvas_ui(&mut self, ui: &mut Ui) {
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        self.canvas.rect = rect;
+        if self.canvas.fit_pending {
+            let bounds = self.editor.sketch.view_box.map(|(o, s)| (o, o + s)).or_else(|| {
+                self.image
+                    .as_ref()
+                    .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
+            });
+            let bounds = bounds.or_else(|| self.editor.sketch.bounds());
+            match bounds {
+                Some((lo, hi)) => self.canvas.fit(lo, hi),
+                None => self.canvas.fit(DVec2::ZERO, DVec2::new(1000.0, 800.0)),
+            }
+        }
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, Color32::from_gray(250));
+        let pointer = ui.input(|i| i.pointer.hover_pos());
+        let over = pointer.filter(|p| rect.contains(*p));
+
+        // Pan and zoom (not while a primitive is dragged: the wheel sizes it then).
+        let space = ui.input(|i| i.key_down(egui::Key::Space));
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+            || (space && response.dragged_by(egui::PointerButton::Primary))
+        {
+            let d = response.drag_delta();
+            self.canvas.center -= DVec2::new(f64::from(d.x), f64::from(d.y)) / self.canvas.zoom;
+        }
+        if self.drag.is_none() {
+            if let Some(at) = over {
+                let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+                let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
+                if (factor - 1.0).abs() > 1e-6 {
+                    self.canvas.zoom_about(at, factor);
+                }
+            }
+        }
+
+        self.paint_image(&painter, rect);
+        self.paint_parts(&painter);
+        self.paint_strokes(&painter);
+        self.canvas_drag(ui, over);
+        if !space {
+            self.canvas_tools(ui, &response, over);
+        }
+        self.paint_drag(&painter);
+        if let Some(points) = &self.drawing {
+            let line: Vec<Pos2> = points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+            painter.add(egui::Shape::line(line, Pen::new(2.0, SILHOUETTE)));
+        }
+        if self.editor.sketch.strokes.is_empty() && self.image.is_none() {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "Open a drawing (Ctrl+O, or drop a file here), or draw strokes with the pen tool (B)",
+                egui::FontId::proportional(15.0),
+                Color32::from_gray(120),
+            );
+        }
+        let hint = match self.tool {
+            Tool::Select => "Select: click a part; drag it to move and re-snap",
+            Tool::Draw => "Draw: drag to draw a stroke",
+            Tool::Erase => "Erase: click or drag over strokes",
+            Tool::Reclassify => "Reclassify: click a stroke to switch feature / silhouette",
+        };
+        painter.text(
+            rect.left_top() + Vec2::new(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            hint,
+            egui::FontId::proportional(12.0),
+            Color32::from_gray(110),
+        );
+    }
+
+    fn paint_image(&self, painter: &egui::Painter, rect: Rect) {
+        let Some((_, texture, [w, h])) = &self.image else {
+            return;
+        };
+        let lo = self.canvas.to_screen(DVec2::ZERO);
+        let hi = self.canvas.to_screen(DVec2::new(*w as f64, *h as f64));
+        let alpha = (self.image_opacity.clamp(0.0, 1.0) * 255.0) as u8;
+        painter.image(
+            texture.id(),
+            Rect::from_min_max(lo, hi),
+            Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+            Color32::from_white_alpha(alpha),
+        );
+        let _ = rect;
+    }
+
+    fn paint_strokes(&mut self, painter: &egui::Painter) {
+        let classes: std::collections::HashMap<StrokeId, StrokeClass> =
+            self.stroke_classes().iter().copied().collect();
+        // The selected part's strokes, by the curve that took them.
+        let mut assigned: std::collections::HashMap<StrokeId, usize> =
+            std::collections::HashMap::new();
+        if let Some(id) = self.selection {
+            if let Some(record) = self.editor.document.snap_record(id) {
+                for (k, strokes) in record.assignment.curves.iter().enumerate() {
+                    for s in strokes {
+                        assigned.insert(s.stroke, k);
+                    }
+                }
+            } else if let Some(placed) = self.editor.document.get(id) {
+                for s in &placed.fit.strokes {
+                    assigned.insert(*s, 0);
+                }
+            }
+        }
+        for stroke in &self.editor.sketch.strokes {
+            let points: Vec<Pos2> = stroke
+                .points
+                .iter()
+                .map(|p| self.canvas.to_screen(*p))
+                .collect();
+            let class = classes.get(&stroke.id).copied().unwrap_or(StrokeClass::Silhouette);
+            let (width, color) = match assigned.get(&stroke.id) {
+                Some(k) => (3.5, part_color(*k + 3)),
+                None if class == StrokeClass::Feature => (1.6, FEATURE),
+                None => (1.6, SILHOUETTE),
+            };
+            let shape = if stroke.closed {
+                egui::Shape::closed_line(points, Pen::new(width, color))
+            } else {
+                egui::Shape::line(points, Pen::new(width, color))
+            };
+            painter.add(shape);
+        }
+    }
+
+    fn paint_parts(&self, painter: &egui::Painter) {
+        let related = self.emphasis().related;
+        for (index, (id, placed)) in self.editor.document.primitives().enumerate() {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+                continue;
+            }
+            let selected = self.selection == Some(id);
+            let highlighted = related.contains(&id);
+            let color = if highlighted {
+                Color32::from_rgb(235, 170, 0)
+            } else {
+                part_color(index)
+            };
+            let width = if selected || highlighted { 5.0 } else { 3.5 };
+            let color = color.gamma_multiply(if selected || highlighted { 0.8 } else { 0.55 });
+            for (visible, points) in outlines(&placed.primitive) {
+                let line: Vec<Pos2> = points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                let pen = if visible {
+                    Pen::new(width, color)
+                } else {
+                    Pen::new(1.0, color.gamma_multiply(0.4))
+                };
+                painter.add(egui::Shape::line(line, pen));
+            }
+            let c = placed.primitive.center();
+            let at = self.canvas.to_screen(DVec2::new(c.x, -c.y));
+            painter.text(
+                at,
+                egui::Align2::CENTER_CENTER,
+                format!("#{}", id.0),
+                egui::FontId::proportional(if selected { 14.0 } else { 11.0 }),
+                color,
+            );
+        }
+    }
+
+    fn paint_drag(&self, painter: &egui::Painter) {
+        let Some(drag) = &self.drag else { return };
+        if !drag.over_canvas {
+            return;
+        }
+        // The primitive as dropped, faint; the snapped preview and its strokes, bold.
+        if let Some(dragged) = self.dragged_primitive() {
+            for (visible, points) in outlines(&dragged) {
+                if visible {
+                    let line: Vec<Pos2> =
+                        points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                    painter.add(egui::Shape::dashed_line(
+                        &line,
+                        Pen::new(1.2, Color32::from_gray(140)),
+                        6.0,
+                        4.0,
+                    ));
+                }
+            }
+        }
+        if let Some(preview) = &drag.preview {
+            for id in preview.assignment.stroke_ids() {
+                if let Some(stroke) = self.editor.sketch.stroke(id) {
+                    let line: Vec<Pos2> = stroke
+                        .points
+                        .iter()
+                        .map(|p| self.canvas.to_screen(*p))
+                        .collect();
+                    painter.add(egui::Shape::line(
+                        line,
+                        Pen::new(5.0, PREVIEW.gamma_multiply(0.35)),
+                    ));
+                }
+            }
+            for (visible, points) in outlines(&preview.primitive) {
+                if visible {
+                    let line: Vec<Pos2> =
+                        points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                    painter.add(egui::Shape::line(line, Pen::new(2.5, PREVIEW)));
+                }
+            }
+        }
+        let label = match (&drag.preview, &drag.preview_error) {
+            (Some(p), _) => format!(
+                "{}: {} strokes, RMS {:.2}",
+                drag.kind.name(),
+                p.assignment.stroke_ids().len(),
+                p.rms
+            ),
+            (None, Some(e)) => format!("{}: {e}", drag.kind.name()),
+            (None, None) => format!("{}…", drag.kind.name()),
+        };
+        let at = self.canvas.to_screen(drag.placement.at) + Vec2::new(14.0, 14.0);
+        painter.text(
+            at,
+            egui::Align2::LEFT_TOP,
+            label,
+            egui::FontId::proportional(12.0),
+            Color32::from_gray(60),
+        );
+    }
+
+    /// A primitive being dragged follows the cursor; the wheel sizes it, Shift + wheel
+    /// turns its axis; releasing the button drops it.
+    fn canvas_drag(&mut self, ui: &Ui, over: Option<Pos2>) {
+        if self.drag.is_none() {
+            return;
+        }
+        let (pointer, released, scroll, shift) = ui.input(|i| {
+            (
+                i.pointer.latest_pos(),
+                i.pointer.any_released(),
+                i.smooth_scroll_delta.y + i.smooth_scroll_delta.x,
+                i.modifiers.shift,
+            )
+        });
+        if let Some(p) = pointer {
+            let at = self.canvas.to_sketch(p);
+            self.drag_to(at, over.is_some());
+        }
+        if scroll.abs() > 0.0 {
+            if shift {
+                self.adjust_drag(1.0, f64::from(scroll) * 0.004);
+            } else {
+                self.adjust_drag((f64::from(scroll) * 0.002).exp(), 0.0);
+            }
+        }
+        if released {
+            self.end_drag();
+        }
+    }
+
+    fn canvas_tools(&mut self, ui: &Ui, response: &egui::Response, over: Option<Pos2>) {
+        if self.drag.is_some() {
+            return;
+        }
+        let reach = 8.0 / self.canvas.zoom;
+        let primary = response.dragged_by(egui::PointerButton::Primary)
+            || response.drag_started_by(egui::PointerButton::Primary);
+        match self.tool {
+            Tool::Select => {
+                if response.clicked() {
+                    self.selection = over
+                        .map(|p| self.canvas.to_sketch(p))
+                        .and_then(|p| self.part_at(p, reach));
+                }
+                if response.drag_started_by(egui::PointerButton::Primary) {
+                    let start = ui.input(|i| i.pointer.press_origin()).or(over);
+                    if let Some(p) = start.map(|p| self.canvas.to_sketch(p)) {
+                        if let Some(id) = self.part_at(p, reach) {
+                            self.selection = Some(id);
+                            self.begin_redrag(id, p);
+                        }
+                    }
+                }
+            }
+            Tool::Draw => {
+                if primary {
+                    if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
+                        let at = self.canvas.to_sketch(p);
+                        let points = self.drawing.get_or_insert_with(Vec::new);
+                        if points.last().is_none_or(|q| q.distance(at) * self.canvas.zoom > 1.5) {
+                            points.push(at);
+                        }
+                    }
+                }
+                if response.drag_stopped() {
+                    if let Some(points) = self.drawing.take() {
+                        let spacing = 3.0 / self.canvas.zoom;
+                        let resampled = smooth_and_resample(&points, spacing);
+                        if self.editor.add_stroke(resampled).is_none() {
+                            self.say("The stroke was too short to keep.");
+                        }
+                    }
+                }
+            }
+            Tool::Erase => {
+                if primary || response.clicked() {
+                    if let Some(p) = over.map(|p| self.canvas.to_sketch(p)) {
+                        if let Some(id) = self.stroke_at(p, reach) {
+                            self.editor.erase_stroke(id);
+                        }
+                    }
+                }
+            }
+            Tool::Reclassify => {
+                if response.clicked() {
+                    if let Some(p) = over.map(|p| self.canvas.to_sketch(p)) {
+                        if let Some(id) = self.stroke_at(p, reach) {
+                            let current = self
+                                .stroke_classes()
+                                .iter()
+                                .find(|(s, _)| *s == id)
+                                .map_or(StrokeClass::Silhouette, |(_, c)| *c);
+                            let next = match current {
+                                StrokeClass::Feature => StrokeClass::Silhouette,
+                                StrokeClass::Silhouette => StrokeClass::Feature,
+                            };
+                            self.editor.reclassify(id, Some(next));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The frame-time measurement: a cylinder dragged over the drawing along a slow
+    /// figure-eight, one step per frame, then the figures written and the app closed.
+    pub(crate) fn benchmark_step(&mut self, ctx: &egui::Context) {
+        let Some(mut bench) = self.benchmark.take() else {
+            return;
+        };
+        let now = Instant::now();
+        if let Some(last) = bench.last {
+            if bench.frame > 20 {
+                bench.intervals.push(now - last);
+                bench.cpu.push(self.timer.cpu.back().copied().unwrap_or_default());
+            }
+        }
+        bench.last = Some(now);
+        bench.frame += 1;
+        if bench.frame == 10 {
+            self.begin_drag(PrimitiveKind::Cylinder);
+        }
+        if let (Some((lo, hi)), true) = (self.editor.sketch.bounds(), bench.frame >= 10) {
+            let t = bench.frame as f64 * 0.03;
+            let c = (lo + hi) / 2.0;
+            let r = (hi - lo) * 0.3;
+            let at = c + DVec2::new(r.x * t.sin(), r.y * (2.0 * t).sin() * 0.5);
+            self.drag_to(at, true);
+            if let Some(drag) = &self.drag {
+                if drag.generation != bench.last_generation && drag.preview_time > Duration::ZERO
+                {
+                    bench.snaps.push(drag.preview_time);
+                }
+                bench.last_generation = drag.generation;
+            }
+        }
+        if bench.frame >= bench.frames + 20 {
+            self.cancel_drag();
+            let report = serde_json::json!({
+                "frames": bench.intervals.len(),
+                "strokes": self.editor.sketch.strokes.len(),
+                "frame_interval_ms": {
+                    "median": percentile(&bench.intervals, 0.5),
+                    "p95": percentile(&bench.intervals, 0.95),
+                    "max": percentile(&bench.intervals, 1.0),
+                },
+                "ui_cpu_ms": {
+                    "median": percentile(&bench.cpu, 0.5),
+                    "p95": percentile(&bench.cpu, 0.95),
+                },
+                "preview_snap_ms": {
+                    "median": percentile(&bench.snaps, 0.5),
+                    "p95": percentile(&bench.snaps, 0.95),
+                },
+            });
+            let text = serde_json::to_string_pretty(&report).unwrap_or_default();
+            if let Err(error) = crate::io::write_atomic(&bench.out, text.as_bytes()) {
+                log::error!("cannot write {}: {error}", bench.out.display());
+            }
+            self.allow_quit = true;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            return;
+        }
+        ctx.request_repaint();
+        self.benchmark = Some(bench);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+
+    use super::{distance_to_polyline, smooth_and_resample, CanvasView};
+
+    #[test]
+    fn screen_and_sketch_points_map_back_and_forth() {
+        let mut view = CanvasView {
+            rect: egui::Rect::from_min_size(egui::pos2(100.0, 50.0), egui::vec2(800.0, 600.0)),
+            ..CanvasView::default()
+        };
+        view.fit(DVec2::new(0.0, 0.0), DVec2::new(400.0, 300.0));
+        let p = DVec2::new(123.0, 45.0);
+        assert!(view.to_sketch(view.to_screen(p)).distance(p) < 1e-3);
+        let corner = view.to_screen(DVec2::new(400.0, 300.0));
+        assert!(view.rect().contains(corner), "fit shows the whole drawing");
+        let anchor = egui::pos2(300.0, 200.0);
+        let under = view.to_sketch(anchor);
+        view.zoom_about(anchor, 2.5);
+        assert!(view.to_sketch(anchor).distance(under) < 1e-9, "zoom keeps the anchor");
+    }
+
+    #[test]
+    fn drawn_strokes_are_resampled_evenly_and_keep_their_ends() {
+        let raw: Vec<DVec2> = (0..50)
+            .map(|i| DVec2::new(f64::from(i) * 0.7, if i % 2 == 0 { 0.2 } else { -0.2 }))
+            .collect();
+        let out = smooth_and_resample(&raw, 2.0);
+        assert_eq!(out[0], raw[0]);
+        assert!(out.last().expect("points").distance(raw[49]) < 0.6);
+        for w in out.windows(2).take(out.len() - 2) {
+            assert!((w[0].distance(w[1]) - 2.0).abs() < 0.3, "{w:?}");
+        }
+        let jitter = out.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
+        assert!(jitter < 0.15, "smoothing damps the zig-zag: {jitter}");
+        assert!((distance_to_polyline(DVec2::new(5.0, 3.0), &out) - 3.0).abs() < 0.2);
+    }
+}

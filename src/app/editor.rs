@@ -1,0 +1,316 @@
+//! The editor's state without any GUI: the sketch, the document, the user's settings and
+//! the undo history. Every user action goes through one method here, which records one
+//! undo step, so the egui layer only decides *when* an action happens.
+
+use std::path::PathBuf;
+
+use glam::DVec2;
+
+use crate::core::model::{Document, PrimitiveId, SessionSettings};
+use crate::core::relation::Mode;
+use crate::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
+
+/// The most undo steps kept; older ones are dropped.
+const MAX_UNDO: usize = 200;
+
+/// What one undo step restores.
+#[derive(Clone, Debug)]
+struct Snapshot {
+    label: String,
+    sketch: Sketch,
+    document: Document,
+    revision: u64,
+}
+
+/// The work: strokes, reference image, model, where it is saved, and its history.
+#[derive(Clone, Debug, Default)]
+pub struct Editor {
+    /// The strokes.
+    pub sketch: Sketch,
+    /// The reference image under the strokes.
+    pub image: Option<PathBuf>,
+    /// The model.
+    pub document: Document,
+    /// Snapping, inference and solve settings.
+    pub settings: SessionSettings,
+    /// Where the session was last saved or opened from.
+    pub path: Option<PathBuf>,
+    undo: Vec<Snapshot>,
+    redo: Vec<Snapshot>,
+    /// Bumped by every change; the saved revision tells whether there are unsaved changes.
+    revision: u64,
+    saved: u64,
+    /// Bumped when the strokes change, so snapping contexts can be rebuilt.
+    strokes_revision: u64,
+}
+
+impl Editor {
+    /// An editor over a sketch, with an empty model and no history.
+    pub fn with_sketch(sketch: Sketch, image: Option<PathBuf>) -> Self {
+        Self {
+            sketch,
+            image,
+            ..Self::default()
+        }
+    }
+
+    /// The change counter (every action increments it; undo restores older values).
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// The strokes' change counter.
+    pub fn strokes_revision(&self) -> u64 {
+        self.strokes_revision
+    }
+
+    /// Whether there are changes since the last save (or since opening).
+    pub fn is_dirty(&self) -> bool {
+        self.revision != self.saved
+    }
+
+    /// Records that the current state was saved to `path`.
+    pub fn mark_saved(&mut self, path: PathBuf) {
+        self.path = Some(path);
+        self.saved = self.revision;
+    }
+
+    /// The label of the step [`Self::undo`] would take back.
+    pub fn undo_label(&self) -> Option<&str> {
+        self.undo.last().map(|s| s.label.as_str())
+    }
+
+    /// The label of the step [`Self::redo`] would do again.
+    pub fn redo_label(&self) -> Option<&str> {
+        self.redo.last().map(|s| s.label.as_str())
+    }
+
+    fn snapshot(&self, label: &str) -> Snapshot {
+        Snapshot {
+            label: label.to_owned(),
+            sketch: self.sketch.clone(),
+            document: self.document.clone(),
+            revision: self.revision,
+        }
+    }
+
+    /// Records the current state as one undo step named `label`, before a change.
+    fn checkpoint(&mut self, label: &str) {
+        self.undo.push(self.snapshot(label));
+        if self.undo.len() > MAX_UNDO {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+        self.revision = self.revision.max(self.max_revision()) + 1;
+    }
+
+    /// The largest revision ever handed out (so an undone-then-changed state never takes
+    /// the saved revision's number by accident).
+    fn max_revision(&self) -> u64 {
+        self.undo
+            .iter()
+            .chain(&self.redo)
+            .map(|s| s.revision)
+            .max()
+            .unwrap_or(0)
+            .max(self.saved)
+    }
+
+    /// Replaces the model by `document` as one undo step (a placement with its snap and
+    /// solve, a re-solve after a mode change, ...).
+    pub fn apply_document(&mut self, label: &str, document: Document) {
+        self.checkpoint(label);
+        self.document = document;
+    }
+
+    /// Takes back the last step; returns its label.
+    pub fn undo(&mut self) -> Option<String> {
+        let snapshot = self.undo.pop()?;
+        let label = snapshot.label.clone();
+        let current = self.snapshot(&label);
+        self.restore(snapshot);
+        self.redo.push(current);
+        Some(label)
+    }
+
+    /// Does the last undone step again; returns its label.
+    pub fn redo(&mut self) -> Option<String> {
+        let snapshot = self.redo.pop()?;
+        let label = snapshot.label.clone();
+        let current = self.snapshot(&label);
+        self.restore(snapshot);
+        self.undo.push(current);
+        Some(label)
+    }
+
+    fn restore(&mut self, snapshot: Snapshot) {
+        if snapshot.sketch != self.sketch {
+            self.strokes_revision += 1;
+        }
+        self.sketch = snapshot.sketch;
+        self.document = snapshot.document;
+        self.revision = snapshot.revision;
+    }
+
+    /// Deletes a primitive with its relations.
+    pub fn delete_primitive(&mut self, id: PrimitiveId) -> bool {
+        if self.document.get(id).is_none() {
+            return false;
+        }
+        self.checkpoint(&format!("Delete #{}", id.0));
+        self.document.remove(id);
+        true
+    }
+
+    /// Sets a relation's mode without solving (the caller re-solves in the background
+    /// and applies the result with [`Self::apply_document`] when it wants one step).
+    pub fn relation_mode_changed(&self, index: usize, mode: Mode) -> Option<Document> {
+        let mut document = self.document.clone();
+        document.relations_mut().get_mut(index)?.mode = mode;
+        Some(document)
+    }
+
+    /// Deletes relation `index`.
+    pub fn delete_relation(&mut self, index: usize) -> bool {
+        if index >= self.document.relations().len() {
+            return false;
+        }
+        self.checkpoint("Delete relation");
+        self.document.remove_relation(index);
+        true
+    }
+
+    /// Adds a drawn stroke (sketch space), classified automatically; returns its id, or
+    /// `None` for a stroke too short to keep.
+    pub fn add_stroke(&mut self, points: Vec<DVec2>) -> Option<StrokeId> {
+        if points.len() < 2 || points.iter().any(|p| !p.is_finite()) {
+            return None;
+        }
+        let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        if length <= 0.0 {
+            return None;
+        }
+        self.checkpoint("Draw stroke");
+        let id = self.sketch.next_id();
+        self.sketch.strokes.push(Stroke {
+            id,
+            points,
+            closed: false,
+            class_override: None,
+        });
+        self.strokes_revision += 1;
+        Some(id)
+    }
+
+    /// Erases a stroke; parts keep their fits (their records still name it, harmlessly).
+    pub fn erase_stroke(&mut self, id: StrokeId) -> bool {
+        let Some(index) = self.sketch.strokes.iter().position(|s| s.id == id) else {
+            return false;
+        };
+        self.checkpoint("Erase stroke");
+        self.sketch.strokes.remove(index);
+        self.strokes_revision += 1;
+        true
+    }
+
+    /// Overrides a stroke's class (`None` goes back to the automatic class).
+    pub fn reclassify(&mut self, id: StrokeId, class: Option<StrokeClass>) -> bool {
+        let Some(index) = self.sketch.strokes.iter().position(|s| s.id == id) else {
+            return false;
+        };
+        if self.sketch.strokes[index].class_override == class {
+            return false;
+        }
+        self.checkpoint("Reclassify stroke");
+        self.sketch.strokes[index].class_override = class;
+        self.strokes_revision += 1;
+        true
+    }
+
+    /// Replaces the whole work (opening a file): history cleared, nothing unsaved.
+    pub fn replace(&mut self, sketch: Sketch, image: Option<PathBuf>, document: Document) {
+        let settings = self.settings.clone();
+        *self = Self {
+            sketch,
+            image,
+            document,
+            settings,
+            strokes_revision: self.strokes_revision + 1,
+            ..Self::default()
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::Editor;
+    use crate::core::model::{Fit, Placed};
+    use crate::core::primitive::{Primitive, Sphere};
+    use crate::core::sketch::StrokeClass;
+
+    fn ball() -> Placed {
+        Placed {
+            primitive: Primitive::Sphere(Sphere {
+                center: DVec3::ZERO,
+                radius: 3.0,
+            }),
+            fit: Fit::default(),
+        }
+    }
+
+    #[test]
+    fn every_action_is_one_undo_step_and_redo_restores_it() {
+        let mut editor = Editor::default();
+        assert!(!editor.is_dirty(), "a new editor has nothing to save");
+        let stroke = editor
+            .add_stroke(vec![DVec2::ZERO, DVec2::new(10.0, 0.0)])
+            .expect("a stroke with length is kept");
+        let mut doc = editor.document.clone();
+        let id = doc.add(ball());
+        editor.apply_document("Place sphere", doc);
+        assert!(editor.reclassify(stroke, Some(StrokeClass::Feature)));
+        assert!(editor.delete_primitive(id));
+        assert!(editor.is_dirty(), "changes are unsaved");
+
+        assert_eq!(editor.undo().as_deref(), Some("Delete #0"));
+        assert!(editor.document.get(id).is_some(), "undo brings the part back");
+        assert_eq!(editor.undo().as_deref(), Some("Reclassify stroke"));
+        assert_eq!(editor.sketch.strokes[0].class_override, None);
+        assert_eq!(editor.undo().as_deref(), Some("Place sphere"));
+        assert!(editor.document.is_empty(), "undo takes the placement back");
+        assert_eq!(editor.redo().as_deref(), Some("Place sphere"));
+        assert_eq!(editor.document.len(), 1, "redo places it again");
+        assert_eq!(editor.undo().as_deref(), Some("Place sphere"));
+        assert_eq!(editor.undo().as_deref(), Some("Draw stroke"));
+        assert!(editor.sketch.strokes.is_empty());
+        assert!(!editor.is_dirty(), "back at the opened state");
+        assert_eq!(editor.undo(), None, "nothing more to undo");
+    }
+
+    #[test]
+    fn a_new_action_after_undo_drops_the_redo_steps_and_stays_dirty() {
+        let mut editor = Editor::default();
+        editor.add_stroke(vec![DVec2::ZERO, DVec2::X]);
+        editor.mark_saved("a.json".into());
+        editor.add_stroke(vec![DVec2::ZERO, DVec2::Y]);
+        editor.undo();
+        assert!(!editor.is_dirty(), "undo back to the saved state");
+        editor.add_stroke(vec![DVec2::ZERO, DVec2::NEG_Y]);
+        assert!(editor.is_dirty(), "a different change is not the saved state");
+        assert_eq!(editor.redo(), None, "a new action drops the redo steps");
+    }
+
+    #[test]
+    fn bad_strokes_are_refused_without_a_step() {
+        let mut editor = Editor::default();
+        assert_eq!(editor.add_stroke(vec![DVec2::ZERO]), None);
+        assert_eq!(editor.add_stroke(vec![DVec2::ZERO, DVec2::ZERO]), None);
+        assert_eq!(
+            editor.add_stroke(vec![DVec2::ZERO, DVec2::new(f64::NAN, 1.0)]),
+            None
+        );
+        assert_eq!(editor.undo_label(), None, "nothing was recorded");
+    }
+}

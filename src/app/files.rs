@@ -1,0 +1,506 @@
+//! Files from the app: open (sessions, sketches, SVG, reference images; dialog, typed
+//! path, recent list or drag-and-drop), save (atomic), export glTF, the unsaved-changes
+//! prompt, and the autosave that is offered back after a crash.
+//!
+//! Every failure is a message; the current work is never touched by a file that cannot
+//! be read.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{anyhow, Context as _};
+
+use super::{After, GeosnapApp, Prompt};
+use crate::io::gltf::{export_gltf, ExportSettings};
+use crate::io::session::{load_session, parse_session, save_session, session_bytes, Session};
+use crate::io::sketch_file::load_sketch;
+
+/// How often unsaved work is written to the autosave file.
+const AUTOSAVE_EVERY: Duration = Duration::from_secs(30);
+
+/// The most recent files remembered.
+const MAX_RECENT: usize = 10;
+
+/// The autosave file: written while there are unsaved changes, removed on a clean exit,
+/// so finding it at start means the last run did not end well.
+#[derive(Debug)]
+pub(crate) struct Autosave {
+    path: Option<PathBuf>,
+    last: Instant,
+    written: Option<u64>,
+}
+
+impl Autosave {
+    pub(crate) fn new(dir: Option<PathBuf>) -> Self {
+        let dir = dir.or_else(|| eframe::storage_dir("geosnap"));
+        Self {
+            path: dir.map(|d| d.join("autosave.geosnap.json")),
+            last: Instant::now(),
+            written: None,
+        }
+    }
+
+    /// An autosave left by a run that did not exit cleanly.
+    pub(crate) fn pending(&self) -> Option<PathBuf> {
+        self.path.clone().filter(|p| p.is_file())
+    }
+
+    /// Removes the autosave (a clean exit, or the user discarded it).
+    pub(crate) fn clear(&mut self) {
+        if let Some(path) = &self.path {
+            let _ = std::fs::remove_file(path);
+        }
+        self.written = None;
+    }
+}
+
+/// What kind of file a path holds, by content first, then by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FileKind {
+    Session,
+    Sketch,
+    Image,
+}
+
+fn file_kind(path: &Path, head: &[u8]) -> Option<FileKind> {
+    let text = String::from_utf8_lossy(&head[..head.len().min(4096)]);
+    if head.starts_with(b"\x89PNG") || head.starts_with(&[0xFF, 0xD8, 0xFF]) {
+        return Some(FileKind::Image);
+    }
+    if text.trim_start().starts_with('{') {
+        return Some(if text.contains("geosnap-session") {
+            FileKind::Session
+        } else {
+            FileKind::Sketch
+        });
+    }
+    if text.trim_start().starts_with('<') {
+        return Some(FileKind::Sketch);
+    }
+    let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
+    match ext.as_str() {
+        "png" | "jpg" | "jpeg" => Some(FileKind::Image),
+        "svg" => Some(FileKind::Sketch),
+        _ => None,
+    }
+}
+
+impl GeosnapApp {
+    /// Asks before `after` when there are unsaved changes.
+    pub(crate) fn request(&mut self, ctx: &egui::Context, after: After) {
+        if self.editor.is_dirty() && !matches!(after, After::Open(Some(ref p)) if is_image(p)) {
+            self.prompt = Some(Prompt::Unsaved(after));
+        } else {
+            self.proceed(ctx, after);
+        }
+    }
+
+    pub(crate) fn proceed(&mut self, ctx: &egui::Context, after: After) {
+        match after {
+            After::New => {
+                self.cancel_job();
+                self.editor.replace(Default::default(), None, Default::default());
+                self.image = None;
+                self.selection = None;
+                self.canvas.request_fit();
+                self.say("New work: draw strokes (B) or open a drawing.");
+            }
+            After::Open(Some(path)) => self.open_path(ctx, &path),
+            After::Open(None) => {
+                let picked = rfd::FileDialog::new()
+                    .add_filter("geosnap files", &["json", "svg", "png", "jpg", "jpeg"])
+                    .add_filter("Sessions and sketches", &["json"])
+                    .add_filter("SVG drawings", &["svg"])
+                    .add_filter("Reference images", &["png", "jpg", "jpeg"])
+                    .pick_file();
+                match picked {
+                    Some(path) => self.open_path(ctx, &path),
+                    None => self.prompt = Some(Prompt::Path(super::PathAction::Open, String::new())),
+                }
+            }
+            After::Quit => {
+                self.allow_quit = true;
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        }
+    }
+
+    /// Opens a session, sketch (native or SVG) or reference image. On failure the work
+    /// stays as it was and the reason is shown.
+    pub fn open_path(&mut self, ctx: &egui::Context, path: &Path) {
+        if self.busy() {
+            self.warn("Wait for the running solve to finish (or press Esc) before opening a file.");
+            return;
+        }
+        match self.try_open(ctx, path) {
+            Ok(note) => {
+                self.remember(path);
+                self.say(note);
+            }
+            Err(error) => {
+                let text = format!("Could not open {}: {error:#}", path.display());
+                self.warn(text.clone());
+                self.prompt = Some(Prompt::Error(text));
+            }
+        }
+    }
+
+    fn try_open(&mut self, ctx: &egui::Context, path: &Path) -> anyhow::Result<String> {
+        let head = std::fs::read(path).with_context(|| "the file cannot be read".to_owned())?;
+        let kind = file_kind(path, &head).ok_or_else(|| {
+            anyhow!("not a geosnap session, sketch, SVG drawing or PNG/JPEG image")
+        })?;
+        match kind {
+            FileKind::Image => {
+                let texture = load_texture(ctx, path, &head)?;
+                let size = texture.size();
+                self.image = Some((path.to_owned(), texture, size));
+                self.editor.image = Some(path.to_owned());
+                self.canvas.request_fit();
+                Ok(format!(
+                    "Reference image {} ({}×{} px) under the strokes.",
+                    path.display(),
+                    size[0],
+                    size[1]
+                ))
+            }
+            FileKind::Sketch => {
+                let loaded = load_sketch(path)?;
+                if loaded.sketch.strokes.is_empty() {
+                    return Err(anyhow!("it has no strokes to snap to"));
+                }
+                let strokes = loaded.sketch.strokes.len();
+                let warnings = loaded.warnings.clone();
+                self.editor
+                    .replace(loaded.sketch, loaded.image.clone(), Default::default());
+                self.after_replace(ctx, loaded.image.as_deref());
+                for w in warnings {
+                    self.warn(w);
+                }
+                Ok(format!("Opened {} ({strokes} strokes).", path.display()))
+            }
+            FileKind::Session => {
+                let session = parse_session(&head)
+                    .or_else(|_| load_session(path))
+                    .map_err(|e| anyhow!("{e}"))?;
+                let parts = session.document.len();
+                let image = session.image.clone();
+                self.editor
+                    .replace(session.sketch, session.image, session.document);
+                self.editor.mark_saved(path.to_owned());
+                self.after_replace(ctx, image.as_deref());
+                Ok(format!("Opened the session {} ({parts} parts).", path.display()))
+            }
+        }
+    }
+
+    fn after_replace(&mut self, ctx: &egui::Context, image: Option<&Path>) {
+        self.selection = None;
+        self.hovered_relation = None;
+        self.drag = None;
+        self.image = None;
+        self.canvas.request_fit();
+        self.view3d.request_fit();
+        if let Some(image) = image {
+            match std::fs::read(image)
+                .map_err(anyhow::Error::from)
+                .and_then(|bytes| load_texture(ctx, image, &bytes))
+            {
+                Ok(texture) => {
+                    let size = texture.size();
+                    self.image = Some((image.to_owned(), texture, size));
+                }
+                Err(error) => self.warn(format!(
+                    "The reference image {} could not be shown: {error:#}",
+                    image.display()
+                )),
+            }
+        }
+    }
+
+    pub(crate) fn recover(&mut self, ctx: &egui::Context, path: &Path) {
+        match load_session(path) {
+            Ok(session) => {
+                let image = session.image.clone();
+                self.editor
+                    .replace(session.sketch, session.image, session.document);
+                self.after_replace(ctx, image.as_deref());
+                self.say("The autosaved work was recovered; save it to keep it.");
+            }
+            Err(error) => self.warn(format!("The autosave could not be read: {error}")),
+        }
+    }
+
+    fn remember(&mut self, path: &Path) {
+        let path = path.canonicalize().unwrap_or_else(|_| path.to_owned());
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(MAX_RECENT);
+    }
+
+    fn session(&self) -> Session {
+        Session {
+            sketch: self.editor.sketch.clone(),
+            image: self.editor.image.clone(),
+            document: self.editor.document.clone(),
+        }
+    }
+
+    /// Saves to the session's path, or asks for one; returns whether it was saved.
+    pub fn save(&mut self, ctx: &egui::Context) -> bool {
+        match self.editor.path.clone() {
+            Some(path) if is_session_path(&path) => self.save_to(ctx, &path),
+            _ => self.save_as(ctx),
+        }
+    }
+
+    /// Asks for a path (native dialog, or a typed path) and saves there.
+    pub fn save_as(&mut self, ctx: &egui::Context) -> bool {
+        let picked = rfd::FileDialog::new()
+            .add_filter("geosnap session", &["json"])
+            .set_file_name("untitled.geosnap.json")
+            .save_file();
+        match picked {
+            Some(path) => self.save_to(ctx, &path),
+            None => {
+                self.prompt = Some(Prompt::Path(
+                    super::PathAction::SaveAs,
+                    self.suggested_path("geosnap.json"),
+                ));
+                false
+            }
+        }
+    }
+
+    /// Saves the session to `path` (atomically); returns whether it was saved.
+    pub fn save_to(&mut self, _ctx: &egui::Context, path: &Path) -> bool {
+        match save_session(path, &self.session()) {
+            Ok(()) => {
+                self.editor.mark_saved(path.to_owned());
+                self.remember(path);
+                self.autosave.clear();
+                self.say(format!("Saved {}.", path.display()));
+                true
+            }
+            Err(error) => {
+                let text = format!("Could not save {}: {error}", path.display());
+                self.warn(text.clone());
+                self.prompt = Some(Prompt::Error(text));
+                false
+            }
+        }
+    }
+
+    /// Asks for a glTF path and exports.
+    pub fn export_dialog(&mut self) {
+        let picked = rfd::FileDialog::new()
+            .add_filter("glTF binary", &["glb"])
+            .add_filter("glTF", &["gltf"])
+            .set_file_name("model.glb")
+            .save_file();
+        match picked {
+            Some(path) => self.export_to(&path),
+            None => {
+                self.prompt = Some(Prompt::Path(
+                    super::PathAction::Export,
+                    self.suggested_path("glb"),
+                ));
+            }
+        }
+    }
+
+    /// Exports the model as glTF 2.0 (`.glb` or `.gltf`).
+    pub fn export_to(&mut self, path: &Path) {
+        if self.editor.document.is_empty() {
+            self.warn("There is nothing to export yet: place a primitive first.");
+            return;
+        }
+        match export_gltf(&self.editor.document, path, &ExportSettings::default()) {
+            Ok(_) => self.say(format!("Exported {}.", path.display())),
+            Err(error) => {
+                let text = format!("Could not export {}: {error}", path.display());
+                self.warn(text.clone());
+                self.prompt = Some(Prompt::Error(text));
+            }
+        }
+    }
+
+    pub(crate) fn suggested_path(&self, extension: &str) -> String {
+        let base = self.editor.path.clone().unwrap_or_else(|| {
+            std::env::current_dir()
+                .unwrap_or_default()
+                .join("untitled.json")
+        });
+        let stem = base
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let stem = stem
+            .trim_end_matches(".json")
+            .trim_end_matches(".geosnap")
+            .trim_end_matches(".svg")
+            .to_owned();
+        base.with_file_name(format!("{stem}.{extension}"))
+            .display()
+            .to_string()
+    }
+
+    pub(crate) fn files_dropped(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        if let Some(path) = dropped.into_iter().next() {
+            self.request(ctx, After::Open(Some(path)));
+        }
+    }
+
+    pub(crate) fn close_requested(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested())
+            && !self.allow_quit
+            && self.editor.is_dirty()
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.prompt = Some(Prompt::Unsaved(After::Quit));
+        }
+    }
+
+    pub(crate) fn autosave_tick(&mut self) {
+        let due = self.autosave.last.elapsed() >= AUTOSAVE_EVERY;
+        if !due || !self.editor.is_dirty() || self.autosave.written == Some(self.editor.revision())
+        {
+            return;
+        }
+        self.autosave.last = Instant::now();
+        let Some(path) = self.autosave.path.clone() else {
+            return;
+        };
+        let result = session_bytes(&self.session())
+            .map_err(anyhow::Error::from)
+            .and_then(|bytes: Vec<u8>| {
+                if let Some(dir) = path.parent() {
+                    std::fs::create_dir_all(dir)?;
+                }
+                crate::io::write_atomic(&path, &bytes).map_err(anyhow::Error::from)
+            });
+        match result {
+            Ok(()) => self.autosave.written = Some(self.editor.revision()),
+            Err(error) => log::warn!("autosave to {} failed: {error:#}", path.display()),
+        }
+    }
+
+    /// Writes the work to the autosave file now (tests, and before risky steps).
+    pub fn autosave_now(&mut self) {
+        self.autosave.last = Instant::now() - AUTOSAVE_EVERY;
+        self.autosave.written = None;
+        self.autosave_tick();
+    }
+
+    pub(crate) fn screenshot_step(&mut self, ctx: &egui::Context) {
+        let Some(mut shot) = self.screenshot.take() else {
+            return;
+        };
+        if shot.done.load(std::sync::atomic::Ordering::Acquire) {
+            self.allow_quit = true;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            return;
+        }
+        // Wait until the work has settled (no drag, no job, nothing left to play) and a
+        // few frames have shown it.
+        let settled = self.job.is_none() && self.drag.is_none() && self.play.is_empty();
+        shot.settled = if settled { shot.settled + 1 } else { 0 };
+        if shot.settled == 30 {
+            if self.selection.is_none() {
+                self.selection = self.editor.document.primitives().last().map(|(id, _)| id);
+            }
+            let (path, done, repaint) = (shot.path.clone(), shot.done.clone(), ctx.clone());
+            ctx.request_screenshot(move |image| {
+                let [w, h] = image.size;
+                let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+                let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+                    .ok_or_else(|| anyhow!("bad screenshot size"))
+                    .and_then(|img| img.save(&path).map_err(anyhow::Error::from));
+                if let Err(error) = saved {
+                    log::error!("cannot save the screenshot {}: {error:#}", path.display());
+                }
+                done.store(true, std::sync::atomic::Ordering::Release);
+                repaint.request_repaint();
+            });
+        }
+        ctx.request_repaint_after(Duration::from_millis(30));
+        self.screenshot = Some(shot);
+    }
+}
+
+/// A screenshot to take once the work has settled (`--screenshot`).
+#[derive(Debug)]
+pub(crate) struct Screenshot {
+    pub(crate) path: PathBuf,
+    settled: u32,
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Screenshot {
+    pub(crate) fn new(path: PathBuf) -> Self {
+        Self {
+            path,
+            settled: 0,
+            done: std::sync::Arc::default(),
+        }
+    }
+}
+
+fn is_image(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| ["png", "jpg", "jpeg"].contains(&e.to_string_lossy().to_ascii_lowercase().as_str()))
+}
+
+fn is_session_path(path: &Path) -> bool {
+    path.to_string_lossy().ends_with(".json")
+        && std::fs::read(path).map_or(true, |b| {
+            String::from_utf8_lossy(&b[..b.len().min(4096)]).contains("geosnap-session")
+        })
+}
+
+fn load_texture(
+    ctx: &egui::Context,
+    path: &Path,
+    bytes: &[u8],
+) -> anyhow::Result<egui::TextureHandle> {
+    let image = image::load_from_memory(bytes)
+        .map_err(|e| anyhow!("not a PNG or JPEG image this build can read ({e})"))?
+        .to_rgba8();
+    let size = [image.width() as usize, image.height() as usize];
+    let color = egui::ColorImage::from_rgba_unmultiplied(size, image.as_raw());
+    Ok(ctx.load_texture(
+        path.display().to_string(),
+        color,
+        egui::TextureOptions::LINEAR,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::{file_kind, FileKind};
+
+    #[test]
+    fn files_are_told_apart_by_content_then_extension() {
+        let p = Path::new("x.dat");
+        assert_eq!(file_kind(p, b"\x89PNG\r\n"), Some(FileKind::Image));
+        assert_eq!(file_kind(p, &[0xFF, 0xD8, 0xFF, 0xE0]), Some(FileKind::Image));
+        assert_eq!(
+            file_kind(p, br#"{"format": "geosnap-session"}"#),
+            Some(FileKind::Session)
+        );
+        assert_eq!(file_kind(p, br#"{"format": "geosnap-sketch"}"#), Some(FileKind::Sketch));
+        assert_eq!(file_kind(p, b"<svg/>"), Some(FileKind::Sketch));
+        assert_eq!(file_kind(Path::new("a.jpeg"), b"garbage"), Some(FileKind::Image));
+        assert_eq!(file_kind(p, b"garbage"), None);
+    }
+}

@@ -1,0 +1,479 @@
+//! The menu bar, the palette and tools, the relations / properties / messages panels,
+//! the status bar, the settings window and the modal prompts.
+
+use egui::{Color32, RichText, Ui};
+
+use super::{mode_name, After, GeosnapApp, PathAction, Prompt, Tool};
+use crate::core::model::Quantity;
+use crate::core::primitive::PrimitiveKind;
+use crate::core::relation::{Mode, RelationKind};
+
+/// The palette's entries: kind, label, tooltip.
+const PALETTE: [(PrimitiveKind, &str, &str); 6] = [
+    (PrimitiveKind::Cylinder, "Cylinder", "A straight tube with two equal round ends"),
+    (PrimitiveKind::Cone, "Cone", "A truncated cone: two round ends of different radii"),
+    (PrimitiveKind::Sphere, "Sphere", "A ball"),
+    (PrimitiveKind::Cuboid, "Box", "A box: three pairs of parallel faces"),
+    (PrimitiveKind::Sgc, "Straight GC", "A straight generalized cylinder: a straight axis with a varying radius (vases, bottles)"),
+    (PrimitiveKind::Bgc, "Bent GC", "A bent generalized cylinder: a curved axis in a plane (handles, pipes)"),
+];
+
+impl GeosnapApp {
+    pub(crate) fn menu_bar(&mut self, ui: &mut Ui) {
+        egui::Panel::top("menu").show(ui, |ui| {
+            egui::MenuBar::new().ui(ui, |ui| {
+                let ctx = ui.ctx().clone();
+                ui.menu_button("File", |ui| {
+                    if ui.button("New").clicked() {
+                        self.request(&ctx, After::New);
+                    }
+                    if ui.button("Open…  Ctrl+O").clicked() {
+                        self.request(&ctx, After::Open(None));
+                    }
+                    ui.menu_button("Open recent", |ui| {
+                        if self.recent.is_empty() {
+                            ui.label("(none)");
+                        }
+                        for path in self.recent.clone() {
+                            if ui.button(path.display().to_string()).clicked() {
+                                self.request(&ctx, After::Open(Some(path)));
+                            }
+                        }
+                    });
+                    if ui.button("Open path…").clicked() {
+                        self.prompt = Some(Prompt::Path(PathAction::Open, String::new()));
+                    }
+                    ui.separator();
+                    if ui.button("Save  Ctrl+S").clicked() {
+                        self.save(&ctx);
+                    }
+                    if ui.button("Save as…  Ctrl+Shift+S").clicked() {
+                        self.save_as(&ctx);
+                    }
+                    if ui.button("Save to path…").clicked() {
+                        self.prompt = Some(Prompt::Path(PathAction::SaveAs, self.suggested_path("geosnap.json")));
+                    }
+                    ui.separator();
+                    if ui.button("Export glTF…  Ctrl+E").clicked() {
+                        self.export_dialog();
+                    }
+                    if ui.button("Export to path…").clicked() {
+                        self.prompt = Some(Prompt::Path(PathAction::Export, self.suggested_path("glb")));
+                    }
+                    ui.separator();
+                    if ui.button("Quit").clicked() {
+                        self.request(&ctx, After::Quit);
+                    }
+                });
+                ui.menu_button("Edit", |ui| {
+                    let undo = self.editor.undo_label().map(|l| format!("Undo {l}  Ctrl+Z"));
+                    if ui
+                        .add_enabled(undo.is_some() && !self.busy(), egui::Button::new(undo.unwrap_or_else(|| "Undo".into())))
+                        .clicked()
+                    {
+                        self.undo();
+                    }
+                    let redo = self.editor.redo_label().map(|l| format!("Redo {l}  Ctrl+Shift+Z"));
+                    if ui
+                        .add_enabled(redo.is_some() && !self.busy(), egui::Button::new(redo.unwrap_or_else(|| "Redo".into())))
+                        .clicked()
+                    {
+                        self.redo();
+                    }
+                    ui.separator();
+                    let selected = self.selection.is_some() && !self.busy();
+                    if ui.add_enabled(selected, egui::Button::new("Duplicate  Ctrl+D")).clicked() {
+                        self.duplicate_selected();
+                    }
+                    if ui.add_enabled(selected, egui::Button::new("Delete  Del")).clicked() {
+                        self.delete_selected();
+                    }
+                    ui.separator();
+                    if ui.button("Settings…").clicked() {
+                        self.show_settings = true;
+                    }
+                });
+                ui.menu_button("View", |ui| {
+                    if ui.button("Fit  F").clicked() {
+                        self.canvas.request_fit();
+                        self.view3d.request_fit();
+                    }
+                    ui.add(egui::Slider::new(&mut self.image_opacity, 0.0..=1.0).text("Image opacity"));
+                });
+            });
+        });
+    }
+
+    pub(crate) fn palette(&mut self, ui: &mut Ui) {
+        egui::Panel::left("palette")
+            .resizable(false)
+            .exact_size(150.0)
+            .show(ui, |ui| {
+                ui.add_space(4.0);
+                ui.heading("Primitives");
+                ui.label(RichText::new("Drag onto the drawing").small().weak());
+                for (kind, label, tip) in PALETTE {
+                    let button = egui::Button::new(label)
+                        .min_size(egui::vec2(ui.available_width(), 28.0))
+                        .sense(egui::Sense::click_and_drag());
+                    let response = ui.add_enabled(!self.busy(), button).on_hover_text(tip);
+                    if response.drag_started() {
+                        self.begin_drag(kind);
+                    }
+                }
+                ui.add_space(12.0);
+                ui.heading("Tools");
+                for (tool, label, tip) in [
+                    (Tool::Select, "Select  V", "Click a part to select it; drag it to move and re-snap"),
+                    (Tool::Draw, "Draw  B", "Draw strokes with the mouse or a pen"),
+                    (Tool::Erase, "Erase  E", "Click or drag over strokes to erase them"),
+                    (Tool::Reclassify, "Reclassify  C", "Click a stroke to switch it between feature (blue) and silhouette (black)"),
+                ] {
+                    ui.selectable_value(&mut self.tool, tool, label).on_hover_text(tip);
+                }
+                ui.add_space(12.0);
+                ui.heading("Strokes");
+                for (color, label) in [
+                    (Color32::from_rgb(70, 140, 240), "feature (ends)"),
+                    (Color32::from_rgb(200, 200, 205), "silhouette (sides)"),
+                ] {
+                    ui.horizontal(|ui| {
+                        let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
+                        ui.painter().line_segment(
+                            [rect.left_center(), rect.right_center()],
+                            egui::Stroke::new(2.5, color),
+                        );
+                        ui.label(label);
+                    });
+                }
+                if self.image.is_some() {
+                    ui.add_space(12.0);
+                    ui.label("Image opacity");
+                    ui.add(egui::Slider::new(&mut self.image_opacity, 0.0..=1.0).show_value(false));
+                }
+            });
+    }
+
+    pub(crate) fn status_bar(&mut self, ui: &mut Ui) {
+        egui::Panel::bottom("status").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                if let Some(job) = &self.job {
+                    let p = job.progress();
+                    ui.spinner();
+                    ui.label(format!(
+                        "{} — solving: iteration {}, |c| {:.1e}, {:.1} s   (Esc cancels)",
+                        job.label,
+                        p.iterations,
+                        p.violation,
+                        p.elapsed.as_secs_f64()
+                    ));
+                    if ui.button("Cancel").clicked() {
+                        job.cancel();
+                    }
+                } else if let Some((iterations, violation, seconds, how)) = &self.last_solve {
+                    ui.label(format!(
+                        "Last solve: {how}, {iterations} iterations, |c| {violation:.1e}, {:.0} ms",
+                        seconds * 1e3
+                    ));
+                } else {
+                    ui.label("Ready");
+                }
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    let mut frames: Vec<f64> =
+                        self.timer.cpu.iter().map(|d| d.as_secs_f64() * 1e3).collect();
+                    frames.sort_by(f64::total_cmp);
+                    if let Some(median) = frames.get(frames.len() / 2) {
+                        ui.label(RichText::new(format!("UI {median:.1} ms")).small().weak());
+                    }
+                    if let Some(drag) = &self.drag {
+                        ui.label(RichText::new(format!("snap {:.0} ms", drag.preview_time.as_secs_f64() * 1e3)).small().weak());
+                    }
+                    ui.label(format!(
+                        "{} strokes · {} parts · {} relations",
+                        self.editor.sketch.strokes.len(),
+                        self.editor.document.len(),
+                        self.editor.document.relations().len()
+                    ));
+                });
+            });
+        });
+    }
+
+    pub(crate) fn side_panels(&mut self, ui: &mut Ui) {
+        egui::ScrollArea::vertical().auto_shrink([false, false]).show(ui, |ui| {
+            egui::CollapsingHeader::new("Properties").default_open(true).show(ui, |ui| self.properties(ui));
+            egui::CollapsingHeader::new(format!("Relations ({})", self.editor.document.relations().len()))
+                .default_open(true)
+                .show(ui, |ui| self.relations(ui));
+            egui::CollapsingHeader::new("Messages").default_open(true).show(ui, |ui| {
+                if ui.small_button("Clear").clicked() {
+                    self.messages.clear();
+                }
+                for message in self.messages.iter().rev().take(30) {
+                    let text = RichText::new(&message.text).small();
+                    if message.warning {
+                        ui.colored_label(Color32::from_rgb(200, 90, 20), text);
+                    } else {
+                        ui.label(text);
+                    }
+                }
+            });
+        });
+    }
+
+    fn relations(&mut self, ui: &mut Ui) {
+        self.hovered_relation = None;
+        if self.editor.document.relations().is_empty() {
+            ui.label(RichText::new("Relations appear when a part is dropped near others.").weak());
+            return;
+        }
+        let mut change = None;
+        let mut delete = None;
+        egui::Grid::new("relations").striped(true).num_columns(4).show(ui, |ui| {
+            for (index, relation) in self.editor.document.relations().iter().enumerate() {
+                let members: Vec<String> = relation
+                    .members
+                    .iter()
+                    .zip(relation.features.iter().map(Some).chain(std::iter::repeat(None)))
+                    .map(|(id, f)| match f.and_then(|f| f.as_deref()) {
+                        Some(f) => format!("#{} {f}", id.0),
+                        None => format!("#{}", id.0),
+                    })
+                    .collect();
+                let text = RichText::new(relation.kind.name().replace('_', " "));
+                let text = if relation.mode == Mode::Off { text.strikethrough().weak() } else { text };
+                let r1 = ui.label(text);
+                let r2 = ui.label(RichText::new(members.join(" · ")).small());
+                let mut mode = relation.mode;
+                let r3 = egui::ComboBox::from_id_salt(("mode", index))
+                    .width(64.0)
+                    .selected_text(mode_name(mode))
+                    .show_ui(ui, |ui| {
+                        for m in [Mode::Hard, Mode::Soft, Mode::Off] {
+                            ui.selectable_value(&mut mode, m, mode_name(m));
+                        }
+                    })
+                    .response
+                    .on_hover_text(format!("Mode of relation {index}: hard (a constraint), soft (a weighted term) or off"));
+                if mode != relation.mode {
+                    change = Some((index, mode));
+                }
+                let r4 = ui.add_enabled(!self.busy(), egui::Button::new("✕").small()).on_hover_text(format!("Delete relation {index}"));
+                if r4.clicked() {
+                    delete = Some(index);
+                }
+                if r1.hovered() || r2.hovered() || r3.hovered() || r4.hovered() {
+                    self.hovered_relation = Some(index);
+                }
+                ui.end_row();
+            }
+        });
+        if let Some((index, mode)) = change {
+            self.set_relation_mode(index, mode);
+        }
+        if let Some(index) = delete {
+            self.editor.delete_relation(index);
+        }
+    }
+
+    fn properties(&mut self, ui: &mut Ui) {
+        let Some(id) = self.selection else {
+            ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
+            return;
+        };
+        let Some(placed) = self.editor.document.get(id).cloned() else {
+            return;
+        };
+        let p = &placed.primitive;
+        ui.label(RichText::new(format!("#{} {}", id.0, p.kind().name())).strong());
+        let c = p.center();
+        ui.label(format!("centre ({:.1}, {:.1}, {:.1})", c.x, c.y, c.z));
+        ui.label(format!(
+            "fit RMS {:.2} over {} strokes",
+            placed.fit.rms,
+            placed.fit.strokes.len()
+        ));
+        let fixed: Vec<(Quantity, f64)> = self
+            .editor
+            .document
+            .dimensions()
+            .iter()
+            .filter(|d| d.primitive == id)
+            .map(|d| (d.quantity, d.value))
+            .collect();
+        let mut set = None;
+        let mut free = None;
+        egui::Grid::new("dimensions").num_columns(3).show(ui, |ui| {
+            for quantity in Quantity::of_kind(p.kind()) {
+                let Some(value) = p.quantity(*quantity) else { continue };
+                let key = format!("{}:{}", id.0, quantity.name());
+                let is_fixed = fixed.iter().find(|(q, _)| q == quantity).map(|(_, v)| *v);
+                ui.label(quantity.name().replace('_', " "));
+                let text = self.typed.entry(key.clone()).or_insert_with(|| format!("{value:.2}"));
+                let edit = ui.add(egui::TextEdit::singleline(text).desired_width(90.0).min_size(egui::vec2(90.0, 0.0)));
+                let edit = edit.on_hover_text(format!("Type an exact {} and press Enter: it becomes a hard constraint", quantity.name()));
+                let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                if !edit.has_focus() && !entered {
+                    *text = format!("{:.2}", is_fixed.unwrap_or(value));
+                }
+                if entered {
+                    match text.trim().parse::<f64>() {
+                        Ok(v) => set = Some((*quantity, v)),
+                        Err(_) => self.messages.push(super::Message {
+                            text: format!("“{}” is not a number.", text.trim()),
+                            warning: true,
+                        }),
+                    }
+                }
+                if is_fixed.is_some() {
+                    if ui.small_button("free").on_hover_text(format!("Free the {}", quantity.name())).clicked() {
+                        free = Some(*quantity);
+                    }
+                } else {
+                    ui.label("");
+                }
+                ui.end_row();
+            }
+        });
+        if let Some((quantity, value)) = set {
+            let mut document = self.editor.document.clone();
+            match document.set_dimension(id, quantity, value) {
+                Ok(()) => self.resolve_in_background(
+                    &format!("#{} {} = {value}", id.0, quantity.name()),
+                    document,
+                    Some(vec![id]),
+                ),
+                Err(error) => self.warn(format!("#{}: {error}", id.0)),
+            }
+        }
+        if let Some(quantity) = free {
+            let mut document = self.editor.document.clone();
+            if document.remove_dimension(id, quantity) {
+                self.editor.apply_document(&format!("Free #{} {}", id.0, quantity.name()), document);
+            }
+        }
+        ui.horizontal(|ui| {
+            if ui.add_enabled(!self.busy(), egui::Button::new("Duplicate")).clicked() {
+                self.duplicate_selected();
+            }
+            if ui.add_enabled(!self.busy(), egui::Button::new("Delete")).clicked() {
+                self.delete_selected();
+            }
+        });
+    }
+
+    pub(crate) fn settings_window(&mut self, ctx: &egui::Context) {
+        let mut open = self.show_settings;
+        egui::Window::new("Settings").open(&mut open).resizable(false).show(ctx, |ui| {
+            ui.heading("Relation inference");
+            let inference = &mut self.editor.settings.inference;
+            egui::Grid::new("kinds").num_columns(3).show(ui, |ui| {
+                for (k, kind) in RelationKind::ALL.iter().enumerate() {
+                    let mut on = inference.enabled(*kind);
+                    if ui.checkbox(&mut on, kind.name().replace('_', " ")).changed() {
+                        if on {
+                            inference.enabled.push(*kind);
+                        } else {
+                            inference.enabled.retain(|x| x != kind);
+                        }
+                    }
+                    if k % 3 == 2 {
+                        ui.end_row();
+                    }
+                }
+            });
+            ui.add(egui::Slider::new(&mut inference.angle_degrees, 0.5..=30.0).text("angle (°)"));
+            ui.add(egui::Slider::new(&mut inference.distance, 0.01..=0.5).text("distance (× size)"));
+            ui.add(egui::Slider::new(&mut inference.radius, 0.005..=0.3).text("radius (relative)"));
+            ui.add(egui::Slider::new(&mut inference.length, 0.005..=0.3).text("length (relative)"));
+            if ui.button("Defaults").clicked() {
+                *inference = crate::core::relation::InferenceSettings::default();
+            }
+            ui.separator();
+            ui.heading("Global solve");
+            let global = &mut self.editor.settings.global;
+            ui.add(egui::Slider::new(&mut global.soft_weight, 0.01..=100.0).logarithmic(true).text("soft relation weight"));
+            ui.add(egui::Slider::new(&mut global.max_worsening, 1.2..=20.0).text("largest fit worsening (×)"));
+        });
+        self.show_settings = open;
+    }
+
+    pub(crate) fn prompts(&mut self, ctx: &egui::Context) {
+        let Some(prompt) = self.prompt.clone() else { return };
+        let modal = egui::Modal::new(egui::Id::unique("prompt")).show(ctx, |ui| {
+            ui.set_max_width(460.0);
+            match prompt {
+                Prompt::Unsaved(after) => {
+                    ui.heading("Unsaved changes");
+                    ui.label("Save the changes to this work first?");
+                    ui.horizontal(|ui| {
+                        if ui.button("Save").clicked() {
+                            self.prompt = None;
+                            if self.save(ctx) {
+                                self.proceed(ctx, after.clone());
+                            }
+                        }
+                        if ui.button("Don't save").clicked() {
+                            self.prompt = None;
+                            self.proceed(ctx, after.clone());
+                        }
+                        if ui.button("Cancel").clicked() {
+                            self.prompt = None;
+                        }
+                    });
+                }
+                Prompt::Recover(path) => {
+                    ui.heading("Recover unsaved work?");
+                    ui.label("geosnap did not close properly last time. An autosave of the work is available.");
+                    ui.horizontal(|ui| {
+                        if ui.button("Recover").clicked() {
+                            self.prompt = None;
+                            self.recover(ctx, &path);
+                        }
+                        if ui.button("Discard").clicked() {
+                            self.prompt = None;
+                            self.autosave.clear();
+                        }
+                    });
+                }
+                Prompt::Path(action, mut text) => {
+                    ui.heading(match action {
+                        PathAction::Open => "Open a file",
+                        PathAction::SaveAs => "Save the session as",
+                        PathAction::Export => "Export glTF (.glb or .gltf) as",
+                    });
+                    let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(420.0).hint_text("/path/to/file"));
+                    let edit = edit.on_hover_text("File path");
+                    let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    self.prompt = Some(Prompt::Path(action, text.clone()));
+                    ui.horizontal(|ui| {
+                        if ui.button("OK").clicked() || enter {
+                            self.prompt = None;
+                            let path = std::path::PathBuf::from(text.trim());
+                            match action {
+                                PathAction::Open => self.request(ctx, After::Open(Some(path))),
+                                PathAction::SaveAs => {
+                                    self.save_to(ctx, &path);
+                                }
+                                PathAction::Export => self.export_to(&path),
+                            }
+                        }
+                        if ui.button("Cancel").clicked() {
+                            self.prompt = None;
+                        }
+                    });
+                }
+                Prompt::Error(text) => {
+                    ui.heading("Problem");
+                    ui.label(text);
+                    if ui.button("OK").clicked() {
+                        self.prompt = None;
+                    }
+                }
+            }
+        });
+        if modal.should_close() && matches!(self.prompt, Some(Prompt::Error(_) | Prompt::Path(..))) {
+            self.prompt = None;
+        }
+    }
+}

@@ -1,0 +1,500 @@
+//! Work off the UI thread, without any GUI: the drag preview (one snapping thread, newest
+//! request wins) and document jobs (a placement's snap, inference and global solve, or a
+//! re-solve), each cancellable and reporting progress.
+//!
+//! The UI hands in a `wake` callback (egui's `request_repaint`) that is called whenever a
+//! result is ready, so the UI never polls in a busy loop.
+
+use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use crate::clock::MonotonicClock;
+use crate::core::model::{Companions, Document, GlobalOutcome, PrimitiveId, SessionSettings};
+use crate::core::primitive::Primitive;
+use crate::core::snap::{snap, SnapContext, SnapResult, SnapSession};
+use crate::core::solve::{CancelFlag, Iterate};
+
+/// Called from a worker thread when something is ready for the UI.
+pub type Wake = Arc<dyn Fn() + Send + Sync>;
+
+/// A drag frame to snap.
+#[derive(Clone, Debug)]
+pub struct PreviewRequest {
+    /// Increases with every request; results carry it back.
+    pub generation: u64,
+    /// The primitive where the cursor put it.
+    pub dragged: Primitive,
+    /// The strokes.
+    pub context: Arc<SnapContext>,
+    /// The strokes' revision (a new one starts the session afresh).
+    pub strokes_revision: u64,
+}
+
+/// The snapped preview of a drag frame.
+#[derive(Clone, Debug)]
+pub struct PreviewResult {
+    /// The request's generation.
+    pub generation: u64,
+    /// The snap, or why it failed (too few strokes near the primitive, ...).
+    pub result: Result<SnapResult, String>,
+    /// How long the snap took.
+    pub elapsed: Duration,
+}
+
+#[derive(Default)]
+struct Slot {
+    request: Option<PreviewRequest>,
+    quit: bool,
+}
+
+/// The drag-preview thread: the newest request is snapped next; requests that arrive
+/// while a frame is being snapped replace each other, so the preview follows the cursor
+/// with at most one frame of lag.
+pub struct Previewer {
+    slot: Arc<(Mutex<Slot>, Condvar)>,
+    results: Receiver<PreviewResult>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for Previewer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Previewer").finish_non_exhaustive()
+    }
+}
+
+impl Previewer {
+    /// Starts the thread.
+    pub fn start(settings: crate::core::snap::SnapSettings, wake: Wake) -> Self {
+        let slot: Arc<(Mutex<Slot>, Condvar)> = Arc::default();
+        let (sender, results) = channel();
+        let shared = Arc::clone(&slot);
+        let thread = std::thread::Builder::new()
+            .name("geosnap-preview".into())
+            .spawn(move || preview_loop(&shared, &settings, &sender, &wake))
+            .ok();
+        Self {
+            slot,
+            results,
+            thread,
+        }
+    }
+
+    /// Asks for a frame; an older request not yet started is dropped.
+    pub fn request(&self, request: PreviewRequest) {
+        let (lock, ready) = &*self.slot;
+        lock.lock().unwrap_or_else(PoisonError::into_inner).request = Some(request);
+        ready.notify_one();
+    }
+
+    /// Drops a request not yet started (the drag ended).
+    pub fn clear(&self) {
+        let (lock, _) = &*self.slot;
+        lock.lock().unwrap_or_else(PoisonError::into_inner).request = None;
+    }
+
+    /// The newest finished frame, if any arrived since the last call.
+    pub fn latest(&self) -> Option<PreviewResult> {
+        self.results.try_iter().last()
+    }
+
+    /// Waits up to `timeout` for the next finished frame (tests and benchmarks).
+    pub fn wait(&self, timeout: Duration) -> Option<PreviewResult> {
+        self.results.recv_timeout(timeout).ok()
+    }
+}
+
+impl Drop for Previewer {
+    fn drop(&mut self) {
+        let (lock, ready) = &*self.slot;
+        lock.lock().unwrap_or_else(PoisonError::into_inner).quit = true;
+        ready.notify_one();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+fn preview_loop(
+    slot: &(Mutex<Slot>, Condvar),
+    settings: &crate::core::snap::SnapSettings,
+    results: &Sender<PreviewResult>,
+    wake: &Wake,
+) {
+    let mut session: Option<(u64, SnapSession)> = None;
+    loop {
+        let request = {
+            let (lock, ready) = slot;
+            let mut guard = lock.lock().unwrap_or_else(PoisonError::into_inner);
+            loop {
+                if guard.quit {
+                    return;
+                }
+                if let Some(request) = guard.request.take() {
+                    break request;
+                }
+                guard = ready.wait(guard).unwrap_or_else(PoisonError::into_inner);
+            }
+        };
+        let fresh = session
+            .as_ref()
+            .is_none_or(|(revision, _)| *revision != request.strokes_revision);
+        if fresh {
+            session = Some((
+                request.strokes_revision,
+                SnapSession::new((*request.context).clone(), settings.clone()),
+            ));
+        }
+        let Some((_, session)) = session.as_mut() else {
+            continue;
+        };
+        let started = Instant::now();
+        let result = session
+            .update(&request.dragged, None)
+            .map_err(|e| e.to_string());
+        let sent = results.send(PreviewResult {
+            generation: request.generation,
+            result,
+            elapsed: started.elapsed(),
+        });
+        if sent.is_err() {
+            return;
+        }
+        wake();
+    }
+}
+
+/// Where a running job stands, for the status bar.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Progress {
+    /// Outer iterations of the current solve.
+    pub iterations: usize,
+    /// ‖c‖∞ of the last iterate.
+    pub violation: f64,
+    /// Time since the job started.
+    pub elapsed: Duration,
+}
+
+/// What a job produced.
+#[derive(Clone, Debug)]
+pub struct JobOutput {
+    /// The new model (`None`: nothing to change, see the messages).
+    pub document: Option<Document>,
+    /// The placed or re-snapped part.
+    pub placed: Option<PrimitiveId>,
+    /// The global solve.
+    pub outcome: Option<GlobalOutcome>,
+    /// What the user should read (conflicts, failures).
+    pub messages: Vec<String>,
+    /// Whether the job was cancelled (nothing changes).
+    pub cancelled: bool,
+    /// How long it took.
+    pub elapsed: Duration,
+}
+
+/// A running job.
+#[derive(Debug)]
+pub struct Job {
+    /// The undo label of its result ("Place cylinder").
+    pub label: String,
+    /// The editor revision it started from: a result for an older revision is dropped.
+    pub revision: u64,
+    cancel: CancelFlag,
+    progress: Arc<Mutex<Progress>>,
+    result: Receiver<JobOutput>,
+    started: Instant,
+}
+
+impl Job {
+    /// Runs `work` on a new thread with a cancel flag and a progress observer.
+    pub fn spawn(
+        label: String,
+        revision: u64,
+        wake: Wake,
+        work: impl FnOnce(&CancelFlag, &mut dyn FnMut(&Iterate<'_>)) -> JobOutput + Send + 'static,
+    ) -> Self {
+        let cancel = CancelFlag::new();
+        let progress: Arc<Mutex<Progress>> = Arc::default();
+        let (sender, result) = channel();
+        let (flag, shared) = (cancel.clone(), Arc::clone(&progress));
+        let started = Instant::now();
+        let spawned = std::thread::Builder::new()
+            .name("geosnap-solve".into())
+            .spawn(move || {
+                let mut last_wake = Instant::now();
+                let mut observe = |it: &Iterate<'_>| {
+                    let mut p = shared.lock().unwrap_or_else(PoisonError::into_inner);
+                    p.iterations = it.outer;
+                    p.violation = it.max_violation;
+                    p.elapsed = started.elapsed();
+                    drop(p);
+                    if last_wake.elapsed() > Duration::from_millis(50) {
+                        last_wake = Instant::now();
+                        wake();
+                    }
+                };
+                let mut output = work(&flag, &mut observe);
+                output.elapsed = started.elapsed();
+                let _ = sender.send(output);
+                wake();
+            });
+        if let Err(error) = spawned {
+            log::error!("cannot start a solve thread: {error}");
+        }
+        Self {
+            label,
+            revision,
+            cancel,
+            progress,
+            result,
+            started,
+        }
+    }
+
+    /// Asks the job to stop; its result then says `cancelled`.
+    pub fn cancel(&self) {
+        self.cancel.cancel();
+    }
+
+    /// Whether cancelling was asked for.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+
+    /// The progress so far.
+    pub fn progress(&self) -> Progress {
+        let mut p = self
+            .progress
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone();
+        p.elapsed = self.started.elapsed();
+        p
+    }
+
+    /// The result, once the job is done.
+    pub fn try_result(&self) -> Option<JobOutput> {
+        self.result.try_recv().ok()
+    }
+
+    /// Waits up to `timeout` for the result (tests).
+    pub fn wait(&self, timeout: Duration) -> Option<JobOutput> {
+        self.result.recv_timeout(timeout).ok()
+    }
+}
+
+/// The job of a release: snap `dragged` (from its preview), add it (in place of
+/// `replacing` when re-dragging a part), infer its relations and solve.
+pub fn place(
+    mut document: Document,
+    context: &SnapContext,
+    dragged: &Primitive,
+    replacing: Option<PrimitiveId>,
+    settings: &SessionSettings,
+    cancel: &CancelFlag,
+    observer: &mut dyn FnMut(&Iterate<'_>),
+) -> JobOutput {
+    let mut output = JobOutput {
+        document: None,
+        placed: None,
+        outcome: None,
+        messages: Vec::new(),
+        cancelled: false,
+        elapsed: Duration::ZERO,
+    };
+    let snapped = match snap(context, dragged, &settings.snap) {
+        Ok(s) => s,
+        Err(error) => {
+            output.messages.push(format!(
+                "The {} did not snap: {error}. Drop it nearer its strokes.",
+                dragged.kind().name()
+            ));
+            return output;
+        }
+    };
+    if cancel.is_cancelled() {
+        output.cancelled = true;
+        return output;
+    }
+    if let Some(old) = replacing {
+        document.remove(old);
+    }
+    let id = document.add_snapped(&snapped);
+    let relations = document.infer_relations(id, &settings.inference);
+    let clock = MonotonicClock::start();
+    let mut observe = |it: &Iterate<'_>| observer(it);
+    let outcome = document.solve(
+        Some(&[id]),
+        &settings.global,
+        Companions {
+            cancel: Some(cancel),
+            clock: Some(&clock),
+            observer: Some(&mut observe),
+        },
+    );
+    if cancel.is_cancelled() {
+        output.cancelled = true;
+        return output;
+    }
+    if let Some(placed) = document.get(id) {
+        output.messages.push(format!(
+            "#{} snapped to {} strokes (RMS {:.2}).",
+            id.0,
+            placed.fit.strokes.len(),
+            placed.fit.rms
+        ));
+    }
+    output.messages.extend(describe(&outcome, relations.len()));
+    output.placed = Some(id);
+    output.outcome = Some(outcome);
+    output.document = Some(document);
+    output
+}
+
+/// The job of a re-solve (after a relation's mode or a dimension changed): every part
+/// in the components of `changed`, or the whole model.
+pub fn resolve(
+    mut document: Document,
+    changed: Option<Vec<PrimitiveId>>,
+    settings: &SessionSettings,
+    cancel: &CancelFlag,
+    observer: &mut dyn FnMut(&Iterate<'_>),
+) -> JobOutput {
+    let clock = MonotonicClock::start();
+    let mut global = settings.global.clone();
+    global.reach = None;
+    let mut observe = |it: &Iterate<'_>| observer(it);
+    let outcome = document.solve(
+        changed.as_deref(),
+        &global,
+        Companions {
+            cancel: Some(cancel),
+            clock: Some(&clock),
+            observer: Some(&mut observe),
+        },
+    );
+    let cancelled = cancel.is_cancelled();
+    JobOutput {
+        messages: describe(&outcome, 0),
+        document: (!cancelled).then_some(document),
+        placed: None,
+        outcome: Some(outcome),
+        cancelled,
+        elapsed: Duration::ZERO,
+    }
+}
+
+/// The messages of a solve for the user.
+fn describe(outcome: &GlobalOutcome, inferred: usize) -> Vec<String> {
+    let mut messages: Vec<String> = outcome
+        .conflicts
+        .iter()
+        .map(|c| c.message.clone())
+        .collect();
+    if outcome.reverted {
+        messages.push(
+            "The solve could not make the model consistent; the parts were put back as \
+             they were."
+                .to_owned(),
+        );
+    }
+    if inferred > 0 && messages.is_empty() {
+        messages.push(format!(
+            "{inferred} relation{} inferred.",
+            if inferred == 1 { "" } else { "s" }
+        ));
+    }
+    messages
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use glam::DVec2;
+
+    use super::{place, Job, PreviewRequest, Previewer};
+    use crate::core::model::{Document, SessionSettings};
+    use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
+    use crate::core::snap::SnapContext;
+    use crate::io::svg::{import_svg, SvgOptions};
+    use crate::samples::VASE_SVG;
+
+    fn vase() -> (Arc<SnapContext>, Primitive) {
+        let sketch = import_svg(VASE_SVG.as_bytes(), &SvgOptions::default())
+            .expect("the sample imports")
+            .sketch;
+        let (lo, hi) = sketch.bounds().expect("the sample has strokes");
+        let centre = (lo + hi) / 2.0;
+        let dragged = Primitive::from_placement(
+            PrimitiveKind::Cylinder,
+            &Placement::at(centre + DVec2::new(3.0, 2.0)),
+            (hi - lo).max_element() * 0.3,
+        );
+        (Arc::new(SnapContext::from_sketch(&sketch)), dragged)
+    }
+
+    #[test]
+    fn the_previewer_answers_the_newest_request() {
+        let (context, dragged) = vase();
+        let previewer = Previewer::start(Default::default(), Arc::new(|| {}));
+        for generation in 0..5 {
+            previewer.request(PreviewRequest {
+                generation,
+                dragged: dragged.clone(),
+                context: Arc::clone(&context),
+                strokes_revision: 0,
+            });
+        }
+        let mut last = None;
+        while let Some(result) = previewer.wait(Duration::from_secs(20)) {
+            last = Some(result.generation);
+            if result.generation == 4 {
+                break;
+            }
+        }
+        assert_eq!(last, Some(4), "the newest request is always answered");
+    }
+
+    #[test]
+    fn a_placement_job_snaps_and_adds_the_part_and_can_be_cancelled() {
+        let (context, dragged) = vase();
+        let settings = SessionSettings::default();
+        let job = {
+            let (context, dragged, settings) =
+                (Arc::clone(&context), dragged.clone(), settings.clone());
+            Job::spawn("Place".into(), 0, Arc::new(|| {}), move |cancel, observe| {
+                place(
+                    Document::new(),
+                    &context,
+                    &dragged,
+                    None,
+                    &settings,
+                    cancel,
+                    observe,
+                )
+            })
+        };
+        let output = job.wait(Duration::from_secs(60)).expect("the job ends");
+        let document = output.document.expect("the cylinder snaps onto the vase");
+        let id = output.placed.expect("a part was placed");
+        assert!(!document.get(id).expect("placed").fit.strokes.is_empty());
+
+        let job = Job::spawn("Place".into(), 0, Arc::new(|| {}), move |cancel, observe| {
+            cancel.cancel();
+            place(
+                Document::new(),
+                &context,
+                &dragged,
+                None,
+                &settings,
+                cancel,
+                observe,
+            )
+        });
+        let output = job.wait(Duration::from_secs(60)).expect("the job ends");
+        assert!(output.cancelled && output.document.is_none());
+    }
+}
