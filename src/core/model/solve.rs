@@ -270,6 +270,26 @@ fn to_common<'g>(f: &FeatureCurve<Expr<'g>>, scale: f64, offset: DVec3) -> Featu
     }
 }
 
+/// The equalities holding a free part's dimensions, in its frame: sizes map by 1/s.
+fn dimension_equalities<'g>(
+    part: &Part<'_>,
+    name: &str,
+    x: &[Expr<'g>],
+) -> Vec<(String, Expr<'g>)> {
+    part.dimensions
+        .iter()
+        .filter_map(|(quantity, target)| {
+            let v = quantity
+                .param_index(part.primitive.kind())
+                .and_then(|i| x.get(i))?;
+            Some((
+                format!("{name}: {quantity} = {target}"),
+                *v - *target / part.frame.scale,
+            ))
+        })
+        .collect()
+}
+
 /// Builds the global problem of `parts` with the `relations` (index, relation) whose
 /// members are all among them.
 fn compile(
@@ -321,21 +341,9 @@ fn compile(
         };
         objective.push(value);
         equalities.extend(eqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
-        // The user's dimensions: sizes map into the frame by 1/s. They come before the
-        // relations, so the relations' ranges below are unaffected, and `blame` never
-        // sees them.
-        for (quantity, target) in &part.dimensions {
-            let Some(v) = quantity
-                .param_index(part.primitive.kind())
-                .and_then(|i| x.get(i))
-            else {
-                continue;
-            };
-            equalities.push((
-                format!("{name}: {quantity} = {target}"),
-                *v - *target / part.frame.scale,
-            ));
-        }
+        // The user's dimensions come before the relations, so the relations' ranges
+        // below are unaffected, and `blame` never sees them.
+        equalities.extend(dimension_equalities(part, &name, &x));
         inequalities.extend(ineqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
         features.push(
             feats
@@ -508,6 +516,10 @@ impl Document {
     /// assert!(axis(a).cross(axis(b)).length() < 1e-4);
     /// # Ok::<(), anyhow::Error>(())
     /// ```
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one loop of solve, blame and retry reads best whole"
+    )]
     pub fn solve(
         &mut self,
         changed: Option<&[PrimitiveId]>,
@@ -533,15 +545,10 @@ impl Document {
             if relations.is_empty() {
                 // Unrelated parts are at their own snaps' optimum already, unless the
                 // user dimensioned them: those are refitted with their dimensions held.
-                let dimensioned: BTreeSet<PrimitiveId> = ids
-                    .difference(&held)
-                    .copied()
-                    .filter(|id| self.dimensions_of(*id).next().is_some())
-                    .collect();
-                if dimensioned.is_empty() {
+                ids = self.dimensioned(&ids, &held);
+                if ids.is_empty() {
                     return outcome;
                 }
-                ids = dimensioned;
                 held.clear();
                 outcome.solved = ids.iter().copied().collect();
             }
@@ -634,6 +641,18 @@ impl Document {
 }
 
 impl Document {
+    /// The parts of `ids` not `held` that have dimensions.
+    fn dimensioned(
+        &self,
+        ids: &BTreeSet<PrimitiveId>,
+        held: &BTreeSet<PrimitiveId>,
+    ) -> BTreeSet<PrimitiveId> {
+        ids.difference(held)
+            .copied()
+            .filter(|id| self.dimensions_of(*id).next().is_some())
+            .collect()
+    }
+
     /// The parts of a solve of `ids`, with their frames and variable ranges.
     fn parts(&self, ids: &BTreeSet<PrimitiveId>, held: &BTreeSet<PrimitiveId>) -> Vec<Part<'_>> {
         let mut parts = Vec::with_capacity(ids.len());
@@ -1028,7 +1047,10 @@ mod tests {
             Companions::default(),
         );
         assert!(outcome.report.is_some(), "solved without relations");
-        assert!(outcome.conflicts.is_empty() && !outcome.reverted, "{outcome:?}");
+        assert!(
+            outcome.conflicts.is_empty() && !outcome.reverted,
+            "{outcome:?}"
+        );
         let Primitive::Cylinder(solved) = doc.get(id).expect("placed").primitive.clone() else {
             unreachable!("a cylinder")
         };
@@ -1078,9 +1100,21 @@ mod tests {
         let b = doc.add(other);
         relate(&mut doc, RelationKind::SameRadius, a, b);
         doc.set_dimension(a, Quantity::Radius, 2.4).expect("valid");
-        let outcome = doc.solve(Some(&[b]), &GlobalSettings::default(), Companions::default());
+        let outcome = doc.solve(
+            Some(&[b]),
+            &GlobalSettings::default(),
+            Companions::default(),
+        );
         assert!(outcome.conflicts.is_empty(), "{outcome:?}");
-        assert!((radius(&doc, a) - 2.4).abs() <= 2.4e-6, "{}", radius(&doc, a));
-        assert!((radius(&doc, b) - 2.4).abs() <= 2.4e-3, "{}", radius(&doc, b));
+        assert!(
+            (radius(&doc, a) - 2.4).abs() <= 2.4e-6,
+            "{}",
+            radius(&doc, a)
+        );
+        assert!(
+            (radius(&doc, b) - 2.4).abs() <= 2.4e-3,
+            "{}",
+            radius(&doc, b)
+        );
     }
 }
