@@ -5,7 +5,11 @@
 //! application does on each release: snap the dropped part, infer its relations with the
 //! placed parts ([`Document::infer_relations`]), then solve the model globally
 //! ([`Document::solve`], module `solve`), switching off relations that conflict.
+//!
+//! Sizes the user types for a part are [`Dimension`]s ([`Document::set_dimension`]),
+//! held exactly by every solve (module `dimension`).
 
+mod dimension;
 mod release;
 mod solve;
 
@@ -19,6 +23,7 @@ use crate::core::sketch::{Sketch, StrokeId};
 use crate::core::snap::{snap, Assignment, SnapContext, SnapResult, SnapSettings};
 use crate::core::solve::Clock;
 
+pub use dimension::{Dimension, DimensionError, Quantity};
 pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_FLOOR};
 
 /// Identifies a primitive of a [`Document`]; ids are never reused.
@@ -84,6 +89,8 @@ pub struct Document {
     /// Steps that were skipped.
     pub skipped: Vec<Skipped>,
     relations: Vec<Relation>,
+    /// Sizes the user typed, held exactly by every solve.
+    dimensions: Vec<Dimension>,
     /// The snaps of parts placed in this session (parts loaded from a model file have
     /// none and are held where they are).
     snaps: BTreeMap<PrimitiveId, SnapRecord>,
@@ -130,15 +137,51 @@ impl Document {
         self.snaps.get(&id)
     }
 
+    /// The snaps of the parts placed in this session, in id order.
+    pub fn snap_records(&self) -> impl Iterator<Item = (PrimitiveId, &SnapRecord)> {
+        self.snaps.iter().map(|(id, r)| (*id, r))
+    }
+
+    /// Gives part `id` a snap record (reopening a saved session), so the global solve
+    /// keeps fitting it to those strokes instead of holding it where it is. The record's
+    /// assignment must have one entry per projected curve of the part (see
+    /// [`crate::core::snap::restore_assignment`]). Returns whether the part exists.
+    pub fn set_snap_record(&mut self, id: PrimitiveId, record: SnapRecord) -> bool {
+        if self.primitives.contains_key(&id) {
+            self.snaps.insert(id, record);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// The multipliers the next global solve starts from, by constraint label and
+    /// occurrence of that label, in key order. They only speed solves up, but a saved
+    /// session keeps them so that a re-solve after reopening follows the same path.
+    pub fn warm_multipliers(&self) -> impl Iterator<Item = (&str, usize, f64)> {
+        self.multipliers
+            .iter()
+            .map(|((label, n), value)| (label.as_str(), *n, *value))
+    }
+
+    /// Sets the warm-start multiplier of the `occurrence`-th constraint labelled
+    /// `label` (see [`Document::warm_multipliers`]); non-finite values are ignored.
+    pub fn set_warm_multiplier(&mut self, label: String, occurrence: usize, value: f64) {
+        if value.is_finite() {
+            self.multipliers.insert((label, occurrence), value);
+        }
+    }
+
     /// Inserts a primitive under a given id (loading a file); later ids stay above it.
     pub fn insert(&mut self, id: PrimitiveId, placed: Placed) {
         self.next_id = self.next_id.max(id.0 + 1);
         self.primitives.insert(id, placed);
     }
 
-    /// Removes a primitive and the relations it takes part in.
+    /// Removes a primitive with the relations it takes part in and its dimensions.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
         self.relations.retain(|r| !r.members.contains(&id));
+        self.dimensions.retain(|d| d.primitive != id);
         self.snaps.remove(&id);
         self.primitives.remove(&id)
     }

@@ -31,6 +31,14 @@
 //!   pulling hardest: the largest Σ|λ| (its multipliers are the forces it exerts against
 //!   the fits).
 //!
+//! **Dimensions.** A size the user typed for a free part ([`super::Dimension`]) is the
+//! hard equality x_q − value/s_p = 0 on that parameter in the part's frame, labelled
+//! `cylinder 3: radius = 12.5`. A part with dimensions is solved even without relations,
+//! so that its other parameters are refitted to its strokes with the size held. The
+//! conflict logic never blames a dimension: when the hard relations contradict one, a
+//! relation is switched off; and a dimensioned part's fit is not checked for worsening,
+//! since the user's size may rightly pull it off its strokes.
+//!
 //! After [`GlobalSettings::max_conflicts`] rounds a still broken component is put back
 //! as it was: the user is never left with a broken model.
 
@@ -39,7 +47,7 @@ use std::time::Duration;
 
 use glam::DVec3;
 
-use super::{Document, PrimitiveId, Relation};
+use super::{Document, PrimitiveId, Quantity, Relation};
 use crate::core::ad::{Expr, Graph, Vec3};
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
@@ -159,7 +167,8 @@ pub struct GlobalOutcome {
     pub relations: usize,
     /// Relations switched off, in order.
     pub conflicts: Vec<Conflict>,
-    /// The last solve's report (`None` when nothing needed solving: no relations).
+    /// The last solve's report (`None` when nothing needed solving: no relations and no
+    /// dimensions).
     pub report: Option<SolveReport>,
     /// Solves run (1 plus one per conflict).
     pub solves: usize,
@@ -214,6 +223,8 @@ struct Part<'d> {
     len: usize,
     /// Whether it is held where it is (beyond the reach of the change).
     held: bool,
+    /// Its dimensions (quantity, value in model space), held exactly.
+    dimensions: Vec<(Quantity, f64)>,
 }
 
 /// The compiled problem of a set of parts and relations, with where each relation's
@@ -257,6 +268,26 @@ fn to_common<'g>(f: &FeatureCurve<Expr<'g>>, scale: f64, offset: DVec3) -> Featu
         name: f.name,
         geometry,
     }
+}
+
+/// The equalities holding a free part's dimensions, in its frame: sizes map by 1/s.
+fn dimension_equalities<'g>(
+    part: &Part<'_>,
+    name: &str,
+    x: &[Expr<'g>],
+) -> Vec<(String, Expr<'g>)> {
+    part.dimensions
+        .iter()
+        .filter_map(|(quantity, target)| {
+            let v = quantity
+                .param_index(part.primitive.kind())
+                .and_then(|i| x.get(i))?;
+            Some((
+                format!("{name}: {quantity} = {target}"),
+                *v - *target / part.frame.scale,
+            ))
+        })
+        .collect()
 }
 
 /// Builds the global problem of `parts` with the `relations` (index, relation) whose
@@ -310,6 +341,9 @@ fn compile(
         };
         objective.push(value);
         equalities.extend(eqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
+        // The user's dimensions come before the relations, so the relations' ranges
+        // below are unaffected, and `blame` never sees them.
+        equalities.extend(dimension_equalities(part, &name, &x));
         inequalities.extend(ineqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
         features.push(
             feats
@@ -482,6 +516,10 @@ impl Document {
     /// assert!(axis(a).cross(axis(b)).length() < 1e-4);
     /// # Ok::<(), anyhow::Error>(())
     /// ```
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one loop of solve, blame and retry reads best whole"
+    )]
     pub fn solve(
         &mut self,
         changed: Option<&[PrimitiveId]>,
@@ -489,7 +527,7 @@ impl Document {
         mut companions: Companions<'_>,
     ) -> GlobalOutcome {
         let all: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
-        let ids = component(self, changed.unwrap_or(&all));
+        let mut ids = component(self, changed.unwrap_or(&all));
         let mut held = match (changed, settings.reach) {
             (Some(changed), Some(reach)) => held_beyond(self, &ids, changed, reach),
             _ => BTreeSet::new(),
@@ -505,8 +543,14 @@ impl Document {
             let relations = self.relations_between(&ids, &held);
             outcome.relations = relations.len();
             if relations.is_empty() {
-                // Unrelated parts are at their own snaps' optimum already.
-                return outcome;
+                // Unrelated parts are at their own snaps' optimum already, unless the
+                // user dimensioned them: those are refitted with their dimensions held.
+                ids = self.dimensioned(&ids, &held);
+                if ids.is_empty() {
+                    return outcome;
+                }
+                held.clear();
+                outcome.solved = ids.iter().copied().collect();
             }
             let parts = self.parts(&ids, &held);
             let mut compiled = compile(&parts, &relations, settings);
@@ -536,7 +580,15 @@ impl Document {
                 .filter(|p| !p.held)
                 .map(|p| {
                     let local = p.local.with_params(&report.x[p.start..p.start + p.len]);
-                    let primitive = p.frame.out_of_frame(&local);
+                    // The dimensions held to the solver's tolerance, stored exactly.
+                    let primitive = p.dimensions.iter().fold(
+                        p.frame.out_of_frame(&local),
+                        |primitive, (quantity, value)| {
+                            primitive
+                                .with_quantity(*quantity, *value)
+                                .unwrap_or(primitive)
+                        },
+                    );
                     let rms = p.assignment.map_or(0.0, |a| fit_rms(&primitive, a));
                     (p.id, primitive, rms)
                 })
@@ -589,6 +641,18 @@ impl Document {
 }
 
 impl Document {
+    /// The parts of `ids` not `held` that have dimensions.
+    fn dimensioned(
+        &self,
+        ids: &BTreeSet<PrimitiveId>,
+        held: &BTreeSet<PrimitiveId>,
+    ) -> BTreeSet<PrimitiveId> {
+        ids.difference(held)
+            .copied()
+            .filter(|id| self.dimensions_of(*id).next().is_some())
+            .collect()
+    }
+
     /// The parts of a solve of `ids`, with their frames and variable ranges.
     fn parts(&self, ids: &BTreeSet<PrimitiveId>, held: &BTreeSet<PrimitiveId>) -> Vec<Part<'_>> {
         let mut parts = Vec::with_capacity(ids.len());
@@ -612,6 +676,10 @@ impl Document {
                 start,
                 len,
                 held: is_held,
+                dimensions: self
+                    .dimensions_of(*id)
+                    .map(|d| (d.quantity, d.value))
+                    .collect(),
             });
             start += len;
         }
@@ -771,8 +839,13 @@ fn blame(
     // A fit got much worse: the strongest pull among the relations of those parts.
     let worse: Vec<(PrimitiveId, f64, f64)> = parts
         .iter()
+        .filter(|p| !p.held)
         .zip(solved)
         .filter_map(|(part, (_, primitive, rms))| {
+            // A dimensioned part may leave its strokes: the user's size overrides them.
+            if !part.dimensions.is_empty() {
+                return None;
+            }
             let own = part.own_rms?;
             let allowed = settings.max_worsening * own.max(WORSENING_FLOOR * part.primitive.size());
             (*rms > allowed && primitive.is_finite()).then_some((part.id, own, *rms))
@@ -813,7 +886,7 @@ mod tests {
     use glam::DVec3;
 
     use super::{Companions, GlobalSettings, Mode};
-    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
+    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Quantity, Relation};
     use crate::core::primitive::{Cylinder, Primitive};
     use crate::core::relation::RelationKind;
 
@@ -914,5 +987,134 @@ mod tests {
         assert!(soft < 0.5 * angle(&before), "soft: closer ({soft})");
         doc.set_relation_mode(0, Mode::Hard, &settings, Companions::default());
         assert!(angle(&doc) < 1e-3, "hard: parallel ({})", angle(&doc));
+    }
+
+    fn radius(doc: &Document, id: PrimitiveId) -> f64 {
+        doc.get(id)
+            .and_then(|p| p.primitive.quantity(Quantity::Radius))
+            .expect("a cylinder")
+    }
+
+    #[test]
+    fn a_typed_radius_holds_and_the_rest_is_refitted_to_the_strokes() {
+        use glam::DVec2;
+
+        use crate::core::sketch::{StrokeClass, StrokeId};
+        use crate::core::snap::{snap, SnapContext, SnapSettings};
+
+        // The outline of a side-on cylinder: two lines 20 apart, 60 long (sketch space).
+        let line = |x: f64| {
+            (0..=20)
+                .map(|i| DVec2::new(x, 100.0 + 3.0 * f64::from(i)))
+                .collect::<Vec<_>>()
+        };
+        let (l, r) = (line(40.0), line(60.0));
+        let context = SnapContext::new([
+            (StrokeId(0), l.as_slice(), StrokeClass::Silhouette),
+            (StrokeId(1), r.as_slice(), StrokeClass::Silhouette),
+        ]);
+        let dropped = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(52.0, -128.0, 0.0),
+            axis: DVec3::Y,
+            length: 70.0,
+            radius: 12.0,
+        });
+        let result = snap(&context, &dropped, &SnapSettings::default()).expect("snaps");
+        let mut doc = Document::new();
+        let id = doc.add_snapped(&result);
+        let Primitive::Cylinder(fitted) = doc.get(id).expect("placed").primitive.clone() else {
+            unreachable!("a cylinder")
+        };
+        assert!((fitted.radius - 10.0).abs() < 0.2, "{fitted:?}");
+        // Moved off-centre a little, then dimensioned: the solve recentres it between
+        // the lines with the typed radius.
+        let mut moved = fitted.clone();
+        moved.center.x += 3.0;
+        moved.length *= 1.1;
+        doc.insert(
+            id,
+            Placed {
+                primitive: Primitive::Cylinder(moved),
+                fit: doc.get(id).expect("placed").fit.clone(),
+            },
+        );
+        doc.set_dimension(id, Quantity::Radius, 12.5)
+            .expect("a cylinder has a radius");
+        assert!((radius(&doc, id) - 12.5).abs() < 1e-12, "set at once");
+        let outcome = doc.solve(
+            Some(&[id]),
+            &GlobalSettings::default(),
+            Companions::default(),
+        );
+        assert!(outcome.report.is_some(), "solved without relations");
+        assert!(
+            outcome.conflicts.is_empty() && !outcome.reverted,
+            "{outcome:?}"
+        );
+        let Primitive::Cylinder(solved) = doc.get(id).expect("placed").primitive.clone() else {
+            unreachable!("a cylinder")
+        };
+        assert!(
+            (solved.radius - 12.5).abs() <= 1e-6 * 12.5,
+            "the dimension holds: {}",
+            solved.radius
+        );
+        assert!(
+            (solved.center.x - 50.0).abs() < 0.5,
+            "recentred between its strokes: {solved:?}"
+        );
+        assert!(
+            (solved.length - fitted.length).abs() < 0.05 * fitted.length,
+            "the length is refitted to the strokes: {} against {}",
+            solved.length,
+            fitted.length
+        );
+    }
+
+    #[test]
+    fn a_hard_relation_against_two_dimensions_is_switched_off() {
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let b = doc.add(cylinder(8.0, DVec3::Y));
+        relate(&mut doc, RelationKind::SameRadius, a, b);
+        doc.set_dimension(a, Quantity::Radius, 2.0).expect("valid");
+        doc.set_dimension(b, Quantity::Radius, 3.0).expect("valid");
+        let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
+        assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
+        assert_eq!(outcome.conflicts[0].relation, 0);
+        assert!(!outcome.reverted, "{outcome:?}");
+        assert_eq!(doc.relations()[0].mode, Mode::Off);
+        assert_eq!(doc.dimensions().len(), 2, "dimensions are never dropped");
+        assert!((radius(&doc, a) - 2.0).abs() <= 2e-6, "{}", radius(&doc, a));
+        assert!((radius(&doc, b) - 3.0).abs() <= 3e-6, "{}", radius(&doc, b));
+    }
+
+    #[test]
+    fn a_dimension_and_a_relation_that_agree_both_hold() {
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let mut other = cylinder(8.0, DVec3::Y);
+        if let Primitive::Cylinder(c) = &mut other.primitive {
+            c.radius = 2.6;
+        }
+        let b = doc.add(other);
+        relate(&mut doc, RelationKind::SameRadius, a, b);
+        doc.set_dimension(a, Quantity::Radius, 2.4).expect("valid");
+        let outcome = doc.solve(
+            Some(&[b]),
+            &GlobalSettings::default(),
+            Companions::default(),
+        );
+        assert!(outcome.conflicts.is_empty(), "{outcome:?}");
+        assert!(
+            (radius(&doc, a) - 2.4).abs() <= 2.4e-6,
+            "{}",
+            radius(&doc, a)
+        );
+        assert!(
+            (radius(&doc, b) - 2.4).abs() <= 2.4e-3,
+            "{}",
+            radius(&doc, b)
+        );
     }
 }

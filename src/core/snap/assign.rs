@@ -38,6 +38,11 @@ pub struct AssignedStroke {
     pub samples: Vec<DVec2>,
     /// Mean distance of the samples to the curve at assignment time.
     pub mean_distance: f64,
+    /// When only part of the stroke runs along the curve, the indices of the samples
+    /// taken among [`stroke_samples`] of the stroke, ascending; `None` when the whole
+    /// stroke is taken. With the stroke id this is all a file needs to store to
+    /// [`restore_assignment`].
+    pub part: Option<Vec<usize>>,
 }
 
 /// The strokes assigned to each projected curve of one primitive.
@@ -149,6 +154,24 @@ pub(crate) const ROUGHLY_STRAIGHT: f64 = 0.06;
 /// At most this many samples of a stroke are tested and used per curve.
 const MAX_SAMPLES: usize = 32;
 
+/// The samples of a stroke that assignment tests and takes: at most 32, evenly chosen
+/// along it, its end points included (view-plane coordinates).
+pub fn stroke_samples(stroke: &SnapStroke) -> Vec<DVec2> {
+    subsample(&stroke.points)
+}
+
+/// The samples taken of a stroke: all of `samples`, or those at the indices of `part`;
+/// `None` when an index is out of range or the indices are not strictly ascending.
+fn taken(samples: &[DVec2], part: Option<&[usize]>) -> Option<Vec<DVec2>> {
+    let Some(part) = part else {
+        return Some(samples.to_vec());
+    };
+    if part.windows(2).any(|w| w[0] >= w[1]) {
+        return None;
+    }
+    part.iter().map(|i| samples.get(*i).copied()).collect()
+}
+
 /// Evenly chosen samples of a stroke (its end points included).
 fn subsample(points: &[DVec2]) -> Vec<DVec2> {
     if points.len() <= MAX_SAMPLES {
@@ -200,24 +223,24 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
                 .map(|p| curve_distance(&curve.curve, *p))
                 .collect();
             let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
-            let candidate = if near.len() * 5 >= d.len() * 4 {
-                let mean = d.iter().sum::<f64>() / d.len() as f64;
-                Some(AssignedStroke {
-                    stroke: stroke.id,
-                    samples: samples.clone(),
-                    mean_distance: mean,
-                })
+            let part = if near.len() * 5 >= d.len() * 4 {
+                Some(None)
             } else {
                 let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
-                (near.len() >= 4 && near_length >= 0.5 * lengths[k]).then(|| {
-                    let mean = near.iter().map(|i| d[*i]).sum::<f64>() / near.len() as f64;
-                    AssignedStroke {
-                        stroke: stroke.id,
-                        samples: near.iter().map(|i| samples[*i]).collect(),
-                        mean_distance: mean,
-                    }
-                })
+                (near.len() >= 4 && near_length >= 0.5 * lengths[k]).then_some(Some(near))
             };
+            let candidate = part.and_then(|part| {
+                let used: Vec<f64> = match &part {
+                    Some(near) => near.iter().map(|i| d[*i]).collect(),
+                    None => d.clone(),
+                };
+                Some(AssignedStroke {
+                    stroke: stroke.id,
+                    samples: taken(&samples, part.as_deref())?,
+                    mean_distance: used.iter().sum::<f64>() / used.len() as f64,
+                    part,
+                })
+            });
             if let Some(c) = candidate {
                 let score = c.mean_distance * factor;
                 if best.as_ref().is_none_or(|(s, _, _)| score < *s) {
@@ -241,6 +264,88 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
         assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
     }
     assignment
+}
+
+/// The strokes of one projected curve as a file stores them: each stroke's id with the
+/// indices of the samples taken ([`AssignedStroke::part`]; `None`: the whole stroke).
+pub type CurveStrokes = Vec<(StrokeId, Option<Vec<usize>>)>;
+
+/// Why an assignment could not be restored.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RestoreError {
+    /// There is not one list of strokes per projected curve.
+    #[error("{found} curve(s) of strokes for a primitive with {expected} projected curves")]
+    CurveCount {
+        /// The primitive's projected curves.
+        expected: usize,
+        /// The lists given.
+        found: usize,
+    },
+    /// A stroke is not among the strokes that can be snapped to (it is not in the
+    /// sketch, or too short to keep).
+    #[error("stroke {} is not in the sketch", stroke.0)]
+    MissingStroke {
+        /// The stroke.
+        stroke: StrokeId,
+    },
+    /// A stroke's sample indices are out of range or not strictly ascending.
+    #[error("stroke {} has invalid sample indices", stroke.0)]
+    InvalidSamples {
+        /// The stroke.
+        stroke: StrokeId,
+    },
+}
+
+/// Rebuilds an assignment from the strokes of each projected curve, as a file stores
+/// it: per curve, each stroke's id with the indices of the samples taken when only part
+/// of it was (see [`AssignedStroke::part`]). The samples are chosen exactly as
+/// [`assign`] chooses them, from the same `context`; the mean distances are measured
+/// to `curves` (the primitive's projected curves now).
+///
+/// # Errors
+///
+/// [`RestoreError`] when the number of curves differs from `curves`, a stroke is not in
+/// `context`, or sample indices are invalid.
+pub fn restore_assignment(
+    context: &SnapContext,
+    curves: &[ProjectedCurve<f64>],
+    strokes: &[CurveStrokes],
+) -> Result<Assignment, RestoreError> {
+    if strokes.len() != curves.len() {
+        return Err(RestoreError::CurveCount {
+            expected: curves.len(),
+            found: strokes.len(),
+        });
+    }
+    let curves = curves
+        .iter()
+        .zip(strokes)
+        .map(|(curve, assigned)| {
+            assigned
+                .iter()
+                .map(|(id, part)| {
+                    let stroke = context
+                        .stroke(*id)
+                        .ok_or(RestoreError::MissingStroke { stroke: *id })?;
+                    let samples = taken(&stroke_samples(stroke), part.as_deref())
+                        .filter(|s| !s.is_empty())
+                        .ok_or(RestoreError::InvalidSamples { stroke: *id })?;
+                    let mean_distance = samples
+                        .iter()
+                        .map(|p| curve_distance(&curve.curve, *p))
+                        .sum::<f64>()
+                        / samples.len() as f64;
+                    Ok(AssignedStroke {
+                        stroke: *id,
+                        samples,
+                        mean_distance,
+                        part: part.clone(),
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Assignment { curves })
 }
 
 /// The gate of one curve: `gate`, but for an ellipse no more than its semi-major axis. A
@@ -366,5 +471,68 @@ mod tests {
         let ctx = SnapContext::new([(StrokeId(0), rim.as_slice(), StrokeClass::Feature)]);
         let a = assign(&ctx, &shape.curves, 0.3 * stem.size());
         assert!(a.stroke_ids().is_empty(), "{a:?}");
+    }
+
+    #[test]
+    fn an_assignment_is_restored_from_its_stroke_ids_and_parts() {
+        use super::{restore_assignment, RestoreError};
+
+        // A long stroke runs along the left outline and on past the cylinder, so only
+        // part of it is taken; the right outline is taken whole.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let line = |x: f64, from: f64, to: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| DVec2::new(x, from + (to - from) * f64::from(i) / 40.0))
+                .collect()
+        };
+        let strokes = [
+            (
+                StrokeId(5),
+                line(-10.2, -19.0, 60.0),
+                StrokeClass::Silhouette,
+            ),
+            (StrokeId(8), line(9.9, -19.0, 19.0), StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        assert!(
+            a.curves.iter().flatten().any(|s| s.part.is_some()),
+            "one stroke is taken in part: {a:?}"
+        );
+        let ids: Vec<Vec<(StrokeId, Option<Vec<usize>>)>> = a
+            .curves
+            .iter()
+            .map(|c| c.iter().map(|s| (s.stroke, s.part.clone())).collect())
+            .collect();
+        assert_eq!(restore_assignment(&ctx, &shape.curves, &ids), Ok(a));
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves[..2], &ids),
+            Err(RestoreError::CurveCount {
+                expected: 2,
+                found: 4
+            })
+        );
+        let mut missing = ids.clone();
+        missing[0].push((StrokeId(77), None));
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves, &missing),
+            Err(RestoreError::MissingStroke {
+                stroke: StrokeId(77)
+            })
+        );
+        let mut bad = ids;
+        bad[3] = vec![(StrokeId(8), Some(vec![3, 1]))];
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves, &bad),
+            Err(RestoreError::InvalidSamples {
+                stroke: StrokeId(8)
+            })
+        );
     }
 }

@@ -17,7 +17,10 @@ mod objective;
 
 use thiserror::Error;
 
-pub use assign::{assign, AssignedStroke, Assignment};
+pub use assign::{
+    assign, restore_assignment, stroke_samples, AssignedStroke, Assignment, CurveStrokes,
+    RestoreError,
+};
 pub use context::{SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
