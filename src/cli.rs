@@ -29,7 +29,12 @@ use glam::DVec2;
 
 /// Sketch-based 3D modelling with geosemantic snapping.
 #[derive(Debug, Parser)]
-#[command(name = "geosnap", version, about, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "geosnap",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,

@@ -106,6 +106,15 @@ fn only_the_gui_layers_name_the_gui() {
         }
     }
     found.extend(violations("src/render", &["crate::app", "crate::io"], &[]));
+    // The app's state and workers are plain Rust, testable without a window.
+    for file in ["src/app/editor.rs", "src/app/worker.rs"] {
+        let code = code_of(&Path::new(env!("CARGO_MANIFEST_DIR")).join(file));
+        for word in ["egui", "eframe", "wgpu", "winit"] {
+            if code.contains(word) {
+                found.push(format!("{file} uses `{word}`"));
+            }
+        }
+    }
     assert!(found.is_empty(), "{found:#?}");
 }
 

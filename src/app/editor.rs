@@ -18,6 +18,7 @@ const MAX_UNDO: usize = 200;
 struct Snapshot {
     label: String,
     sketch: Sketch,
+    image: Option<PathBuf>,
     document: Document,
     revision: u64,
 }
@@ -89,6 +90,7 @@ impl Editor {
         Snapshot {
             label: label.to_owned(),
             sketch: self.sketch.clone(),
+            image: self.image.clone(),
             document: self.document.clone(),
             revision: self.revision,
         }
@@ -148,8 +150,17 @@ impl Editor {
             self.strokes_revision += 1;
         }
         self.sketch = snapshot.sketch;
+        self.image = snapshot.image;
         self.document = snapshot.document;
         self.revision = snapshot.revision;
+    }
+
+    /// Puts a reference image under the strokes (one undo step).
+    pub fn set_image(&mut self, image: Option<PathBuf>) {
+        if self.image != image {
+            self.checkpoint("Reference image");
+            self.image = image;
+        }
     }
 
     /// Deletes a primitive with its relations.
@@ -275,7 +286,10 @@ mod tests {
         assert!(editor.is_dirty(), "changes are unsaved");
 
         assert_eq!(editor.undo().as_deref(), Some("Delete #0"));
-        assert!(editor.document.get(id).is_some(), "undo brings the part back");
+        assert!(
+            editor.document.get(id).is_some(),
+            "undo brings the part back"
+        );
         assert_eq!(editor.undo().as_deref(), Some("Reclassify stroke"));
         assert_eq!(editor.sketch.strokes[0].class_override, None);
         assert_eq!(editor.undo().as_deref(), Some("Place sphere"));
@@ -298,7 +312,10 @@ mod tests {
         editor.undo();
         assert!(!editor.is_dirty(), "undo back to the saved state");
         editor.add_stroke(vec![DVec2::ZERO, DVec2::NEG_Y]);
-        assert!(editor.is_dirty(), "a different change is not the saved state");
+        assert!(
+            editor.is_dirty(),
+            "a different change is not the saved state"
+        );
         assert_eq!(editor.redo(), None, "a new action drops the redo steps");
     }
 

@@ -11,6 +11,8 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, Context as _};
 
 use super::{After, GeosnapApp, Prompt};
+use crate::core::model::Document;
+use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings};
 use crate::io::session::{load_session, parse_session, save_session, session_bytes, Session};
 use crate::io::sketch_file::load_sketch;
@@ -99,7 +101,8 @@ impl GeosnapApp {
         match after {
             After::New => {
                 self.cancel_job();
-                self.editor.replace(Default::default(), None, Default::default());
+                self.editor
+                    .replace(Sketch::default(), None, Document::default());
                 self.image = None;
                 self.selection = None;
                 self.canvas.request_fit();
@@ -107,6 +110,7 @@ impl GeosnapApp {
             }
             After::Open(Some(path)) => self.open_path(ctx, &path),
             After::Open(None) => {
+                let asked = Instant::now();
                 let picked = rfd::FileDialog::new()
                     .add_filter("geosnap files", &["json", "svg", "png", "jpg", "jpeg"])
                     .add_filter("Sessions and sketches", &["json"])
@@ -115,7 +119,10 @@ impl GeosnapApp {
                     .pick_file();
                 match picked {
                     Some(path) => self.open_path(ctx, &path),
-                    None => self.prompt = Some(Prompt::Path(super::PathAction::Open, String::new())),
+                    None if no_dialog(asked) => {
+                        self.prompt = Some(Prompt::Path(super::PathAction::Open, String::new()));
+                    }
+                    None => {}
                 }
             }
             After::Quit => {
@@ -155,7 +162,7 @@ impl GeosnapApp {
                 let texture = load_texture(ctx, path, &head)?;
                 let size = texture.size();
                 self.image = Some((path.to_owned(), texture, size));
-                self.editor.image = Some(path.to_owned());
+                self.editor.set_image(Some(path.to_owned()));
                 self.canvas.request_fit();
                 Ok(format!(
                     "Reference image {} ({}×{} px) under the strokes.",
@@ -172,7 +179,7 @@ impl GeosnapApp {
                 let strokes = loaded.sketch.strokes.len();
                 let warnings = loaded.warnings.clone();
                 self.editor
-                    .replace(loaded.sketch, loaded.image.clone(), Default::default());
+                    .replace(loaded.sketch, loaded.image.clone(), Document::default());
                 self.after_replace(ctx, loaded.image.as_deref());
                 for w in warnings {
                     self.warn(w);
@@ -189,7 +196,10 @@ impl GeosnapApp {
                     .replace(session.sketch, session.image, session.document);
                 self.editor.mark_saved(path.to_owned());
                 self.after_replace(ctx, image.as_deref());
-                Ok(format!("Opened the session {} ({parts} parts).", path.display()))
+                Ok(format!(
+                    "Opened the session {} ({parts} parts).",
+                    path.display()
+                ))
             }
         }
     }
@@ -214,6 +224,37 @@ impl GeosnapApp {
                     "The reference image {} could not be shown: {error:#}",
                     image.display()
                 )),
+            }
+        }
+    }
+
+    /// Shows the editor's reference image (after undo, redo or opening), once per change.
+    pub(crate) fn sync_image(&mut self, ctx: &egui::Context) {
+        let shown = self.image.as_ref().map(|(p, _, _)| p.clone());
+        if shown == self.editor.image
+            || (self.editor.image.is_some() && self.editor.image == self.image_failed)
+        {
+            return;
+        }
+        self.image = None;
+        let Some(path) = self.editor.image.clone() else {
+            return;
+        };
+        match std::fs::read(&path)
+            .map_err(anyhow::Error::from)
+            .and_then(|bytes| load_texture(ctx, &path, &bytes))
+        {
+            Ok(texture) => {
+                let size = texture.size();
+                self.image = Some((path, texture, size));
+            }
+            Err(error) => {
+                self.warn(format!(
+                    "The reference image {} could not be shown: {error:#}",
+                    path.display()
+                ));
+                // Not again every frame; the path stays in the work.
+                self.image_failed.clone_from(&self.editor.image);
             }
         }
     }
@@ -256,19 +297,21 @@ impl GeosnapApp {
 
     /// Asks for a path (native dialog, or a typed path) and saves there.
     pub fn save_as(&mut self, ctx: &egui::Context) -> bool {
+        let asked = Instant::now();
         let picked = rfd::FileDialog::new()
             .add_filter("geosnap session", &["json"])
             .set_file_name("untitled.geosnap.json")
             .save_file();
         match picked {
             Some(path) => self.save_to(ctx, &path),
-            None => {
+            None if no_dialog(asked) => {
                 self.prompt = Some(Prompt::Path(
                     super::PathAction::SaveAs,
                     self.suggested_path("geosnap.json"),
                 ));
                 false
             }
+            None => false,
         }
     }
 
@@ -293,6 +336,7 @@ impl GeosnapApp {
 
     /// Asks for a glTF path and exports.
     pub fn export_dialog(&mut self) {
+        let asked = Instant::now();
         let picked = rfd::FileDialog::new()
             .add_filter("glTF binary", &["glb"])
             .add_filter("glTF", &["gltf"])
@@ -300,12 +344,13 @@ impl GeosnapApp {
             .save_file();
         match picked {
             Some(path) => self.export_to(&path),
-            None => {
+            None if no_dialog(asked) => {
                 self.prompt = Some(Prompt::Path(
                     super::PathAction::Export,
                     self.suggested_path("glb"),
                 ));
             }
+            None => {}
         }
     }
 
@@ -395,7 +440,9 @@ impl GeosnapApp {
 
     /// Writes the work to the autosave file now (tests, and before risky steps).
     pub fn autosave_now(&mut self) {
-        self.autosave.last = Instant::now() - AUTOSAVE_EVERY;
+        self.autosave.last = Instant::now()
+            .checked_sub(AUTOSAVE_EVERY)
+            .unwrap_or_else(Instant::now);
         self.autosave.written = None;
         self.autosave_tick();
     }
@@ -420,7 +467,11 @@ impl GeosnapApp {
             let (path, done, repaint) = (shot.path.clone(), shot.done.clone(), ctx.clone());
             ctx.request_screenshot(move |image| {
                 let [w, h] = image.size;
-                let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+                let bytes: Vec<u8> = image
+                    .pixels
+                    .iter()
+                    .flat_map(egui::Color32::to_array)
+                    .collect();
                 let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
                     .ok_or_else(|| anyhow!("bad screenshot size"))
                     .and_then(|img| img.save(&path).map_err(anyhow::Error::from));
@@ -454,9 +505,17 @@ impl Screenshot {
     }
 }
 
+/// Whether a file dialog that came back empty was never shown (no desktop portal, as
+/// headless): nobody cancels a dialog within a fraction of a second. The typed-path
+/// window then takes its place.
+fn no_dialog(asked: Instant) -> bool {
+    asked.elapsed() < Duration::from_millis(400)
+}
+
 fn is_image(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| ["png", "jpg", "jpeg"].contains(&e.to_string_lossy().to_ascii_lowercase().as_str()))
+    path.extension().is_some_and(|e| {
+        ["png", "jpg", "jpeg"].contains(&e.to_string_lossy().to_ascii_lowercase().as_str())
+    })
 }
 
 fn is_session_path(path: &Path) -> bool {
@@ -493,14 +552,23 @@ mod tests {
     fn files_are_told_apart_by_content_then_extension() {
         let p = Path::new("x.dat");
         assert_eq!(file_kind(p, b"\x89PNG\r\n"), Some(FileKind::Image));
-        assert_eq!(file_kind(p, &[0xFF, 0xD8, 0xFF, 0xE0]), Some(FileKind::Image));
+        assert_eq!(
+            file_kind(p, &[0xFF, 0xD8, 0xFF, 0xE0]),
+            Some(FileKind::Image)
+        );
         assert_eq!(
             file_kind(p, br#"{"format": "geosnap-session"}"#),
             Some(FileKind::Session)
         );
-        assert_eq!(file_kind(p, br#"{"format": "geosnap-sketch"}"#), Some(FileKind::Sketch));
+        assert_eq!(
+            file_kind(p, br#"{"format": "geosnap-sketch"}"#),
+            Some(FileKind::Sketch)
+        );
         assert_eq!(file_kind(p, b"<svg/>"), Some(FileKind::Sketch));
-        assert_eq!(file_kind(Path::new("a.jpeg"), b"garbage"), Some(FileKind::Image));
+        assert_eq!(
+            file_kind(Path::new("a.jpeg"), b"garbage"),
+            Some(FileKind::Image)
+        );
         assert_eq!(file_kind(p, b"garbage"), None);
     }
 }

@@ -13,8 +13,8 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-pub mod editor;
 mod canvas;
+pub mod editor;
 mod files;
 mod panels;
 mod view3d;
@@ -214,6 +214,8 @@ pub struct GeosnapApp {
     pub canvas: CanvasView,
     view3d: View3d,
     image: Option<(PathBuf, egui::TextureHandle, [usize; 2])>,
+    /// A reference image that could not be read (not tried again).
+    image_failed: Option<PathBuf>,
     /// The reference image's opacity.
     pub image_opacity: f32,
     /// The message log (newest last).
@@ -248,6 +250,7 @@ impl std::fmt::Debug for GeosnapApp {
 impl GeosnapApp {
     /// The app, opening `options.file` or the built-in sample.
     pub fn new(cc: &eframe::CreationContext<'_>, options: AppOptions) -> Self {
+        cc.egui_ctx.set_theme(egui::Theme::Light);
         let ctx = cc.egui_ctx.clone();
         let wake: Wake = Arc::new(move || ctx.request_repaint());
         let mut editor = Editor::default();
@@ -285,6 +288,7 @@ impl GeosnapApp {
             canvas: CanvasView::default(),
             view3d: View3d::default(),
             image: None,
+            image_failed: None,
             image_opacity: 0.5,
             messages,
             last_solve: None,
@@ -316,7 +320,9 @@ impl GeosnapApp {
         } else if let Some(path) = options.file {
             app.open_path(&cc.egui_ctx, &path);
         } else {
-            app.say("The sample sketch (a vase) is open: drag a primitive from the palette onto it.");
+            app.say(
+                "The sample sketch (a vase) is open: drag a primitive from the palette onto it.",
+            );
         }
         app
     }
@@ -567,7 +573,13 @@ impl GeosnapApp {
             self.editor.revision(),
             Arc::clone(&self.wake),
             move |cancel, observe| {
-                let mut output = worker::resolve(document.clone(), changed, &settings, cancel, observe);
+                let mut output = worker::resolve(
+                    document.clone(),
+                    changed.as_deref(),
+                    &settings,
+                    cancel,
+                    observe,
+                );
                 if output.document.is_none() && !output.cancelled {
                     output.document = Some(document);
                 }
@@ -699,7 +711,8 @@ impl GeosnapApp {
         }
     }
 
-    /// Duplicates the selected part beside itself, snapped again where it lands.
+    /// Duplicates the selected part beside itself (unsnapped: drag it onto its strokes
+    /// to snap it).
     pub fn duplicate_selected(&mut self) {
         let Some(id) = self.selection else { return };
         let Some(placed) = self.editor.document.get(id) else {
@@ -712,7 +725,8 @@ impl GeosnapApp {
             primitive: p.transformed(glam::DVec3::new(offset, 0.0, 0.0), 1.0),
             fit: crate::core::model::Fit::default(),
         });
-        self.editor.apply_document(&format!("Duplicate #{}", id.0), document);
+        self.editor
+            .apply_document(&format!("Duplicate #{}", id.0), document);
         self.selection = Some(copy);
     }
 
@@ -828,7 +842,10 @@ impl GeosnapApp {
             .path
             .as_ref()
             .and_then(|p| p.file_name())
-            .map_or_else(|| "untitled".to_owned(), |n| n.to_string_lossy().into_owned());
+            .map_or_else(
+                || "untitled".to_owned(),
+                |n| n.to_string_lossy().into_owned(),
+            );
         format!(
             "{}{name} — geosnap",
             if self.editor.is_dirty() { "• " } else { "" }
@@ -855,6 +872,16 @@ pub fn size_under(sketch: &crate::core::sketch::Sketch, at: DVec2, reach: f64) -
     }
 }
 
+/// The colour of the window's background: the canvas's paper and the panels'.
+pub(crate) const PAPER: egui::Color32 = egui::Color32::from_rgb(250, 250, 249);
+
+/// A panel frame without a fill: panels show the window's clear colour ([`PAPER`]), so
+/// a software rasterizer (llvmpipe, with no GPU) shades no full-size backgrounds each
+/// frame, which is most of its frame time.
+fn unfilled(margin: f32) -> egui::Frame {
+    egui::Frame::NONE.inner_margin(margin)
+}
+
 fn mode_name(mode: crate::core::relation::Mode) -> &'static str {
     match mode {
         crate::core::relation::Mode::Hard => "hard",
@@ -869,6 +896,7 @@ impl eframe::App for GeosnapApp {
         let ctx = ui.ctx().clone();
         self.poll_workers();
         self.files_dropped(&ctx);
+        self.sync_image(&ctx);
         self.shortcuts(&ctx);
         self.close_requested(&ctx);
         self.benchmark_step(&ctx);
@@ -878,30 +906,34 @@ impl eframe::App for GeosnapApp {
         self.status_bar(ui);
         self.palette(ui);
         egui::Panel::right("inspector")
+            .frame(unfilled(6.0))
             .resizable(true)
             .default_size(420.0)
             .min_size(280.0)
             .show(ui, |ui| {
                 let height = ui.available_height();
                 egui::Panel::bottom("side_panels")
+                    .frame(unfilled(4.0))
                     .resizable(true)
                     .default_size(height * 0.5)
                     .show(ui, |ui| self.side_panels(ui));
-                egui::CentralPanel::default().show(ui, |ui| {
-                    let preview = self
-                        .drag
-                        .as_ref()
-                        .and_then(|d| d.preview.as_ref().map(|p| p.primitive.clone()));
-                    let emphasis = self.emphasis();
-                    self.view3d.show(
-                        ui,
-                        frame,
-                        &self.editor.document,
-                        self.editor.revision(),
-                        preview.as_ref(),
-                        &emphasis,
-                    );
-                });
+                egui::CentralPanel::default()
+                    .frame(unfilled(0.0))
+                    .show(ui, |ui| {
+                        let preview = self
+                            .drag
+                            .as_ref()
+                            .and_then(|d| d.preview.as_ref().map(|p| p.primitive.clone()));
+                        let emphasis = self.emphasis();
+                        self.view3d.show(
+                            ui,
+                            frame,
+                            &self.editor.document,
+                            self.editor.revision(),
+                            preview.as_ref(),
+                            &emphasis,
+                        );
+                    });
             });
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
@@ -918,9 +950,18 @@ impl eframe::App for GeosnapApp {
         self.timer.tick(started.elapsed());
     }
 
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        // The paper of the canvas and the panels, which paint no background.
+        egui::Rgba::from(PAPER).to_array()
+    }
+
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, "recent", &self.recent);
-        eframe::set_value(storage, "inference_settings", &self.editor.settings.inference);
+        eframe::set_value(
+            storage,
+            "inference_settings",
+            &self.editor.settings.inference,
+        );
     }
 
     fn on_exit(&mut self) {

@@ -10,102 +10,151 @@ use crate::core::relation::{Mode, RelationKind};
 
 /// The palette's entries: kind, label, tooltip.
 const PALETTE: [(PrimitiveKind, &str, &str); 6] = [
-    (PrimitiveKind::Cylinder, "Cylinder", "A straight tube with two equal round ends"),
-    (PrimitiveKind::Cone, "Cone", "A truncated cone: two round ends of different radii"),
+    (
+        PrimitiveKind::Cylinder,
+        "Cylinder",
+        "A straight tube with two equal round ends",
+    ),
+    (
+        PrimitiveKind::Cone,
+        "Cone",
+        "A truncated cone: two round ends of different radii",
+    ),
     (PrimitiveKind::Sphere, "Sphere", "A ball"),
-    (PrimitiveKind::Cuboid, "Box", "A box: three pairs of parallel faces"),
-    (PrimitiveKind::Sgc, "Straight GC", "A straight generalized cylinder: a straight axis with a varying radius (vases, bottles)"),
-    (PrimitiveKind::Bgc, "Bent GC", "A bent generalized cylinder: a curved axis in a plane (handles, pipes)"),
+    (
+        PrimitiveKind::Cuboid,
+        "Box",
+        "A box: three pairs of parallel faces",
+    ),
+    (
+        PrimitiveKind::Sgc,
+        "Straight GC",
+        "A straight generalized cylinder: a straight axis with a varying radius (vases, bottles)",
+    ),
+    (
+        PrimitiveKind::Bgc,
+        "Bent GC",
+        "A bent generalized cylinder: a curved axis in a plane (handles, pipes)",
+    ),
 ];
 
 impl GeosnapApp {
+    #[expect(clippy::too_many_lines, reason = "one menu bar, read top to bottom")]
     pub(crate) fn menu_bar(&mut self, ui: &mut Ui) {
-        egui::Panel::top("menu").show(ui, |ui| {
-            egui::MenuBar::new().ui(ui, |ui| {
-                let ctx = ui.ctx().clone();
-                ui.menu_button("File", |ui| {
-                    if ui.button("New").clicked() {
-                        self.request(&ctx, After::New);
-                    }
-                    if ui.button("Open…  Ctrl+O").clicked() {
-                        self.request(&ctx, After::Open(None));
-                    }
-                    ui.menu_button("Open recent", |ui| {
-                        if self.recent.is_empty() {
-                            ui.label("(none)");
+        egui::Panel::top("menu")
+            .frame(super::unfilled(3.0))
+            .show(ui, |ui| {
+                egui::MenuBar::new().ui(ui, |ui| {
+                    let ctx = ui.ctx().clone();
+                    ui.menu_button("File", |ui| {
+                        if ui.button("New").clicked() {
+                            self.request(&ctx, After::New);
                         }
-                        for path in self.recent.clone() {
-                            if ui.button(path.display().to_string()).clicked() {
-                                self.request(&ctx, After::Open(Some(path)));
+                        if ui.button("Open…  Ctrl+O").clicked() {
+                            self.request(&ctx, After::Open(None));
+                        }
+                        ui.menu_button("Open recent", |ui| {
+                            if self.recent.is_empty() {
+                                ui.label("(none)");
                             }
+                            for path in self.recent.clone() {
+                                if ui.button(path.display().to_string()).clicked() {
+                                    self.request(&ctx, After::Open(Some(path)));
+                                }
+                            }
+                        });
+                        if ui.button("Open path…").clicked() {
+                            self.prompt = Some(Prompt::Path(PathAction::Open, String::new()));
+                        }
+                        ui.separator();
+                        if ui.button("Save  Ctrl+S").clicked() {
+                            self.save(&ctx);
+                        }
+                        if ui.button("Save as…  Ctrl+Shift+S").clicked() {
+                            self.save_as(&ctx);
+                        }
+                        if ui.button("Save to path…").clicked() {
+                            self.prompt = Some(Prompt::Path(
+                                PathAction::SaveAs,
+                                self.suggested_path("geosnap.json"),
+                            ));
+                        }
+                        ui.separator();
+                        if ui.button("Export glTF…  Ctrl+E").clicked() {
+                            self.export_dialog();
+                        }
+                        if ui.button("Export to path…").clicked() {
+                            self.prompt =
+                                Some(Prompt::Path(PathAction::Export, self.suggested_path("glb")));
+                        }
+                        ui.separator();
+                        if ui.button("Quit").clicked() {
+                            self.request(&ctx, After::Quit);
                         }
                     });
-                    if ui.button("Open path…").clicked() {
-                        self.prompt = Some(Prompt::Path(PathAction::Open, String::new()));
-                    }
-                    ui.separator();
-                    if ui.button("Save  Ctrl+S").clicked() {
-                        self.save(&ctx);
-                    }
-                    if ui.button("Save as…  Ctrl+Shift+S").clicked() {
-                        self.save_as(&ctx);
-                    }
-                    if ui.button("Save to path…").clicked() {
-                        self.prompt = Some(Prompt::Path(PathAction::SaveAs, self.suggested_path("geosnap.json")));
-                    }
-                    ui.separator();
-                    if ui.button("Export glTF…  Ctrl+E").clicked() {
-                        self.export_dialog();
-                    }
-                    if ui.button("Export to path…").clicked() {
-                        self.prompt = Some(Prompt::Path(PathAction::Export, self.suggested_path("glb")));
-                    }
-                    ui.separator();
-                    if ui.button("Quit").clicked() {
-                        self.request(&ctx, After::Quit);
-                    }
-                });
-                ui.menu_button("Edit", |ui| {
-                    let undo = self.editor.undo_label().map(|l| format!("Undo {l}  Ctrl+Z"));
-                    if ui
-                        .add_enabled(undo.is_some() && !self.busy(), egui::Button::new(undo.unwrap_or_else(|| "Undo".into())))
-                        .clicked()
-                    {
-                        self.undo();
-                    }
-                    let redo = self.editor.redo_label().map(|l| format!("Redo {l}  Ctrl+Shift+Z"));
-                    if ui
-                        .add_enabled(redo.is_some() && !self.busy(), egui::Button::new(redo.unwrap_or_else(|| "Redo".into())))
-                        .clicked()
-                    {
-                        self.redo();
-                    }
-                    ui.separator();
-                    let selected = self.selection.is_some() && !self.busy();
-                    if ui.add_enabled(selected, egui::Button::new("Duplicate  Ctrl+D")).clicked() {
-                        self.duplicate_selected();
-                    }
-                    if ui.add_enabled(selected, egui::Button::new("Delete  Del")).clicked() {
-                        self.delete_selected();
-                    }
-                    ui.separator();
-                    if ui.button("Settings…").clicked() {
-                        self.show_settings = true;
-                    }
-                });
-                ui.menu_button("View", |ui| {
-                    if ui.button("Fit  F").clicked() {
-                        self.canvas.request_fit();
-                        self.view3d.request_fit();
-                    }
-                    ui.add(egui::Slider::new(&mut self.image_opacity, 0.0..=1.0).text("Image opacity"));
+                    ui.menu_button("Edit", |ui| {
+                        let undo = self
+                            .editor
+                            .undo_label()
+                            .map(|l| format!("Undo {l}  Ctrl+Z"));
+                        if ui
+                            .add_enabled(
+                                undo.is_some() && !self.busy(),
+                                egui::Button::new(undo.unwrap_or_else(|| "Undo".into())),
+                            )
+                            .clicked()
+                        {
+                            self.undo();
+                        }
+                        let redo = self
+                            .editor
+                            .redo_label()
+                            .map(|l| format!("Redo {l}  Ctrl+Shift+Z"));
+                        if ui
+                            .add_enabled(
+                                redo.is_some() && !self.busy(),
+                                egui::Button::new(redo.unwrap_or_else(|| "Redo".into())),
+                            )
+                            .clicked()
+                        {
+                            self.redo();
+                        }
+                        ui.separator();
+                        let selected = self.selection.is_some() && !self.busy();
+                        if ui
+                            .add_enabled(selected, egui::Button::new("Duplicate  Ctrl+D"))
+                            .clicked()
+                        {
+                            self.duplicate_selected();
+                        }
+                        if ui
+                            .add_enabled(selected, egui::Button::new("Delete  Del"))
+                            .clicked()
+                        {
+                            self.delete_selected();
+                        }
+                        ui.separator();
+                        if ui.button("Settings…").clicked() {
+                            self.show_settings = true;
+                        }
+                    });
+                    ui.menu_button("View", |ui| {
+                        if ui.button("Fit  F").clicked() {
+                            self.canvas.request_fit();
+                            self.view3d.request_fit();
+                        }
+                        ui.add(
+                            egui::Slider::new(&mut self.image_opacity, 0.0..=1.0)
+                                .text("Image opacity"),
+                        );
+                    });
                 });
             });
-        });
     }
 
     pub(crate) fn palette(&mut self, ui: &mut Ui) {
         egui::Panel::left("palette")
+            .frame(super::unfilled(6.0))
             .resizable(false)
             .exact_size(150.0)
             .show(ui, |ui| {
@@ -124,21 +173,39 @@ impl GeosnapApp {
                 ui.add_space(12.0);
                 ui.heading("Tools");
                 for (tool, label, tip) in [
-                    (Tool::Select, "Select  V", "Click a part to select it; drag it to move and re-snap"),
-                    (Tool::Draw, "Draw  B", "Draw strokes with the mouse or a pen"),
-                    (Tool::Erase, "Erase  E", "Click or drag over strokes to erase them"),
-                    (Tool::Reclassify, "Reclassify  C", "Click a stroke to switch it between feature (blue) and silhouette (black)"),
+                    (
+                        Tool::Select,
+                        "Select  V",
+                        "Click a part to select it; drag it to move and re-snap",
+                    ),
+                    (
+                        Tool::Draw,
+                        "Draw  B",
+                        "Draw strokes with the mouse or a pen",
+                    ),
+                    (
+                        Tool::Erase,
+                        "Erase  E",
+                        "Click or drag over strokes to erase them",
+                    ),
+                    (
+                        Tool::Reclassify,
+                        "Reclassify  C",
+                        "Click a stroke to switch it between feature (blue) and silhouette (black)",
+                    ),
                 ] {
-                    ui.selectable_value(&mut self.tool, tool, label).on_hover_text(tip);
+                    ui.selectable_value(&mut self.tool, tool, label)
+                        .on_hover_text(tip);
                 }
                 ui.add_space(12.0);
                 ui.heading("Strokes");
                 for (color, label) in [
-                    (Color32::from_rgb(70, 140, 240), "feature (ends)"),
-                    (Color32::from_rgb(200, 200, 205), "silhouette (sides)"),
+                    (Color32::from_rgb(40, 110, 220), "feature (ends)"),
+                    (Color32::from_rgb(45, 45, 50), "silhouette (sides)"),
                 ] {
                     ui.horizontal(|ui| {
-                        let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
+                        let (rect, _) =
+                            ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
                         ui.painter().line_segment(
                             [rect.left_center(), rect.right_center()],
                             egui::Stroke::new(2.5, color),
@@ -155,70 +222,92 @@ impl GeosnapApp {
     }
 
     pub(crate) fn status_bar(&mut self, ui: &mut Ui) {
-        egui::Panel::bottom("status").show(ui, |ui| {
-            ui.horizontal(|ui| {
-                if let Some(job) = &self.job {
-                    let p = job.progress();
-                    ui.spinner();
-                    ui.label(format!(
-                        "{} — solving: iteration {}, |c| {:.1e}, {:.1} s   (Esc cancels)",
-                        job.label,
-                        p.iterations,
-                        p.violation,
-                        p.elapsed.as_secs_f64()
-                    ));
-                    if ui.button("Cancel").clicked() {
-                        job.cancel();
-                    }
-                } else if let Some((iterations, violation, seconds, how)) = &self.last_solve {
-                    ui.label(format!(
+        egui::Panel::bottom("status")
+            .frame(super::unfilled(3.0))
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    if let Some(job) = &self.job {
+                        let p = job.progress();
+                        ui.spinner();
+                        ui.label(format!(
+                            "{} — solving: iteration {}, |c| {:.1e}, {:.1} s   (Esc cancels)",
+                            job.label,
+                            p.iterations,
+                            p.violation,
+                            p.elapsed.as_secs_f64()
+                        ));
+                        if ui.button("Cancel").clicked() {
+                            job.cancel();
+                        }
+                    } else if let Some((iterations, violation, seconds, how)) = &self.last_solve {
+                        ui.label(format!(
                         "Last solve: {how}, {iterations} iterations, |c| {violation:.1e}, {:.0} ms",
                         seconds * 1e3
                     ));
-                } else {
-                    ui.label("Ready");
-                }
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    let mut frames: Vec<f64> =
-                        self.timer.cpu.iter().map(|d| d.as_secs_f64() * 1e3).collect();
-                    frames.sort_by(f64::total_cmp);
-                    if let Some(median) = frames.get(frames.len() / 2) {
-                        ui.label(RichText::new(format!("UI {median:.1} ms")).small().weak());
+                    } else {
+                        ui.label("Ready");
                     }
-                    if let Some(drag) = &self.drag {
-                        ui.label(RichText::new(format!("snap {:.0} ms", drag.preview_time.as_secs_f64() * 1e3)).small().weak());
-                    }
-                    ui.label(format!(
-                        "{} strokes · {} parts · {} relations",
-                        self.editor.sketch.strokes.len(),
-                        self.editor.document.len(),
-                        self.editor.document.relations().len()
-                    ));
+                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                        let mut frames: Vec<f64> = self
+                            .timer
+                            .cpu
+                            .iter()
+                            .map(|d| d.as_secs_f64() * 1e3)
+                            .collect();
+                        frames.sort_by(f64::total_cmp);
+                        if let Some(median) = frames.get(frames.len() / 2) {
+                            ui.label(RichText::new(format!("UI {median:.1} ms")).small().weak());
+                        }
+                        if let Some(drag) = &self.drag {
+                            ui.label(
+                                RichText::new(format!(
+                                    "snap {:.0} ms",
+                                    drag.preview_time.as_secs_f64() * 1e3
+                                ))
+                                .small()
+                                .weak(),
+                            );
+                        }
+                        ui.label(format!(
+                            "{} strokes · {} parts · {} relations",
+                            self.editor.sketch.strokes.len(),
+                            self.editor.document.len(),
+                            self.editor.document.relations().len()
+                        ));
+                    });
                 });
             });
-        });
     }
 
     pub(crate) fn side_panels(&mut self, ui: &mut Ui) {
-        egui::ScrollArea::vertical().auto_shrink([false, false]).show(ui, |ui| {
-            egui::CollapsingHeader::new("Properties").default_open(true).show(ui, |ui| self.properties(ui));
-            egui::CollapsingHeader::new(format!("Relations ({})", self.editor.document.relations().len()))
+        egui::ScrollArea::vertical()
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                egui::CollapsingHeader::new("Properties")
+                    .default_open(true)
+                    .show(ui, |ui| self.properties(ui));
+                egui::CollapsingHeader::new(format!(
+                    "Relations ({})",
+                    self.editor.document.relations().len()
+                ))
                 .default_open(true)
                 .show(ui, |ui| self.relations(ui));
-            egui::CollapsingHeader::new("Messages").default_open(true).show(ui, |ui| {
-                if ui.small_button("Clear").clicked() {
-                    self.messages.clear();
-                }
-                for message in self.messages.iter().rev().take(30) {
-                    let text = RichText::new(&message.text).small();
-                    if message.warning {
-                        ui.colored_label(Color32::from_rgb(200, 90, 20), text);
-                    } else {
-                        ui.label(text);
-                    }
-                }
+                egui::CollapsingHeader::new("Messages")
+                    .default_open(true)
+                    .show(ui, |ui| {
+                        if ui.small_button("Clear").clicked() {
+                            self.messages.clear();
+                        }
+                        for message in self.messages.iter().rev().take(30) {
+                            let text = RichText::new(&message.text).small();
+                            if message.warning {
+                                ui.colored_label(Color32::from_rgb(200, 90, 20), text);
+                            } else {
+                                ui.label(text);
+                            }
+                        }
+                    });
             });
-        });
     }
 
     fn relations(&mut self, ui: &mut Ui) {
@@ -258,7 +347,7 @@ impl GeosnapApp {
                 if mode != relation.mode {
                     change = Some((index, mode));
                 }
-                let r4 = ui.add_enabled(!self.busy(), egui::Button::new("✕").small()).on_hover_text(format!("Delete relation {index}"));
+                let r4 = ui.add_enabled(!self.busy(), egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
                 if r4.clicked() {
                     delete = Some(index);
                 }
@@ -276,6 +365,7 @@ impl GeosnapApp {
         }
     }
 
+    #[expect(clippy::too_many_lines, reason = "one panel, read top to bottom")]
     fn properties(&mut self, ui: &mut Ui) {
         let Some(id) = self.selection else {
             ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
@@ -305,13 +395,25 @@ impl GeosnapApp {
         let mut free = None;
         egui::Grid::new("dimensions").num_columns(3).show(ui, |ui| {
             for quantity in Quantity::of_kind(p.kind()) {
-                let Some(value) = p.quantity(*quantity) else { continue };
+                let Some(value) = p.quantity(*quantity) else {
+                    continue;
+                };
                 let key = format!("{}:{}", id.0, quantity.name());
                 let is_fixed = fixed.iter().find(|(q, _)| q == quantity).map(|(_, v)| *v);
-                ui.label(quantity.name().replace('_', " "));
-                let text = self.typed.entry(key.clone()).or_insert_with(|| format!("{value:.2}"));
-                let edit = ui.add(egui::TextEdit::singleline(text).desired_width(90.0).min_size(egui::vec2(90.0, 0.0)));
-                let edit = edit.on_hover_text(format!("Type an exact {} and press Enter: it becomes a hard constraint", quantity.name()));
+                let name = ui.label(quantity.name().replace('_', " "));
+                let text = self
+                    .typed
+                    .entry(key.clone())
+                    .or_insert_with(|| format!("{value:.2}"));
+                let edit = ui.add(
+                    egui::TextEdit::singleline(text)
+                        .desired_width(90.0)
+                        .min_size(egui::vec2(90.0, 0.0)),
+                );
+                let edit = edit.labelled_by(name.id).on_hover_text(format!(
+                    "Type an exact {} and press Enter: it becomes a hard constraint",
+                    quantity.name()
+                ));
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 if !edit.has_focus() && !entered {
                     *text = format!("{:.2}", is_fixed.unwrap_or(value));
@@ -326,7 +428,11 @@ impl GeosnapApp {
                     }
                 }
                 if is_fixed.is_some() {
-                    if ui.small_button("free").on_hover_text(format!("Free the {}", quantity.name())).clicked() {
+                    if ui
+                        .small_button("free")
+                        .on_hover_text(format!("Free the {}", quantity.name()))
+                        .clicked()
+                    {
                         free = Some(*quantity);
                     }
                 } else {
@@ -349,14 +455,21 @@ impl GeosnapApp {
         if let Some(quantity) = free {
             let mut document = self.editor.document.clone();
             if document.remove_dimension(id, quantity) {
-                self.editor.apply_document(&format!("Free #{} {}", id.0, quantity.name()), document);
+                self.editor
+                    .apply_document(&format!("Free #{} {}", id.0, quantity.name()), document);
             }
         }
         ui.horizontal(|ui| {
-            if ui.add_enabled(!self.busy(), egui::Button::new("Duplicate")).clicked() {
+            if ui
+                .add_enabled(!self.busy(), egui::Button::new("Duplicate"))
+                .clicked()
+            {
                 self.duplicate_selected();
             }
-            if ui.add_enabled(!self.busy(), egui::Button::new("Delete")).clicked() {
+            if ui
+                .add_enabled(!self.busy(), egui::Button::new("Delete"))
+                .clicked()
+            {
                 self.delete_selected();
             }
         });
@@ -364,42 +477,66 @@ impl GeosnapApp {
 
     pub(crate) fn settings_window(&mut self, ctx: &egui::Context) {
         let mut open = self.show_settings;
-        egui::Window::new("Settings").open(&mut open).resizable(false).show(ctx, |ui| {
-            ui.heading("Relation inference");
-            let inference = &mut self.editor.settings.inference;
-            egui::Grid::new("kinds").num_columns(3).show(ui, |ui| {
-                for (k, kind) in RelationKind::ALL.iter().enumerate() {
-                    let mut on = inference.enabled(*kind);
-                    if ui.checkbox(&mut on, kind.name().replace('_', " ")).changed() {
-                        if on {
-                            inference.enabled.push(*kind);
-                        } else {
-                            inference.enabled.retain(|x| x != kind);
+        egui::Window::new("Settings")
+            .open(&mut open)
+            .resizable(false)
+            .show(ctx, |ui| {
+                ui.heading("Relation inference");
+                let inference = &mut self.editor.settings.inference;
+                egui::Grid::new("kinds").num_columns(3).show(ui, |ui| {
+                    for (k, kind) in RelationKind::ALL.iter().enumerate() {
+                        let mut on = inference.enabled(*kind);
+                        if ui
+                            .checkbox(&mut on, kind.name().replace('_', " "))
+                            .changed()
+                        {
+                            if on {
+                                inference.enabled.push(*kind);
+                            } else {
+                                inference.enabled.retain(|x| x != kind);
+                            }
+                        }
+                        if k % 3 == 2 {
+                            ui.end_row();
                         }
                     }
-                    if k % 3 == 2 {
-                        ui.end_row();
-                    }
+                });
+                ui.add(
+                    egui::Slider::new(&mut inference.angle_degrees, 0.5..=30.0).text("angle (°)"),
+                );
+                ui.add(
+                    egui::Slider::new(&mut inference.distance, 0.01..=0.5)
+                        .text("distance (× size)"),
+                );
+                ui.add(
+                    egui::Slider::new(&mut inference.radius, 0.005..=0.3).text("radius (relative)"),
+                );
+                ui.add(
+                    egui::Slider::new(&mut inference.length, 0.005..=0.3).text("length (relative)"),
+                );
+                if ui.button("Defaults").clicked() {
+                    *inference = crate::core::relation::InferenceSettings::default();
                 }
+                ui.separator();
+                ui.heading("Global solve");
+                let global = &mut self.editor.settings.global;
+                ui.add(
+                    egui::Slider::new(&mut global.soft_weight, 0.01..=100.0)
+                        .logarithmic(true)
+                        .text("soft relation weight"),
+                );
+                ui.add(
+                    egui::Slider::new(&mut global.max_worsening, 1.2..=20.0)
+                        .text("largest fit worsening (×)"),
+                );
             });
-            ui.add(egui::Slider::new(&mut inference.angle_degrees, 0.5..=30.0).text("angle (°)"));
-            ui.add(egui::Slider::new(&mut inference.distance, 0.01..=0.5).text("distance (× size)"));
-            ui.add(egui::Slider::new(&mut inference.radius, 0.005..=0.3).text("radius (relative)"));
-            ui.add(egui::Slider::new(&mut inference.length, 0.005..=0.3).text("length (relative)"));
-            if ui.button("Defaults").clicked() {
-                *inference = crate::core::relation::InferenceSettings::default();
-            }
-            ui.separator();
-            ui.heading("Global solve");
-            let global = &mut self.editor.settings.global;
-            ui.add(egui::Slider::new(&mut global.soft_weight, 0.01..=100.0).logarithmic(true).text("soft relation weight"));
-            ui.add(egui::Slider::new(&mut global.max_worsening, 1.2..=20.0).text("largest fit worsening (×)"));
-        });
         self.show_settings = open;
     }
 
     pub(crate) fn prompts(&mut self, ctx: &egui::Context) {
-        let Some(prompt) = self.prompt.clone() else { return };
+        let Some(prompt) = self.prompt.clone() else {
+            return;
+        };
         let modal = egui::Modal::new(egui::Id::unique("prompt")).show(ctx, |ui| {
             ui.set_max_width(460.0);
             match prompt {
@@ -472,7 +609,8 @@ impl GeosnapApp {
                 }
             }
         });
-        if modal.should_close() && matches!(self.prompt, Some(Prompt::Error(_) | Prompt::Path(..))) {
+        if modal.should_close() && matches!(self.prompt, Some(Prompt::Error(_) | Prompt::Path(..)))
+        {
             self.prompt = None;
         }
     }

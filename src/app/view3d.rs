@@ -53,7 +53,13 @@ pub(crate) struct View3d {
     fitted: bool,
     /// Whether the user moved the camera (then it stops following the model).
     moved: bool,
+    /// The drag preview shown, and when it was last changed: during a drag the 3D
+    /// preview follows at most every [`PREVIEW_EVERY`], as each new one costs a render.
+    overlay: (Scene, Option<std::time::Instant>),
 }
+
+/// How often the 3D view takes a new drag preview.
+const PREVIEW_EVERY: std::time::Duration = std::time::Duration::from_millis(150);
 
 impl View3d {
     /// Frames the model at the next draw.
@@ -149,13 +155,23 @@ impl View3d {
                 self.moved = true;
             }
         }
-        let mut overlay = Scene::default();
-        if let Some(p) = preview {
-            overlay.add_mesh(
-                &p.mesh(VIEW_SEGMENTS / 2),
-                linear(Color32::from_rgb(250, 170, 60), 0.75),
-            );
+        let due = self
+            .overlay
+            .1
+            .is_none_or(|at| at.elapsed() >= PREVIEW_EVERY);
+        if preview.is_none() {
+            self.overlay = (Scene::default(), None);
+        } else if due {
+            let mut overlay = Scene::default();
+            if let Some(p) = preview {
+                overlay.add_mesh(
+                    &p.mesh(VIEW_SEGMENTS / 2),
+                    linear(Color32::from_rgb(250, 170, 60), 0.75),
+                );
+            }
+            self.overlay = (overlay, Some(std::time::Instant::now()));
         }
+        let overlay = &self.overlay.0;
         let background = if ui.visuals().dark_mode {
             Color32::from_rgb(62, 66, 74)
         } else {
@@ -175,7 +191,7 @@ impl View3d {
                 pixels,
                 &self.camera,
                 (self.generation, &self.model),
-                &overlay,
+                overlay,
                 linear(background, 1.0),
             );
             ui.painter().image(
@@ -186,7 +202,7 @@ impl View3d {
             );
         } else {
             ui.painter().rect_filled(rect, 0.0, background);
-            paint_software(ui, rect, &self.camera, &[&self.model, &overlay]);
+            paint_software(ui, rect, &self.camera, &[&self.model, overlay]);
         }
         if document.is_empty() && preview.is_none() {
             ui.painter().text(
@@ -254,14 +270,14 @@ fn paint_software(ui: &Ui, rect: Rect, camera: &OrbitCamera, scenes: &[&Scene]) 
             let light = 0.35 + 0.65 * normal.dot(to_eye).abs();
             let depth = projected.iter().map(|(_, z)| z).sum::<f32>();
             let [r, g, b, a] = v[0].color;
-            let color: Color32 = egui::Rgba::from_rgba_premultiplied(
-                r * light * a,
-                g * light * a,
-                b * light * a,
-                a,
-            )
-            .into();
-            triangles.push((depth, [projected[0].0, projected[1].0, projected[2].0], color));
+            let color: Color32 =
+                egui::Rgba::from_rgba_premultiplied(r * light * a, g * light * a, b * light * a, a)
+                    .into();
+            triangles.push((
+                depth,
+                [projected[0].0, projected[1].0, projected[2].0],
+                color,
+            ));
         }
     }
     triangles.sort_by(|a, b| b.0.total_cmp(&a.0));

@@ -356,7 +356,7 @@ pub fn place(
 /// in the components of `changed`, or the whole model.
 pub fn resolve(
     mut document: Document,
-    changed: Option<Vec<PrimitiveId>>,
+    changed: Option<&[PrimitiveId]>,
     settings: &SessionSettings,
     cancel: &CancelFlag,
     observer: &mut dyn FnMut(&Iterate<'_>),
@@ -366,7 +366,7 @@ pub fn resolve(
     global.reach = None;
     let mut observe = |it: &Iterate<'_>| observer(it);
     let outcome = document.solve(
-        changed.as_deref(),
+        changed,
         &global,
         Companions {
             cancel: Some(cancel),
@@ -418,7 +418,7 @@ mod tests {
     use super::{place, Job, PreviewRequest, Previewer};
     use crate::core::model::{Document, SessionSettings};
     use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
-    use crate::core::snap::SnapContext;
+    use crate::core::snap::{SnapContext, SnapSettings};
     use crate::io::svg::{import_svg, SvgOptions};
     use crate::samples::VASE_SVG;
 
@@ -428,18 +428,16 @@ mod tests {
             .sketch;
         let (lo, hi) = sketch.bounds().expect("the sample has strokes");
         let centre = (lo + hi) / 2.0;
-        let dragged = Primitive::from_placement(
-            PrimitiveKind::Cylinder,
-            &Placement::at(centre + DVec2::new(3.0, 2.0)),
-            (hi - lo).max_element() * 0.3,
-        );
+        let at = centre + DVec2::new(3.0, 2.0);
+        let size = crate::app::size_under(&sketch, at, (hi - lo).max_element() * 0.3);
+        let dragged = Primitive::from_placement(PrimitiveKind::Sgc, &Placement::at(at), size);
         (Arc::new(SnapContext::from_sketch(&sketch)), dragged)
     }
 
     #[test]
     fn the_previewer_answers_the_newest_request() {
         let (context, dragged) = vase();
-        let previewer = Previewer::start(Default::default(), Arc::new(|| {}));
+        let previewer = Previewer::start(SnapSettings::default(), Arc::new(|| {}));
         for generation in 0..5 {
             previewer.request(PreviewRequest {
                 generation,
@@ -465,7 +463,34 @@ mod tests {
         let job = {
             let (context, dragged, settings) =
                 (Arc::clone(&context), dragged.clone(), settings.clone());
-            Job::spawn("Place".into(), 0, Arc::new(|| {}), move |cancel, observe| {
+            Job::spawn(
+                "Place".into(),
+                0,
+                Arc::new(|| {}),
+                move |cancel, observe| {
+                    place(
+                        Document::new(),
+                        &context,
+                        &dragged,
+                        None,
+                        &settings,
+                        cancel,
+                        observe,
+                    )
+                },
+            )
+        };
+        let output = job.wait(Duration::from_mins(1)).expect("the job ends");
+        let document = output.document.expect("the SGC snaps onto the vase");
+        let id = output.placed.expect("a part was placed");
+        assert!(!document.get(id).expect("placed").fit.strokes.is_empty());
+
+        let job = Job::spawn(
+            "Place".into(),
+            0,
+            Arc::new(|| {}),
+            move |cancel, observe| {
+                cancel.cancel();
                 place(
                     Document::new(),
                     &context,
@@ -475,26 +500,9 @@ mod tests {
                     cancel,
                     observe,
                 )
-            })
-        };
-        let output = job.wait(Duration::from_secs(60)).expect("the job ends");
-        let document = output.document.expect("the cylinder snaps onto the vase");
-        let id = output.placed.expect("a part was placed");
-        assert!(!document.get(id).expect("placed").fit.strokes.is_empty());
-
-        let job = Job::spawn("Place".into(), 0, Arc::new(|| {}), move |cancel, observe| {
-            cancel.cancel();
-            place(
-                Document::new(),
-                &context,
-                &dragged,
-                None,
-                &settings,
-                cancel,
-                observe,
-            )
-        });
-        let output = job.wait(Duration::from_secs(60)).expect("the job ends");
+            },
+        );
+        let output = job.wait(Duration::from_mins(1)).expect("the job ends");
         assert!(output.cancelled && output.document.is_none());
     }
 }

@@ -41,12 +41,16 @@ impl Scene {
     /// Adds a mesh in one colour.
     pub fn add_mesh(&mut self, mesh: &TriMesh, color: [f32; 4]) {
         let base = self.vertices.len() as u32;
-        self.vertices
-            .extend(mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| Vertex {
-                position: p.as_vec3().to_array(),
-                normal: n.as_vec3().to_array(),
-                color,
-            }));
+        self.vertices.extend(
+            mesh.positions
+                .iter()
+                .zip(&mesh.normals)
+                .map(|(p, n)| Vertex {
+                    position: p.as_vec3().to_array(),
+                    normal: n.as_vec3().to_array(),
+                    color,
+                }),
+        );
         self.indices
             .extend(mesh.triangles.iter().flatten().map(|i| base + i));
     }
@@ -175,7 +179,7 @@ impl OrbitCamera {
         }
         let ndc = clip.truncate() / clip.w;
         Some((
-            (ndc.x + 1.0) / 2.0 * size[0],
+            f32::midpoint(ndc.x, 1.0) * size[0],
             (1.0 - ndc.y) / 2.0 * size[1],
             ndc.z,
         ))
@@ -192,12 +196,14 @@ struct Uniforms {
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-const SAMPLES: u32 = 4;
+/// Multisampling on a GPU; a software rasterizer (llvmpipe) gets 1 sample, as MSAA
+/// multiplies its fragment work.
+const GPU_SAMPLES: u32 = 4;
 
 /// The offscreen targets at one size.
 struct Targets {
     size: [u32; 2],
-    msaa: wgpu::TextureView,
+    msaa: Option<wgpu::TextureView>,
     resolve: wgpu::TextureView,
     depth: wgpu::TextureView,
     texture_id: egui::TextureId,
@@ -212,6 +218,19 @@ pub struct Viewport3d {
     targets: Option<Targets>,
     /// Static geometry (the model and grid), uploaded when its key changes.
     cached: Option<(u64, Arc<Buffers>)>,
+    samples: u32,
+    /// What the texture shows now: a frame that would look the same is not drawn again.
+    shown: Option<Shown>,
+}
+
+/// The inputs of the last frame drawn.
+#[derive(Clone, Debug, PartialEq)]
+struct Shown {
+    size: [u32; 2],
+    camera: OrbitCamera,
+    model: u64,
+    overlay: Scene,
+    background: [f32; 4],
 }
 
 impl std::fmt::Debug for Viewport3d {
@@ -271,6 +290,8 @@ impl Viewport3d {
     /// Builds the pipelines on the app's device.
     pub fn new(render_state: &RenderState) -> Self {
         let device = &render_state.device;
+        let software = render_state.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+        let samples = if software { 1 } else { GPU_SAMPLES };
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("geosnap mesh.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/mesh.wgsl").into()),
@@ -335,7 +356,7 @@ impl Viewport3d {
                     bias: wgpu::DepthBiasState::default(),
                 }),
                 multisample: wgpu::MultisampleState {
-                    count: SAMPLES,
+                    count: samples,
                     ..wgpu::MultisampleState::default()
                 },
                 fragment: Some(wgpu::FragmentState {
@@ -359,6 +380,8 @@ impl Viewport3d {
             bind_group,
             targets: None,
             cached: None,
+            samples,
+            shown: None,
         }
     }
 
@@ -384,12 +407,14 @@ impl Viewport3d {
                     })
                     .create_view(&wgpu::TextureViewDescriptor::default())
             };
-            let msaa = texture(
-                "geosnap msaa",
-                COLOR_FORMAT,
-                SAMPLES,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            );
+            let msaa = (self.samples > 1).then(|| {
+                texture(
+                    "geosnap msaa",
+                    COLOR_FORMAT,
+                    self.samples,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                )
+            });
             let resolve = texture(
                 "geosnap view",
                 COLOR_FORMAT,
@@ -399,7 +424,7 @@ impl Viewport3d {
             let depth = texture(
                 "geosnap depth",
                 DEPTH_FORMAT,
-                SAMPLES,
+                self.samples,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             );
             let mut renderer = render_state.renderer.write();
@@ -440,6 +465,17 @@ impl Viewport3d {
         background: [f32; 4],
     ) -> egui::TextureId {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
+        let shown = Shown {
+            size,
+            camera: *camera,
+            model: model.0,
+            overlay: overlay.clone(),
+            background,
+        };
+        if let (Some(targets), true) = (&self.targets, self.shown.as_ref() == Some(&shown)) {
+            return targets.texture_id;
+        }
+        self.shown = Some(shown);
         let device = render_state.device.clone();
         let queue = render_state.queue.clone();
         let eye = camera.eye();
@@ -473,12 +509,16 @@ impl Viewport3d {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("geosnap 3D view"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.msaa,
+                    view: targets.msaa.as_ref().unwrap_or(&targets.resolve),
                     depth_slice: None,
-                    resolve_target: Some(&targets.resolve),
+                    resolve_target: targets.msaa.as_ref().map(|_| &targets.resolve),
                     ops: wgpu::Operations {
                         load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                        store: wgpu::StoreOp::Discard,
+                        store: if targets.msaa.is_some() {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -528,9 +568,16 @@ mod tests {
             .project(Vec3::ZERO, [800.0, 600.0])
             .expect("the target is in front");
         assert!((x - 400.0).abs() < 1e-3 && (y - 300.0).abs() < 1e-3 && (0.0..1.0).contains(&z));
-        for corner in [Vec3::splat(-50.0), Vec3::splat(50.0), Vec3::new(50.0, -50.0, 50.0)] {
+        for corner in [
+            Vec3::splat(-50.0),
+            Vec3::splat(50.0),
+            Vec3::new(50.0, -50.0, 50.0),
+        ] {
             let (x, y, _) = camera.project(corner, [600.0, 600.0]).expect("in front");
-            assert!((0.0..=600.0).contains(&x) && (0.0..=600.0).contains(&y), "{corner}");
+            assert!(
+                (0.0..=600.0).contains(&x) && (0.0..=600.0).contains(&y),
+                "{corner}"
+            );
         }
     }
 
@@ -568,7 +615,10 @@ mod tests {
         scene.add_mesh(&mesh, [1.0; 4]);
         scene.add_mesh(&mesh, [1.0; 4]);
         assert_eq!(scene.indices.len(), mesh.triangles.len() * 6);
-        assert!(scene.indices.iter().all(|i| (*i as usize) < scene.vertices.len()));
+        assert!(scene
+            .indices
+            .iter()
+            .all(|i| (*i as usize) < scene.vertices.len()));
         let (lo, hi) = scene.bounds().expect("triangles");
         assert!((lo.y - 5.0).abs() < 1e-4 && (hi.y - 15.0).abs() < 1e-4);
         scene.add_grid(Vec3::ZERO, 0.0, 10.0, 4);
