@@ -173,6 +173,11 @@ fn assert_round_trip(session: &Session) {
         "kept by the session file"
     );
     assert_eq!(before.skipped, after.skipped, "kept by the session file");
+    assert_eq!(
+        before.next_id(),
+        after.next_id(),
+        "deleted parts' ids stay retired"
+    );
     assert!(
         before.warm_multipliers().eq(after.warm_multipliers()),
         "warm starts kept"
@@ -190,6 +195,24 @@ fn assert_round_trip(session: &Session) {
             "re-solves differ by {d}"
         );
     }
+}
+
+#[test]
+fn the_ids_of_deleted_parts_stay_retired_after_reopening() {
+    let mut session = vase_session();
+    let part = session
+        .document
+        .primitives()
+        .next()
+        .expect("a part")
+        .1
+        .clone();
+    let extra = session.document.add(part.clone());
+    session.document.remove(extra);
+    let back = parse_session(&session_bytes(&session).expect("encodes")).expect("reads back");
+    let mut document = back.document;
+    let next = document.add(part);
+    assert!(next > extra, "{next:?} after {extra:?}");
 }
 
 #[test]

@@ -298,6 +298,7 @@ impl GeosnapApp {
         self.paint_image(&painter, rect);
         self.paint_parts(&painter);
         self.paint_strokes(&painter);
+        self.paint_relations(&painter);
         self.canvas_drag(ui, over);
         if !space {
             self.canvas_tools(ui, &response, over);
@@ -421,6 +422,57 @@ impl GeosnapApp {
                 egui::Align2::CENTER_CENTER,
                 format!("#{}", id.0),
                 egui::FontId::proportional(if selected { 14.0 } else { 11.0 }),
+                color,
+            );
+        }
+    }
+
+    /// The relations of the selected part (or the hovered one): a dashed link between
+    /// the members' centres, labelled with the kind.
+    fn paint_relations(&self, painter: &egui::Painter) {
+        let document = &self.editor.document;
+        for (index, relation) in document.relations().iter().enumerate() {
+            let shown = self.hovered_relation == Some(index)
+                || self
+                    .selection
+                    .is_some_and(|id| relation.members.contains(&id));
+            if !shown {
+                continue;
+            }
+            let centres: Vec<Pos2> = relation
+                .members
+                .iter()
+                .filter_map(|id| document.get(*id))
+                .map(|p| {
+                    let c = p.primitive.center();
+                    self.canvas.to_screen(DVec2::new(c.x, -c.y))
+                })
+                .collect();
+            if centres.is_empty() {
+                continue;
+            }
+            let color = match relation.mode {
+                crate::core::relation::Mode::Hard => Color32::from_rgb(90, 90, 100),
+                crate::core::relation::Mode::Soft => Color32::from_rgb(150, 150, 160),
+                crate::core::relation::Mode::Off => Color32::from_rgb(220, 140, 140),
+            };
+            for pair in centres.windows(2) {
+                painter.add(egui::Shape::dashed_line(
+                    &[pair[0], pair[1]],
+                    Pen::new(1.0, color),
+                    5.0,
+                    4.0,
+                ));
+            }
+            let n = centres.len() as f32;
+            let mid = centres.iter().fold(Vec2::ZERO, |acc, p| acc + p.to_vec2()) / n;
+            // Relations between the same parts would share a spot: stack their labels.
+            let offset = Vec2::new(0.0, 14.0 * (index % 4) as f32 - 14.0);
+            painter.text(
+                mid.to_pos2() + offset,
+                egui::Align2::CENTER_CENTER,
+                relation.kind.name().replace('_', " "),
+                egui::FontId::proportional(11.0),
                 color,
             );
         }

@@ -22,7 +22,8 @@
 //!     { "primitive": 0, "rms": 0.41, "curves": [[4], [], [2, 9], [3]],
 //!       "parts": [ { "curve": 2, "stroke": 9, "samples": [0, 1, 2, 3, 4, 5] } ] }
 //!   ],
-//!   "multipliers": [ { "label": "relation 0 (parallel of #0 top, #1 top)", "occurrence": 0, "value": -0.02 } ]
+//!   "multipliers": [ { "label": "relation 0 (parallel of #0 top, #1 top)", "occurrence": 0, "value": -0.02 } ],
+//!   "next_id": 3
 //! }
 //! ```
 //!
@@ -44,11 +45,12 @@
 //!   ([`crate::core::snap::restore_assignment`]).
 //! - `multipliers` (optional): the warm start of the next global solve
 //!   ([`Document::warm_multipliers`]); it changes speed, not results.
+//! - `next_id` (optional): the id the next new part gets, so that the ids of deleted
+//!   parts stay retired after reopening.
 //! - Unknown fields are ignored.
 //!
-//! Not kept: the part ids freed by deletions (new parts after reopening may reuse an id
-//! above the highest one left), undo history, and the cause of a skipped step's failure
-//! beyond its message.
+//! Not kept: undo history, and the cause of a skipped step's failure beyond its
+//! message.
 
 use std::path::{Path, PathBuf};
 
@@ -208,6 +210,7 @@ struct SessionV1<'a> {
     dimensions: &'a [Dimension],
     snaps: Vec<SnapV1>,
     multipliers: Vec<MultiplierV1>,
+    next_id: u32,
 }
 
 fn snap_v1(id: PrimitiveId, record: &SnapRecord) -> SnapV1 {
@@ -272,6 +275,7 @@ pub fn session_bytes(session: &Session) -> Result<Vec<u8>, SaveError> {
                 value,
             })
             .collect(),
+        next_id: document.next_id().0,
     };
     let mut bytes = serde_json::to_vec_pretty(&file).map_err(json)?;
     bytes.push(b'\n');
@@ -418,6 +422,19 @@ pub fn parse_session(data: &[u8]) -> Result<Session, SessionError> {
 
     for m in entries::<MultiplierV1>(file, "multipliers")? {
         document.set_warm_multiplier(m.label, m.occurrence, m.value);
+    }
+    if let Some(next) = file.get("next_id") {
+        let next = next
+            .as_u64()
+            .and_then(|n| u32::try_from(n).ok())
+            .ok_or_else(|| SessionError::Entry {
+                field: "next_id",
+                index: 0,
+                source: <serde_json::Error as serde::de::Error>::custom(format!(
+                    "{next} is not a primitive id"
+                )),
+            })?;
+        document.reserve_ids(PrimitiveId(next));
     }
 
     Ok(Session {

@@ -225,6 +225,17 @@ impl Document {
         &mut self.relations
     }
 
+    /// The id the next added primitive gets.
+    pub fn next_id(&self) -> PrimitiveId {
+        PrimitiveId(self.next_id)
+    }
+
+    /// Makes later ids start at `next` or above (a reopened document keeps the ids of
+    /// deleted parts retired).
+    pub fn reserve_ids(&mut self, next: PrimitiveId) {
+        self.next_id = self.next_id.max(next.0);
+    }
+
     /// Removes relation `index` (later relations move down by one).
     pub fn remove_relation(&mut self, index: usize) -> Option<Relation> {
         (index < self.relations.len()).then(|| self.relations.remove(index))
