@@ -313,6 +313,75 @@ fn esc_drops_a_drag_and_a_typed_dimension_holds_after_the_solve() {
 }
 
 #[test]
+fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
+    let dir = scratch("strokes");
+    let mut harness = app(&dir, None);
+    let before = harness.state().editor.sketch.strokes.len();
+    let (lo, hi) = harness.state().editor.sketch.bounds().expect("strokes");
+    // Draw a gentle arc in empty paper to the right of the vase.
+    press(&mut harness, Modifiers::NONE, Key::B);
+    let view = harness.state().canvas.clone();
+    let at = |t: f64| {
+        let x = hi.x + 40.0 + 120.0 * t;
+        let y = f64::midpoint(lo.y, hi.y) + 30.0 * (std::f64::consts::PI * t).sin();
+        view.to_screen(DVec2::new(x, y))
+    };
+    let start = at(0.0);
+    harness.hover_at(start);
+    harness.step();
+    harness.drag_at(start);
+    harness.step();
+    for k in 1..=30 {
+        let p = at(f64::from(k) / 30.0);
+        harness.hover_at(p);
+        harness.step();
+    }
+    harness.drop_at(at(1.0));
+    harness.run_steps(3);
+    let strokes = &harness.state().editor.sketch.strokes;
+    assert_eq!(strokes.len(), before + 1, "{:?}", harness.state().messages);
+    let drawn = strokes.last().expect("the new stroke").clone();
+    assert!(drawn.points.len() >= 10, "resampled along its length");
+
+    // Reclassify it (click), then erase it (click), each one undo step.
+    press(&mut harness, Modifiers::NONE, Key::C);
+    let middle = at(0.5);
+    harness.hover_at(middle);
+    harness.step();
+    harness.drag_at(middle);
+    harness.step();
+    harness.drop_at(middle);
+    harness.run_steps(2);
+    let reclassified = harness
+        .state()
+        .editor
+        .sketch
+        .stroke(drawn.id)
+        .expect("still there")
+        .class_override;
+    assert!(reclassified.is_some(), "a click sets the class by hand");
+    press(&mut harness, Modifiers::NONE, Key::E);
+    harness.hover_at(middle);
+    harness.step();
+    harness.drag_at(middle);
+    harness.step();
+    harness.drop_at(middle);
+    harness.run_steps(2);
+    assert!(
+        harness.state().editor.sketch.stroke(drawn.id).is_none(),
+        "erased"
+    );
+    for _ in 0..3 {
+        press(&mut harness, Modifiers::COMMAND, Key::Z);
+    }
+    assert_eq!(
+        harness.state().editor.sketch.strokes.len(),
+        before,
+        "three undo steps take the drawing back"
+    );
+}
+
+#[test]
 fn bad_files_give_a_message_and_leave_the_work_untouched() {
     let dir = scratch("bad");
     let mut harness = app(&dir, None);

@@ -73,12 +73,19 @@ pub fn run(options: AppOptions) -> anyhow::Result<()> {
         Box::new(move |cc| Ok(Box::new(GeosnapApp::new(cc, options)))),
     )
     .map_err(|error| {
+        let text = error.to_string().trim_end_matches('.').to_owned();
+        let hint = if text.contains("DISPLAY") {
+            "There is no display to open a window on: run geosnap in a desktop session \
+             (or set DISPLAY / WAYLAND_DISPLAY, e.g. under Xvfb)."
+        } else {
+            "geosnap draws with wgpu (Vulkan, Metal, DX12 or OpenGL, tried in turn). \
+             Without a GPU, install a software driver (Debian: `apt-get install \
+             mesa-vulkan-drivers`), or check that WGPU_BACKEND, if set, names a backend \
+             this machine has (`WGPU_BACKEND=gl` for OpenGL)."
+        };
         anyhow!(
-            "the window could not be opened: {error}.\n\
-             geosnap draws with wgpu (Vulkan, Metal, DX12 or OpenGL). Without a GPU, \
-             install a software driver (Debian: `apt-get install mesa-vulkan-drivers`) \
-             or try `WGPU_BACKEND=gl`; the command line (`geosnap --help`) works \
-             without a window."
+            "the window could not be opened: {text}.\n{hint} The command line \
+             (`geosnap --help`) works without a window."
         )
     })
 }
