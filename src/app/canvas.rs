@@ -295,7 +295,7 @@ impl GeosnapApp {
             }
         }
 
-        self.paint_image(&painter, rect);
+        self.paint_image(&painter);
         self.paint_parts(&painter);
         self.paint_strokes(&painter);
         self.paint_relations(&painter);
@@ -332,7 +332,7 @@ impl GeosnapApp {
         );
     }
 
-    fn paint_image(&self, painter: &egui::Painter, rect: Rect) {
+    fn paint_image(&self, painter: &egui::Painter) {
         let Some((_, texture, [w, h])) = &self.image else {
             return;
         };
@@ -345,7 +345,6 @@ impl GeosnapApp {
             Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
             Color32::from_white_alpha(alpha),
         );
-        let _ = rect;
     }
 
     fn paint_strokes(&mut self, painter: &egui::Painter) {

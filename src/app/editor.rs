@@ -128,9 +128,7 @@ impl Editor {
     /// Takes back the last step; returns its label.
     pub fn undo(&mut self) -> Option<String> {
         let snapshot = self.undo.pop()?;
-        let label = snapshot.label.clone();
-        let current = self.snapshot(&label);
-        self.restore(snapshot);
+        let (label, current) = self.swap(snapshot);
         self.redo.push(current);
         Some(label)
     }
@@ -138,11 +136,18 @@ impl Editor {
     /// Does the last undone step again; returns its label.
     pub fn redo(&mut self) -> Option<String> {
         let snapshot = self.redo.pop()?;
+        let (label, current) = self.swap(snapshot);
+        self.undo.push(current);
+        Some(label)
+    }
+
+    /// Restores `snapshot` and returns its label with the state it replaced, under the
+    /// same label (for the opposite stack).
+    fn swap(&mut self, snapshot: Snapshot) -> (String, Snapshot) {
         let label = snapshot.label.clone();
         let current = self.snapshot(&label);
         self.restore(snapshot);
-        self.undo.push(current);
-        Some(label)
+        (label, current)
     }
 
     fn restore(&mut self, snapshot: Snapshot) {

@@ -179,8 +179,8 @@ impl GeosnapApp {
                 let strokes = loaded.sketch.strokes.len();
                 let warnings = loaded.warnings.clone();
                 self.editor
-                    .replace(loaded.sketch, loaded.image.clone(), Document::default());
-                self.after_replace(ctx, loaded.image.as_deref());
+                    .replace(loaded.sketch, loaded.image, Document::default());
+                self.after_replace(ctx);
                 for w in warnings {
                     self.warn(w);
                 }
@@ -191,11 +191,10 @@ impl GeosnapApp {
                     .or_else(|_| load_session(path))
                     .map_err(|e| anyhow!("{e}"))?;
                 let parts = session.document.len();
-                let image = session.image.clone();
                 self.editor
                     .replace(session.sketch, session.image, session.document);
                 self.editor.mark_saved(path.to_owned());
-                self.after_replace(ctx, image.as_deref());
+                self.after_replace(ctx);
                 Ok(format!(
                     "Opened the session {} ({parts} parts).",
                     path.display()
@@ -204,28 +203,15 @@ impl GeosnapApp {
         }
     }
 
-    fn after_replace(&mut self, ctx: &egui::Context, image: Option<&Path>) {
+    fn after_replace(&mut self, ctx: &egui::Context) {
         self.selection = None;
         self.hovered_relation = None;
         self.drag = None;
         self.image = None;
+        self.image_failed = None;
         self.canvas.request_fit();
         self.view3d.request_fit();
-        if let Some(image) = image {
-            match std::fs::read(image)
-                .map_err(anyhow::Error::from)
-                .and_then(|bytes| load_texture(ctx, image, &bytes))
-            {
-                Ok(texture) => {
-                    let size = texture.size();
-                    self.image = Some((image.to_owned(), texture, size));
-                }
-                Err(error) => self.warn(format!(
-                    "The reference image {} could not be shown: {error:#}",
-                    image.display()
-                )),
-            }
-        }
+        self.sync_image(ctx);
     }
 
     /// Shows the editor's reference image (after undo, redo or opening), once per change.
@@ -262,10 +248,9 @@ impl GeosnapApp {
     pub(crate) fn recover(&mut self, ctx: &egui::Context, path: &Path) {
         match load_session(path) {
             Ok(session) => {
-                let image = session.image.clone();
                 self.editor
                     .replace(session.sketch, session.image, session.document);
-                self.after_replace(ctx, image.as_deref());
+                self.after_replace(ctx);
                 self.say("The autosaved work was recovered; save it to keep it.");
             }
             Err(error) => self.warn(format!("The autosave could not be read: {error}")),

@@ -134,6 +134,26 @@ pub struct Drag {
     pub preview_generation: u64,
 }
 
+impl Drag {
+    /// A drag of a new primitive of `kind`, not yet over the canvas, with no preview.
+    fn new(kind: PrimitiveKind, placement: Placement) -> Self {
+        Self {
+            kind,
+            replacing: None,
+            placement,
+            original: None,
+            over_canvas: false,
+            generation: 0,
+            preview: None,
+            preview_error: None,
+            preview_time: Duration::ZERO,
+            size: None,
+            sized_at: None,
+            preview_generation: 0,
+        }
+    }
+}
+
 /// A message in the log.
 #[derive(Clone, Debug)]
 pub struct Message {
@@ -387,20 +407,7 @@ impl GeosnapApp {
         if self.busy() {
             return;
         }
-        self.drag = Some(Drag {
-            kind,
-            replacing: None,
-            placement: Placement::at(DVec2::ZERO),
-            original: None,
-            over_canvas: false,
-            generation: 0,
-            preview: None,
-            preview_error: None,
-            preview_time: Duration::ZERO,
-            preview_generation: 0,
-            size: None,
-            sized_at: None,
-        });
+        self.drag = Some(Drag::new(kind, Placement::at(DVec2::ZERO)));
     }
 
     /// Starts re-dragging a placed part.
@@ -414,19 +421,12 @@ impl GeosnapApp {
         let primitive = placed.primitive.clone();
         let centre = primitive.center();
         let grab = at - DVec2::new(centre.x, -centre.y);
+        let kind = primitive.kind();
         self.drag = Some(Drag {
-            kind: primitive.kind(),
             replacing: Some(id),
-            placement: Placement::at(at - grab),
             original: Some(primitive),
             over_canvas: true,
-            generation: 0,
-            preview: None,
-            preview_error: None,
-            preview_time: Duration::ZERO,
-            preview_generation: 0,
-            size: None,
-            sized_at: None,
+            ..Drag::new(kind, Placement::at(at - grab))
         });
     }
 
