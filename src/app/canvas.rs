@@ -56,6 +56,14 @@ impl CanvasView {
         Pos2::new(c.x + d.x as f32, c.y + d.y as f32)
     }
 
+    /// A sketch polyline on screen, without the points that change it by less than a
+    /// quarter pixel (Douglas–Peucker): a software rasterizer pays per triangle, and a
+    /// finely resampled stroke seen zoomed out has many points to a pixel.
+    pub fn screen_line(&self, points: &[DVec2]) -> Vec<Pos2> {
+        let screen: Vec<Pos2> = points.iter().map(|p| self.to_screen(*p)).collect();
+        simplify_polyline(&screen, SCREEN_TOLERANCE)
+    }
+
     /// The sketch point of a screen point.
     pub fn to_sketch(&self, p: Pos2) -> DVec2 {
         let c = self.rect.center();
@@ -121,6 +129,49 @@ fn percentile(values: &[Duration], q: f64) -> f64 {
     ms.sort_by(f64::total_cmp);
     let k = ((ms.len() - 1) as f64 * q).round() as usize;
     ms[k]
+}
+
+/// How far (in pixels) a painted polyline may stray from the true one.
+const SCREEN_TOLERANCE: f32 = 0.25;
+
+/// The Douglas–Peucker simplification of a polyline: the points whose removal moves the
+/// line by at most `tolerance` are dropped; the ends are always kept.
+pub(crate) fn simplify_polyline(points: &[Pos2], tolerance: f32) -> Vec<Pos2> {
+    if points.len() < 3 {
+        return points.to_vec();
+    }
+    let mut keep = vec![false; points.len()];
+    keep[0] = true;
+    keep[points.len() - 1] = true;
+    let mut spans = vec![(0, points.len() - 1)];
+    while let Some((i, j)) = spans.pop() {
+        let (a, b) = (points[i], points[j]);
+        let ab = b - a;
+        let len2 = ab.length_sq();
+        let mut worst = (0.0_f32, i);
+        for (k, p) in points.iter().enumerate().take(j).skip(i + 1) {
+            let ap = *p - a;
+            let d2 = if len2 > 0.0 {
+                let t = (ap.dot(ab) / len2).clamp(0.0, 1.0);
+                (ap - ab * t).length_sq()
+            } else {
+                ap.length_sq()
+            };
+            if d2 > worst.0 {
+                worst = (d2, k);
+            }
+        }
+        if worst.0 > tolerance * tolerance {
+            keep[worst.1] = true;
+            spans.push((i, worst.1));
+            spans.push((worst.1, j));
+        }
+    }
+    points
+        .iter()
+        .zip(keep)
+        .filter_map(|(p, k)| k.then_some(*p))
+        .collect()
 }
 
 /// Light smoothing and even resampling of a drawn stroke (spacing in sketch units).
@@ -305,7 +356,7 @@ impl GeosnapApp {
         }
         self.paint_drag(&painter);
         if let Some(points) = &self.drawing {
-            let line: Vec<Pos2> = points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+            let line = self.canvas.screen_line(points);
             painter.add(egui::Shape::line(line, Pen::new(2.0, SILHOUETTE)));
         }
         if self.editor.sketch.strokes.is_empty() && self.image.is_none() {
@@ -367,11 +418,7 @@ impl GeosnapApp {
             }
         }
         for stroke in &self.editor.sketch.strokes {
-            let points: Vec<Pos2> = stroke
-                .points
-                .iter()
-                .map(|p| self.canvas.to_screen(*p))
-                .collect();
+            let points = self.canvas.screen_line(&stroke.points);
             let class = classes
                 .get(&stroke.id)
                 .copied()
@@ -406,7 +453,7 @@ impl GeosnapApp {
             let width = if selected || highlighted { 5.0 } else { 3.5 };
             let color = color.gamma_multiply(if selected || highlighted { 0.8 } else { 0.55 });
             for (visible, points) in outlines(&placed.primitive) {
-                let line: Vec<Pos2> = points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                let line = self.canvas.screen_line(&points);
                 let pen = if visible {
                     Pen::new(width, color)
                 } else {
@@ -486,8 +533,7 @@ impl GeosnapApp {
         if let Some(dragged) = self.dragged_primitive() {
             for (visible, points) in outlines(&dragged) {
                 if visible {
-                    let line: Vec<Pos2> =
-                        points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                    let line = self.canvas.screen_line(&points);
                     painter.add(egui::Shape::dashed_line(
                         &line,
                         Pen::new(1.2, Color32::from_gray(140)),
@@ -500,11 +546,7 @@ impl GeosnapApp {
         if let Some(preview) = &drag.preview {
             for id in preview.assignment.stroke_ids() {
                 if let Some(stroke) = self.editor.sketch.stroke(id) {
-                    let line: Vec<Pos2> = stroke
-                        .points
-                        .iter()
-                        .map(|p| self.canvas.to_screen(*p))
-                        .collect();
+                    let line = self.canvas.screen_line(&stroke.points);
                     painter.add(egui::Shape::line(
                         line,
                         Pen::new(5.0, PREVIEW.gamma_multiply(0.35)),
@@ -513,8 +555,7 @@ impl GeosnapApp {
             }
             for (visible, points) in outlines(&preview.primitive) {
                 if visible {
-                    let line: Vec<Pos2> =
-                        points.iter().map(|p| self.canvas.to_screen(*p)).collect();
+                    let line = self.canvas.screen_line(&points);
                     painter.add(egui::Shape::line(line, Pen::new(2.5, PREVIEW)));
                 }
             }
@@ -715,7 +756,40 @@ impl GeosnapApp {
 mod tests {
     use glam::DVec2;
 
-    use super::{distance_to_polyline, smooth_and_resample, CanvasView};
+    use super::{distance_to_polyline, simplify_polyline, smooth_and_resample, CanvasView};
+
+    #[test]
+    fn simplified_lines_keep_their_ends_and_shape_within_the_tolerance() {
+        use egui::Pos2;
+        // A finely sampled arc (radius 200 px, 2000 points) and a straight run.
+        let arc: Vec<Pos2> = (0..2000)
+            .map(|i| {
+                let t = i as f32 / 1999.0 * std::f32::consts::PI;
+                Pos2::new(200.0 * t.cos(), 200.0 * t.sin())
+            })
+            .collect();
+        let simple = simplify_polyline(&arc, 0.25);
+        assert_eq!(simple.first(), arc.first());
+        assert_eq!(simple.last(), arc.last());
+        assert!(simple.len() < 120, "{} points kept", simple.len());
+        // Every dropped point lies within the tolerance of the simplified line.
+        for p in &arc {
+            let d = simple
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let ab = b - a;
+                    let t = ((*p - a).dot(ab) / ab.length_sq()).clamp(0.0, 1.0);
+                    (*p - (a + ab * t)).length()
+                })
+                .fold(f32::INFINITY, f32::min);
+            assert!(d <= 0.25 + 1e-3, "a point strays {d} px");
+        }
+        let straight: Vec<Pos2> = (0..50).map(|i| Pos2::new(i as f32, 2.0)).collect();
+        assert_eq!(simplify_polyline(&straight, 0.25).len(), 2);
+        assert_eq!(simplify_polyline(&straight[..2], 0.25).len(), 2);
+        assert!(simplify_polyline(&[], 0.25).is_empty());
+    }
 
     #[test]
     fn screen_and_sketch_points_map_back_and_forth() {

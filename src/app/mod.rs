@@ -254,6 +254,8 @@ pub struct GeosnapApp {
     pub(crate) prompt: Option<Prompt>,
     pub(crate) show_settings: bool,
     drawing: Option<Vec<DVec2>>,
+    /// The window title last sent (a title change is a round trip to the window system).
+    title: String,
     pub(crate) timer: FrameTimer,
     pub(crate) autosave: files::Autosave,
     benchmark: Option<canvas::DragBenchmark>,
@@ -323,6 +325,7 @@ impl GeosnapApp {
             prompt: None,
             show_settings: false,
             drawing: None,
+            title: String::new(),
             timer: FrameTimer::default(),
             autosave,
             benchmark: options
@@ -949,7 +952,11 @@ impl eframe::App for GeosnapApp {
         self.settings_window(&ctx);
 
         self.autosave_tick();
-        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.window_title()));
+        let title = self.window_title();
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
         if self.job.is_some() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }

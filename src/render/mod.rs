@@ -194,7 +194,10 @@ struct Uniforms {
     eye: [f32; 4],
 }
 
+/// The format the 3D view is drawn in (the shaders write linear colour).
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The same texels as egui reads them: gamma-encoded bytes.
+const SHOWN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Multisampling on a GPU; a software rasterizer (llvmpipe) gets 1 sample, as MSAA
 /// multiplies its fragment work.
@@ -389,9 +392,9 @@ impl Viewport3d {
         let stale = self.targets.as_ref().is_none_or(|t| t.size != size);
         if stale {
             let device = &render_state.device;
-            let texture = |label: &str, format, samples, usage| {
-                device
-                    .create_texture(&wgpu::TextureDescriptor {
+            let texture =
+                |label: &str, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
+                    device.create_texture(&wgpu::TextureDescriptor {
                         label: Some(label),
                         size: wgpu::Extent3d {
                             width: size[0],
@@ -403,44 +406,54 @@ impl Viewport3d {
                         dimension: wgpu::TextureDimension::D2,
                         format,
                         usage,
-                        view_formats: &[],
+                        view_formats,
                     })
-                    .create_view(&wgpu::TextureViewDescriptor::default())
-            };
+                };
             let msaa = (self.samples > 1).then(|| {
                 texture(
                     "geosnap msaa",
                     COLOR_FORMAT,
                     self.samples,
                     wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    &[],
                 )
+                .create_view(&wgpu::TextureViewDescriptor::default())
             });
-            let resolve = texture(
+            // The shaders write linear colour through an sRGB view; egui, which treats
+            // texels as gamma-encoded, reads the same bytes through a plain view (and a
+            // software rasterizer samples 8-bit unorm texels on its fast path).
+            let image = texture(
                 "geosnap view",
-                COLOR_FORMAT,
+                SHOWN_FORMAT,
                 1,
                 wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                &[COLOR_FORMAT],
             );
+            let resolve = image.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(COLOR_FORMAT),
+                ..wgpu::TextureViewDescriptor::default()
+            });
+            let shown = image.create_view(&wgpu::TextureViewDescriptor::default());
             let depth = texture(
                 "geosnap depth",
                 DEPTH_FORMAT,
                 self.samples,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
-            );
+                &[],
+            )
+            .create_view(&wgpu::TextureViewDescriptor::default());
             let mut renderer = render_state.renderer.write();
             let texture_id = match self.targets.take() {
                 Some(old) => {
                     renderer.update_egui_texture_from_wgpu_texture(
                         device,
-                        &resolve,
+                        &shown,
                         wgpu::FilterMode::Linear,
                         old.texture_id,
                     );
                     old.texture_id
                 }
-                None => {
-                    renderer.register_native_texture(device, &resolve, wgpu::FilterMode::Linear)
-                }
+                None => renderer.register_native_texture(device, &shown, wgpu::FilterMode::Linear),
             };
             self.targets = Some(Targets {
                 size,
