@@ -4,7 +4,9 @@
 //!
 //! The 60-stroke sketch is the project's six sample drawings laid out on a 3 × 2 grid
 //! plus short distractor strokes; each kind is dragged over its own drawing along a small
-//! circle (a new pose every frame), through [`SnapSession::update`].
+//! circle (a new pose every frame), through [`SnapSession::update`]. A second table sweeps
+//! each kind along a wider circle (a quarter of its size), so the strokes under the cursor
+//! change now and then and those frames snap afresh ('fresh%' of the frames).
 //!
 //! Run with `cargo bench --no-default-features --bench snap`. The SVG import case reads
 //! `legobrick.svg` from `GEOSNAP_SHARED_SKETCHES` (or `../shared/sketches`) when present.
@@ -111,6 +113,56 @@ fn dragged(
     Primitive::from_placement(kind, &moved, default_size)
 }
 
+/// The dropped primitive of frame `frame` of the wide sweep: the placement moved along a
+/// circle of a quarter of its size, a little further each frame.
+fn swept(kind: PrimitiveKind, placement: &Placement, frame: usize, default_size: f64) -> Primitive {
+    let at_rest = Primitive::from_placement(kind, placement, default_size);
+    let angle = frame as f64 * 0.05;
+    let moved = Placement {
+        at: placement.at + DVec2::from_angle(angle) * (0.25 * at_rest.size()),
+        ..placement.clone()
+    };
+    Primitive::from_placement(kind, &moved, default_size)
+}
+
+/// A wider sweep: the cursor circles at a quarter of the size around the drawing, so the
+/// strokes under it change now and then and those frames snap afresh ('fresh%').
+fn sweep(
+    bench: &Bench,
+    context: &SnapContext,
+    settings: &SnapSettings,
+    placements: &[(PrimitiveKind, Placement)],
+    default_size: f64,
+) {
+    let table = Table::new(
+        "Drag frame sweeping over its drawing (radius 25 % of the size)",
+        34,
+        &[("strokes", 8), ("fresh%", 7)],
+    );
+    for (kind, placement) in placements {
+        let mut session = SnapSession::new(context.clone(), settings.clone());
+        let (mut frames, mut fresh, mut strokes) = (0usize, 0usize, 0usize);
+        let stats = bench.each(|i| {
+            let primitive = swept(*kind, placement, i, default_size);
+            let (result, time) = timed(|| session.update(&primitive, None));
+            frames += 1;
+            if let Ok(r) = result {
+                strokes = r.assignment.stroke_ids().len();
+                fresh += usize::from(r.evaluations > 5);
+            }
+            time
+        });
+        table.row(
+            kind.name(),
+            &stats,
+            &[
+                strokes.to_string(),
+                format!("{:.0}", 100.0 * fresh as f64 / frames.max(1) as f64),
+            ],
+        );
+    }
+}
+
 fn shared_legobrick() -> Option<PathBuf> {
     let dir = std::env::var_os("GEOSNAP_SHARED_SKETCHES").map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/sketches"),
@@ -162,6 +214,8 @@ fn main() {
         );
         table.row(kind.name(), &stats, &extras);
     }
+
+    sweep(&bench, &context, &settings, &placements, default_size);
 
     let table = Table::new(
         "Cold snap (assignment + snap from the dropped pose)",

@@ -396,7 +396,30 @@ fn snap_rounds(
 pub struct SnapSession {
     context: SnapContext,
     settings: SnapSettings,
-    last: Option<(Primitive, SnapResult)>,
+    last: Option<LastFrame>,
+}
+
+/// Whether two primitives are the same up to rounding (a BGC moved by an offset and
+/// back does not give the same bits).
+fn same_shape(a: &Primitive, b: &Primitive) -> bool {
+    let tolerance = 1e-9 * a.size().max(b.size());
+    a.kind() == b.kind()
+        && a.params()
+            .iter()
+            .zip(b.params())
+            .all(|(x, y)| (x - y).abs() <= tolerance)
+        && a.params().len() == b.params().len()
+}
+
+/// What a drag frame leaves for the next one.
+#[derive(Clone, Debug)]
+struct LastFrame {
+    /// The primitive where the cursor put it.
+    dragged: Primitive,
+    /// The strokes the wide gate took around it.
+    near: Assignment,
+    /// The snapped preview.
+    result: SnapResult,
 }
 
 impl SnapSession {
@@ -411,9 +434,12 @@ impl SnapSession {
 
     /// The snapped preview of `dragged` (the primitive where the cursor put it).
     ///
-    /// When only the position changed since the last frame, the fit starts from the last
-    /// snapped primitive moved by the same offset, with its multipliers; otherwise (a new
-    /// kind, size or axis) from `dragged` itself.
+    /// The preview is a function of the strokes around the cursor: when `dragged` only
+    /// moved since the last frame and the wide gate around it takes the strokes it took
+    /// last frame, the fit is warm-started from the last snapped primitive and its
+    /// multipliers (it only confirms the preview, which stays on its drawing). Otherwise
+    /// (other strokes under the cursor, a new kind, size or axis) the snap starts cold
+    /// from `dragged`, so a preview dragged off its drawing lets go of it.
     ///
     /// # Errors
     ///
@@ -423,30 +449,33 @@ impl SnapSession {
         dragged: &Primitive,
         cancel: Option<&CancelFlag>,
     ) -> Result<SnapResult, SnapError> {
-        let warm = self.last.as_ref().and_then(|(prev_dragged, prev)| {
-            let offset = dragged.center() - prev_dragged.center();
-            let same_shape = prev_dragged.kind() == dragged.kind()
-                && prev_dragged.transformed(offset, 1.0) == *dragged;
-            same_shape.then(|| {
-                (
-                    prev.primitive.transformed(offset, 1.0),
-                    prev.multipliers.clone(),
-                )
-            })
+        if !dragged.is_finite() {
+            return Err(SnapError::NonFinite(dragged.kind().name()));
+        }
+        let wide = self.settings.wide_gate * dragged.size();
+        let near = assign(&self.context, &dragged.current_shape().curves, wide);
+        let warm = self.last.as_ref().filter(|last| {
+            let offset = dragged.center() - last.dragged.center();
+            same_shape(&last.dragged.transformed(offset, 1.0), dragged)
+                && near.same_strokes(&last.near)
         });
-        let result = match &warm {
-            Some((start, multipliers)) => snap_from(
+        let result = match warm {
+            Some(last) => snap_from(
                 &self.context,
-                start,
+                &last.result.primitive,
                 &self.settings,
-                multipliers.as_ref(),
+                last.result.multipliers.as_ref(),
                 cancel,
                 None,
             )
             .or_else(|_| snap_from(&self.context, dragged, &self.settings, None, cancel, None)),
             None => snap_from(&self.context, dragged, &self.settings, None, cancel, None),
         }?;
-        self.last = Some((dragged.clone(), result.clone()));
+        self.last = Some(LastFrame {
+            dragged: dragged.clone(),
+            near,
+            result: result.clone(),
+        });
         Ok(result)
     }
 
@@ -458,5 +487,74 @@ impl SnapSession {
     /// The strokes of the session.
     pub fn context(&self) -> &SnapContext {
         &self.context
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::{SnapContext, SnapSession, SnapSettings};
+    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::sketch::{StrokeClass, StrokeId};
+
+    /// Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
+    fn outline() -> SnapContext {
+        let line = |x: f64| {
+            (0..=20)
+                .map(|i| DVec2::new(x, 100.0 + 3.0 * f64::from(i)))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (line(40.0), line(60.0));
+        SnapContext::new([
+            (StrokeId(0), a.as_slice(), StrokeClass::Silhouette),
+            (StrokeId(1), b.as_slice(), StrokeClass::Silhouette),
+        ])
+    }
+
+    fn dragged(x: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::new(x, -128.0, 0.0),
+            axis: DVec3::Y,
+            length: 70.0,
+            radius: 12.0,
+        })
+    }
+
+    #[test]
+    fn a_preview_stays_on_its_strokes_while_the_cursor_stays_over_them() {
+        let mut session = SnapSession::new(outline(), SnapSettings::default());
+        let first = session.update(&dragged(52.0), None).expect("it snaps");
+        assert_eq!(first.assignment.stroke_ids(), [StrokeId(0), StrokeId(1)]);
+        for k in 1..20 {
+            let x = 52.0 + 2.0 * (f64::from(k) * 0.7).sin();
+            let frame = session.update(&dragged(x), None).expect("it stays snapped");
+            assert!(
+                frame.primitive.center().distance(first.primitive.center()) < 1e-3,
+                "frame {k} moved the snapped preview"
+            );
+            assert!(frame.evaluations <= 5, "frame {k}: {}", frame.evaluations);
+        }
+    }
+
+    #[test]
+    fn a_preview_dragged_off_its_strokes_lets_go_and_snaps_again_on_the_way_back() {
+        let mut session = SnapSession::new(outline(), SnapSettings::default());
+        assert!(session.update(&dragged(52.0), None).is_ok());
+        let mut x = 52.0;
+        while x < 300.0 {
+            x += 3.0;
+            let frame = session.update(&dragged(x), None);
+            assert!(
+                x <= 150.0 || frame.is_err(),
+                "still snapped at x = {x}: {frame:?}"
+            );
+        }
+        while x > 52.0 {
+            x -= 3.0;
+            let _ = session.update(&dragged(x), None);
+        }
+        let back = session.update(&dragged(52.0), None).expect("snapped again");
+        assert!((back.primitive.center().x - 50.0).abs() < 0.5);
     }
 }
