@@ -97,6 +97,16 @@ fn drag_from_palette(harness: &mut Harness<'static, GeosnapApp>, label: &str, at
     step_until(harness, "the placement's solve", |app| app.job.is_none());
 }
 
+/// A primary click at `at` on the canvas: hover, press, release.
+fn click_at(harness: &mut Harness<'static, GeosnapApp>, at: egui::Pos2) {
+    harness.hover_at(at);
+    harness.step();
+    harness.drag_at(at);
+    harness.step();
+    harness.drop_at(at);
+    harness.run_steps(2);
+}
+
 fn press(harness: &mut Harness<'static, GeosnapApp>, modifiers: Modifiers, key: Key) {
     harness.key_press_modifiers(modifiers, key);
     harness.step();
@@ -346,12 +356,7 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
     // Reclassify it (click), then erase it (click), each one undo step.
     press(&mut harness, Modifiers::NONE, Key::C);
     let middle = at(0.5);
-    harness.hover_at(middle);
-    harness.step();
-    harness.drag_at(middle);
-    harness.step();
-    harness.drop_at(middle);
-    harness.run_steps(2);
+    click_at(&mut harness, middle);
     let reclassified = harness
         .state()
         .editor
@@ -361,12 +366,7 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
         .class_override;
     assert!(reclassified.is_some(), "a click sets the class by hand");
     press(&mut harness, Modifiers::NONE, Key::E);
-    harness.hover_at(middle);
-    harness.step();
-    harness.drag_at(middle);
-    harness.step();
-    harness.drop_at(middle);
-    harness.run_steps(2);
+    click_at(&mut harness, middle);
     assert!(
         harness.state().editor.sketch.stroke(drawn.id).is_none(),
         "erased"

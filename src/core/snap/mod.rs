@@ -403,12 +403,10 @@ pub struct SnapSession {
 /// back does not give the same bits).
 fn same_shape(a: &Primitive, b: &Primitive) -> bool {
     let tolerance = 1e-9 * a.size().max(b.size());
+    let (x, y) = (a.params(), b.params());
     a.kind() == b.kind()
-        && a.params()
-            .iter()
-            .zip(b.params())
-            .all(|(x, y)| (x - y).abs() <= tolerance)
-        && a.params().len() == b.params().len()
+        && x.len() == y.len()
+        && x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= tolerance)
 }
 
 /// What a drag frame leaves for the next one.
