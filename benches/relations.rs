@@ -1,6 +1,6 @@
-//! Benchmarks of what happens on release: relation inference for the new part
-//! ([`Document::infer_relations`]) plus the global solve that follows
-//! ([`Document::solve`] with the new part as the changed one), against model size.
+//! Benchmarks of what happens on release ([`Document::release`]): relation inference
+//! for the new part plus the global solve that follows (with the new part as the changed
+//! one), against model size.
 //!
 //! # Models
 //!
@@ -11,27 +11,30 @@
 //! 450–650 sketch units large in a 700-unit cell: one scene as a person draws it, so
 //! parts of different assemblies are related too where they happen to agree (all the
 //! tables' legs stand parallel). The first N parts of that sequence are placed by
-//! perturbed steps as in the acceptance test: each is snapped on the whole sketch,
-//! added, and its relations inferred on release; the N − 1 first are then solved
-//! together once ([`Document::solve`] over every part), which gives the document a
-//! release meets.
+//! perturbed steps as in the acceptance test: each is snapped on the whole sketch. The
+//! N − 1 first are released one by one, as a user builds the model, which gives the
+//! document the last release meets; each of those releases is timed once too.
 //!
 //! # What is timed
 //!
 //! Each sample clones that document, adds the last part as snapped (untimed) and times
-//! `infer_relations(last)` + `solve(Some(&[last]))` with the default settings and a
-//! [`MonotonicClock`] (as `geosnap run`; it makes the 10 s time cap per solve hold): the
-//! work of one release. The solve covers the connected component of the relation graph that
-//! holds the new part (in one view, typically most of the model). Reported per size:
-//! median, p95, min; the relations in the model after the release, the relations the
-//! release inferred, the parts the solve covered, the conflicts it switched off, and the
-//! exponent k of a power law t ∝ N^k between consecutive sizes (median times).
+//! `release(last)` with the default settings and a [`MonotonicClock`] (as `geosnap
+//! run`; it makes the 10 s time cap per solve hold). The solve frees the new part and the
+//! parts related to it and holds the rest of its component ([`GlobalSettings::reach`]).
+//! Reported per size: median, p95, min; the relations in the model after the release,
+//! the relations the release inferred, the parts the solve freed, the conflicts it
+//! switched off, and the exponent k of a power law t ∝ N^k between consecutive sizes
+//! (median times).
+//!
+//! A second table gives the N − 1 releases of the build-up, one timing each: the last
+//! release alone may be a lucky or an unlucky one, while the build-up shows what a user
+//! meets along the way (median, p95, the slowest, and the conflicts).
 //!
 //! Targets (issue 4): 10 primitives / about 20 relations ≤ 30 ms median; 50 / about 100
 //! ≤ 300 ms.
 //!
 //! Run with `cargo bench --no-default-features --bench relations` (`GEOSNAP_BENCH_SAMPLES`,
-//! `GEOSNAP_BENCH_SECONDS` as for every benchmark; a name filter such as `-- N=50`).
+//! `GEOSNAP_BENCH_SECONDS` as for every benchmark; a name filter such as `-- 'N=20$'`).
 //! Without `--bench` (`cargo test --benches`) it runs in smoke mode on the smallest
 //! size only.
 
@@ -56,7 +59,7 @@ use geosnap::core::relation::InferenceSettings;
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
 use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
 use glam::{DQuat, DVec3};
-use support::{fmt_ns, timed, Bench, Table};
+use support::{fmt_ns, timed, Bench, Stats, Table};
 use synth::{draw, Rng, Style};
 
 /// Model sizes (primitives).
@@ -145,31 +148,84 @@ fn exponent(n0: usize, t0: f64, n1: usize, t1: f64) -> f64 {
     (t1 / t0).ln() / (n1 as f64 / n0 as f64).ln()
 }
 
-/// A document of the snapped parts `placed`, related on release one by one and then
-/// solved together once.
-fn solved(
+/// What one release of the build-up did.
+struct Release {
+    /// Inference + solve, nanoseconds.
+    time: f64,
+    /// Parts solved.
+    solved: usize,
+    /// Relations switched off.
+    conflicts: usize,
+}
+
+/// A document of the snapped parts `placed`, released one by one as a user would:
+/// each is added, its relations inferred, and the parts it changed solved. With what
+/// each release did.
+fn released(
     placed: &[SnapResult],
     inference: &InferenceSettings,
     global: &GlobalSettings,
-) -> Document {
+) -> (Document, Vec<Release>) {
     let mut base = Document::new();
+    let mut releases = Vec::with_capacity(placed.len());
     for s in placed {
         let id = base.add_snapped(s);
-        base.infer_relations(id, inference);
+        let start = Instant::now();
+        let clock = MonotonicClock::start();
+        let (_, outcome) = base.release(
+            id,
+            inference,
+            global,
+            Companions {
+                clock: Some(&clock),
+                ..Companions::default()
+            },
+        );
+        releases.push(Release {
+            time: start.elapsed().as_nanos() as f64,
+            solved: outcome.solved.len(),
+            conflicts: outcome.conflicts.len(),
+        });
     }
-    let clock = MonotonicClock::start();
-    base.solve(
-        None,
-        global,
-        Companions {
-            clock: Some(&clock),
-            ..Companions::default()
-        },
+    (base, releases)
+}
+
+/// The table of every release of each size's build-up.
+fn print_build_up(build_up: Vec<(usize, Vec<Release>)>) {
+    let table = Table::new(
+        "Every release while the N-part model is built (the N − 1 releases of the setup, \
+         one timing each)",
+        8,
+        &[("max", 8), ("solved", 6), ("confl", 5), ("w/confl", 7)],
     );
-    base
+    for (n, releases) in build_up {
+        if releases.is_empty() {
+            continue;
+        }
+        let max = releases.iter().map(|r| r.time).fold(0.0, f64::max);
+        let solved = releases.iter().map(|r| r.solved).max().unwrap_or(0);
+        let conflicts: usize = releases.iter().map(|r| r.conflicts).sum();
+        let with_conflicts = releases.iter().filter(|r| r.conflicts > 0).count();
+        let stats = Stats::of(releases.iter().map(|r| r.time).collect());
+        table.row(
+            &format!("N={n}"),
+            &stats,
+            &[
+                fmt_ns(max),
+                solved.to_string(),
+                conflicts.to_string(),
+                with_conflicts.to_string(),
+            ],
+        );
+    }
+    println!(
+        "\nmax = the slowest release; solved = most parts one release freed; confl = \
+         relations switched off in all; w/confl = releases that switched one off."
+    );
 }
 
 fn main() {
+    env_logger::init();
     let bench = Bench::from_env();
     bench.print_intro("Relations on release: inference + global solve");
     let inference = InferenceSettings::default();
@@ -180,8 +236,8 @@ fn main() {
         &SIZES
     };
     let table = Table::new(
-        "Release of the last part of an N-part model: infer_relations + solve (component \
-         of the new part)",
+        "Release of the last part of an N-part model: inference + solve of the parts it \
+         changed",
         8,
         &[
             ("parts", 5),
@@ -195,6 +251,7 @@ fn main() {
         ],
     );
     let mut previous: Option<(usize, f64)> = None;
+    let mut build_up = Vec::new();
     for &n in sizes {
         let name = format!("N={n}");
         if !bench.wants(&name) {
@@ -207,17 +264,18 @@ fn main() {
             println!("{name}: no part snapped");
             continue;
         };
-        let mut base = solved(placed, &inference, &global);
+        let (mut base, releases) = released(placed, &inference, &global);
+        build_up.push((n, releases));
         let id = base.add_snapped(last);
         let setup = setup.elapsed();
         let mut after: Option<(usize, usize, usize, usize)> = None;
         let stats = bench.each(|_| {
             let mut doc = base.clone();
             let (outcome, time) = timed(|| {
-                let new = doc.infer_relations(id, &inference);
                 let clock = MonotonicClock::start();
-                let solve = doc.solve(
-                    Some(&[id]),
+                let (new, solve) = doc.release(
+                    id,
+                    &inference,
                     &global,
                     Companions {
                         clock: Some(&clock),
@@ -257,9 +315,10 @@ fn main() {
     }
     println!(
         "\nparts = parts snapped (of N); relations = relations in the model after the \
-         release; new = inferred by the release; solved = parts in the solved component; \
+         release; new = inferred by the release; solved = parts the solve freed; \
          confl = relations the release's solve switched off; setup = building the model \
-         (snaps, inference, one solve of N − 1 parts), untimed; k = exponent of t ∝ N^k \
+         (snaps, N − 1 releases), untimed; k = exponent of t ∝ N^k \
          from the previous size (medians)."
     );
+    print_build_up(build_up);
 }

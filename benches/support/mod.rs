@@ -11,7 +11,8 @@
 //! `cargo test --all-targets`) the benchmark runs in *smoke mode*: every case a few times,
 //! to check that it still works, not to measure it. The first argument that is not a flag
 //! filters the cases by name where the benchmark supports it (`cargo bench --bench solve
-//! -- HS77`).
+//! -- HS77`); a filter ending in `$` matches the end of the name only (`-- 'N=20$'`
+//! leaves out N=200).
 
 #![allow(dead_code, reason = "each benchmark uses a part of the helper")]
 
@@ -90,7 +91,10 @@ impl Bench {
     pub(crate) fn wants(&self, name: &str) -> bool {
         self.filter
             .as_ref()
-            .is_none_or(|f| name.contains(f.as_str()))
+            .is_none_or(|f| match f.strip_suffix('$') {
+                Some(end) => name.ends_with(end),
+                None => name.contains(f.as_str()),
+            })
     }
 
     /// Prints what the run measures and how.
@@ -258,6 +262,11 @@ pub(crate) struct Stats {
 }
 
 impl Stats {
+    /// The statistics of samples timed elsewhere (in nanoseconds, one call each).
+    pub(crate) fn of(samples: Vec<f64>) -> Self {
+        Self::new(samples, 1)
+    }
+
     fn new(mut samples: Vec<f64>, batch: usize) -> Self {
         assert!(!samples.is_empty(), "a case needs at least one sample");
         samples.sort_by(f64::total_cmp);

@@ -321,11 +321,11 @@ pub fn place(
         document.remove(old);
     }
     let id = document.add_snapped(&snapped);
-    let relations = document.infer_relations(id, &settings.inference);
     let clock = MonotonicClock::start();
     let mut observe = |it: &Iterate<'_>| observer(it);
-    let outcome = document.solve(
-        Some(&[id]),
+    let (relations, outcome) = document.release(
+        id,
+        &settings.inference,
         &settings.global,
         Companions {
             cancel: Some(cancel),

@@ -340,9 +340,9 @@ pub fn run_steps(
         outcomes.push(match outcome {
             Ok(result) => {
                 let id = document.add_snapped(&result);
-                let relations = document.infer_relations(id, &settings.inference);
-                let solve = document.solve(
-                    Some(&[id]),
+                let (relations, solve) = document.release(
+                    id,
+                    &settings.inference,
                     &settings.global,
                     Companions {
                         clock,

@@ -9,8 +9,11 @@
 //! them. Both poses are tried and the one with more relations is kept (the snapped one
 //! on a tie). Boxes and bent tubes are not mirrored: which of their edges and end halves
 //! are drawn tells the two poses apart already.
+//!
+//! [`Document::release`] is the whole release: inference, then the global solve of the
+//! parts it changed.
 
-use super::{Document, PrimitiveId, Relation};
+use super::{Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation};
 use crate::core::primitive::{FeatureCurve, Primitive, PrimitiveKind};
 use crate::core::relation::infer::{infer, Part, Proposal};
 use crate::core::relation::{InferenceSettings, Mode};
@@ -119,6 +122,52 @@ impl Document {
             }
         }
         added
+    }
+
+    /// Releases part `id` as the tool does when the user lets go of it: infers its
+    /// relations ([`Document::infer_relations`]) and solves the parts it changed
+    /// ([`Document::solve`] of `[id]`). Returns the relations added and the solve's
+    /// outcome. The app, `geosnap run` and the benchmarks all release through it.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use geosnap::core::model::{Companions, Document, Fit, GlobalSettings, Placed};
+    /// use geosnap::core::primitive::{Cylinder, Primitive};
+    /// use geosnap::core::relation::{InferenceSettings, RelationKind};
+    ///
+    /// let leg = |x: f64, axis: DVec3| Placed {
+    ///     primitive: Primitive::Cylinder(Cylinder {
+    ///         center: DVec3::new(x, 0.0, 0.0),
+    ///         axis: axis.normalize(),
+    ///         length: 10.0,
+    ///         radius: 1.0,
+    ///     }),
+    ///     fit: Fit::default(),
+    /// };
+    /// let mut doc = Document::new();
+    /// doc.add(leg(0.0, DVec3::Y));
+    /// let new = doc.add(leg(5.0, DVec3::new(0.02, 1.0, 0.0)));
+    /// let (added, outcome) = doc.release(
+    ///     new,
+    ///     &InferenceSettings::default(),
+    ///     &GlobalSettings::default(),
+    ///     Companions::default(),
+    /// );
+    /// assert!(added.iter().any(|&i| doc.relations()[i].kind == RelationKind::Parallel));
+    /// assert!(outcome.conflicts.is_empty());
+    /// ```
+    pub fn release(
+        &mut self,
+        id: PrimitiveId,
+        inference: &InferenceSettings,
+        global: &GlobalSettings,
+        companions: Companions<'_>,
+    ) -> (Vec<usize>, GlobalOutcome) {
+        let added = self.infer_relations(id, inference);
+        let outcome = self.solve(Some(&[id]), global, companions);
+        (added, outcome)
     }
 }
 
