@@ -134,8 +134,7 @@ fn outline_box(part: &Part<'_>, grow: f64) -> Option<(glam::DVec2, glam::DVec2)>
 /// Whether two parts touch or nearly touch in the drawing: their outline boxes, grown by
 /// `grow` of their diagonals, overlap. Orthogonality is a designed relation between
 /// parts that meet (a pipe on a box, a handle on a mug); between parts far apart a right
-/// angle is most often chance, and tubes radiating from a ball would be found
-/// orthogonal whenever two happen to be about 90° apart.
+/// angle is most often chance (see also [`joined`]).
 fn touching(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
     match (outline_box(a, grow), outline_box(b, grow)) {
         (Some((alo, ahi)), Some((blo, bhi))) => {
@@ -143,6 +142,59 @@ fn touching(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
         }
         _ => false,
     }
+}
+
+/// A straight solid's axis in the drawing: its end circles' projected centres and its
+/// largest end radius (`None` for spheres, boxes and bent tubes).
+fn axis_segment(part: &Part<'_>) -> Option<(glam::DVec2, glam::DVec2, f64)> {
+    if !matches!(
+        part.kind,
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
+    ) {
+        return None;
+    }
+    let end = |name: &str| {
+        part.features.iter().find_map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, radius, .. } if f.name == name => {
+                Some((glam::DVec2::new(center.x, center.y), *radius))
+            }
+            _ => None,
+        })
+    };
+    let ((a, ra), (b, rb)) = (end("bottom")?, end("top")?);
+    Some((a, b, ra.max(rb)))
+}
+
+/// The distance in the drawing from `p` to the segment `a`–`b`.
+fn to_segment(p: glam::DVec2, a: glam::DVec2, b: glam::DVec2) -> f64 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + ab * t)
+}
+
+/// Whether two parts may be orthogonal by design: they meet in the drawing
+/// ([`touching`]), and when both are straight solids of revolution, one's end lies on
+/// the other's body (a T or an L joint: a handle on a mug, a rung on a ladder's side),
+/// within `grow` of its length. Two tubes radiating from one ball meet only near the
+/// ball, end to end at a distance; their angle is the ball's design, not a right angle.
+fn joined(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
+    if !touching(a, b, grow) {
+        return false;
+    }
+    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (axis_segment(a), axis_segment(b)) else {
+        return true;
+    };
+    let end_on = |p: glam::DVec2, s0: glam::DVec2, s1: glam::DVec2, r: f64| {
+        to_segment(p, s0, s1) <= r + grow * s0.distance(s1)
+    };
+    end_on(a0, b0, b1, rb)
+        || end_on(a1, b0, b1, rb)
+        || end_on(b0, a0, a1, ra)
+        || end_on(b1, a0, a1, ra)
 }
 
 /// A union–find over entities named by (part, key).
@@ -384,7 +436,7 @@ impl Inference<'_, '_> {
                 self.propose(p);
             }
         }
-        if !parallel_somewhere && touching(&new_part, &other_part, self.settings.distance) {
+        if !parallel_somewhere && joined(&new_part, &other_part, self.settings.distance) {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
                     self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
@@ -605,6 +657,29 @@ mod tests {
             .find(|p| p.kind == RelationKind::Concentric)
             .expect("concentric");
         assert_eq!(first.features, vec![Some("bottom"), Some("top")]);
+    }
+
+    fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center,
+            axis: axis.normalize(),
+            length,
+            radius: 2.0,
+        })
+    }
+
+    #[test]
+    fn only_joined_rods_are_orthogonal() {
+        // Two tubes leaving a ball of radius 5 at right angles: their outlines meet near
+        // the ball, but their ends are 7 units apart, neither on the other's body.
+        let (x, y) = (DVec3::X, DVec3::Y);
+        let tubes = [rod(x * 20.0, x, 30.0), rod(y * 20.0, y, 30.0)];
+        let r = place_all(&tubes);
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+        // A T: the second rod's end lies on the first one's side.
+        let tee = [rod(DVec3::ZERO, x, 60.0), rod(y * 16.0, y, 30.0)];
+        let r = place_all(&tee);
+        assert_eq!(count(&r, RelationKind::Orthogonal), 1, "{r:#?}");
     }
 
     #[test]
