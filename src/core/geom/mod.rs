@@ -5,6 +5,20 @@ pub mod projection;
 
 mod fit;
 
+use glam::DVec2;
+
 pub use fit::{
     fit_circle, fit_ellipse, fit_line, refine_ellipse, AngularSpan, Circle2, Ellipse2, Line2,
 };
+
+/// The distance from `p` to the segment `a`–`b`.
+pub(crate) fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t).distance(p)
+}

@@ -23,6 +23,7 @@
 use std::collections::{BTreeSet, HashMap};
 
 use super::{holds, InferenceSettings, Member, RelationKind};
+use crate::core::geom::segment_distance;
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, PrimitiveKind};
 
 /// A placed primitive as inference sees it.
@@ -165,17 +166,6 @@ fn axis_segment(part: &Part<'_>) -> Option<(glam::DVec2, glam::DVec2, f64)> {
     Some((a, b, ra.max(rb)))
 }
 
-/// The distance in the drawing from `p` to the segment `a`–`b`.
-fn to_segment(p: glam::DVec2, a: glam::DVec2, b: glam::DVec2) -> f64 {
-    let ab = b - a;
-    let t = if ab.length_squared() > 0.0 {
-        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + ab * t)
-}
-
 /// Whether two parts may be orthogonal by design: they meet in the drawing
 /// ([`touching`]), and when both are straight solids of revolution, one's end lies on
 /// the other's body (a T or an L joint: a handle on a mug, a rung on a ladder's side),
@@ -189,7 +179,7 @@ fn joined(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
         return true;
     };
     let end_on = |p: glam::DVec2, s0: glam::DVec2, s1: glam::DVec2, r: f64| {
-        to_segment(p, s0, s1) <= r + grow * s0.distance(s1)
+        segment_distance(s0, s1, p) <= r + grow * s0.distance(s1)
     };
     end_on(a0, b0, b1, rb)
         || end_on(a1, b0, b1, rb)

@@ -25,6 +25,7 @@ use glam::DVec2;
 
 use super::context::{SnapContext, SnapStroke};
 use crate::core::ad::ellipse_distance;
+pub(crate) use crate::core::geom::segment_distance;
 use crate::core::primitive::{Curve2, CurveClass, ProjectedCurve};
 use crate::core::sketch::{StrokeClass, StrokeId};
 
@@ -89,18 +90,6 @@ pub(crate) fn curve_distance(curve: &Curve2<f64>, p: DVec2) -> f64 {
             .map(|w| segment_distance(w[0].to_dvec2(), w[1].to_dvec2(), p))
             .fold(f64::INFINITY, f64::min),
     }
-}
-
-/// The distance from `p` to the segment `a`–`b`.
-pub(crate) fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t).distance(p)
 }
 
 /// The length of a numeric curve (an ellipse's by Ramanujan's approximation).
