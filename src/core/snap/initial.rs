@@ -333,7 +333,7 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
     use super::box_poses;
@@ -342,7 +342,7 @@ mod tests {
     use crate::core::snap::SnapContext;
 
     /// The visible edges of `truth` as straight strokes (sketch space, y down).
-    fn drawn(truth: &Cuboid) -> SnapContext {
+    pub(in crate::core::snap) fn drawn(truth: &Cuboid) -> SnapContext {
         let shape = Primitive::Cuboid(truth.clone()).current_shape();
         let strokes: Vec<Vec<DVec2>> = shape
             .curves

@@ -100,6 +100,9 @@ pub struct SnapResult {
     pub evaluations: u64,
     /// The last fit's multipliers, for a warm start.
     multipliers: Option<Multipliers>,
+    /// How much of the drawing the snap explains (see [`explanation`]), for choosing
+    /// between the snaps of one drop.
+    explained: f64,
 }
 
 /// Checks that an assignment determines the primitive (the original's `CanSnap`, but
@@ -307,16 +310,82 @@ const GOOD_FIT: f64 = 0.05;
 
 /// Whether snap `a` is better than snap `b` of the same drop: a good fit (RMS within
 /// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, the one
-/// that explains more strokes wins, then the closer one. A fit that takes more strokes
-/// by bending itself out of shape loses to one that explains fewer strokes well.
+/// that explains more of the drawing wins (see [`explanation`]), then the closer one. A
+/// fit that takes more strokes by bending itself out of shape loses to one that explains
+/// fewer strokes well.
 fn better(a: &SnapResult, b: &SnapResult) -> bool {
     let good = |r: &SnapResult| r.rms <= GOOD_FIT * r.primitive.size();
-    let count = |r: &SnapResult| r.assignment.stroke_ids().len();
     match (good(a), good(b)) {
         (true, false) => true,
         (false, true) => false,
-        _ => count(a) > count(b) || (count(a) == count(b) && a.rms < b.rms),
+        _ => {
+            // Explanations within a quarter of the size apart are a tie: the closer fit
+            // wins.
+            let margin = 0.25 * a.primitive.size().max(b.primitive.size());
+            a.explained > b.explained + margin
+                || (a.explained >= b.explained - margin && a.rms < b.rms)
+        }
     }
+}
+
+/// How much of the drawing a snapped primitive explains, as a length in view units: the
+/// length of the stroke samples it takes, each piece weighted by how close it runs to its
+/// curve (1 on it, 0 at `gate`), less the length of its visible curves that no stroke of
+/// theirs comes within `gate` of.
+///
+/// Both halves matter in a cluttered drawing. Counting strokes alone favours a pose
+/// that grows to reach its neighbours' strokes: a table top stretched over its legs, or
+/// a brick read as the other box of its hexagonal outline (the Necker reversal), whose
+/// inner edges then run where nothing is drawn. A designer draws every visible edge, so
+/// a visible curve without strokes is evidence against the pose, as much as a stroke it
+/// takes is evidence for it.
+fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64 {
+    let gate = gate.max(f64::MIN_POSITIVE);
+    let shape = primitive.current_shape();
+    let mut taken = 0.0;
+    let mut missing = 0.0;
+    for (curve, strokes) in shape.curves.iter().zip(&assignment.curves) {
+        // Each piece of stroke counts by how close it runs: fully on the curve, nothing
+        // at the gate.
+        let closeness =
+            |p: glam::DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
+        taken += strokes
+            .iter()
+            .map(|s| {
+                s.samples
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]) * closeness(w[0].midpoint(w[1])))
+                    .sum::<f64>()
+            })
+            .sum::<f64>();
+        if !curve.visible {
+            continue;
+        }
+        let points = resampled(&curve.curve.points(96), gate / 2.0);
+        let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
+        let unsupported = points
+            .iter()
+            .filter(|p| {
+                !strokes
+                    .iter()
+                    .flat_map(|s| &s.samples)
+                    .any(|q| q.distance_squared(**p) <= gate * gate)
+            })
+            .count();
+        missing += step * unsupported as f64;
+    }
+    taken - missing
+}
+
+/// Points along a polyline no farther apart than `step`.
+fn resampled(points: &[glam::DVec2], step: f64) -> Vec<glam::DVec2> {
+    let mut out = Vec::with_capacity(points.len());
+    for w in points.windows(2) {
+        let n = (w[0].distance(w[1]) / step).ceil().max(1.0) as usize;
+        out.extend((0..n).map(|k| w[0].lerp(w[1], k as f64 / n as f64)));
+    }
+    out.extend(points.last().copied());
+    out
 }
 
 /// The assignment and fitting rounds of a snap from `primitive`.
@@ -376,6 +445,7 @@ fn snap_rounds(
         return Err(SnapError::RanAway { kind, factor });
     }
     let rms = fit_rms(&current, &assignment);
+    let explained = explanation(&current, &assignment, settings.tight_gate * current.size());
     Ok(SnapResult {
         primitive: current,
         assignment,
@@ -383,6 +453,7 @@ fn snap_rounds(
         termination,
         evaluations,
         multipliers,
+        explained,
     })
 }
 
@@ -490,11 +561,55 @@ impl SnapSession {
 
 #[cfg(test)]
 mod tests {
-    use glam::{DVec2, DVec3};
+    use glam::{DQuat, DVec2, DVec3};
 
-    use super::{SnapContext, SnapSession, SnapSettings};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use super::assign::curve_length;
+    use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
+    use crate::core::primitive::{Cuboid, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
+
+    #[test]
+    fn a_pose_with_visible_edges_where_nothing_is_drawn_explains_less() {
+        let truth = Cuboid {
+            center: DVec3::new(400.0, -300.0, 0.0),
+            rotation: DQuat::from_rotation_y(0.7) * DQuat::from_rotation_x(0.45),
+            size: DVec3::new(200.0, 120.0, 90.0),
+        };
+        let context = initial::tests::drawn(&truth);
+        let score = |p: &Cuboid| {
+            let p = Primitive::Cuboid(p.clone());
+            let gate = 0.1 * p.size();
+            let a = assign(&context, &p.current_shape().curves, gate);
+            (a.stroke_ids().len(), explanation(&p, &a, gate))
+        };
+        // Stretched along its first axis, away from the drawn far end: its near edges
+        // still take strokes, but its far end stands where nothing is drawn.
+        let mut long = truth.clone();
+        long.size.x *= 1.6;
+        long.center += truth.axes()[0] * 0.3 * truth.size.x;
+        let ((n_true, e_true), (n_long, e_long)) = (score(&truth), score(&long));
+        assert_eq!(n_true, 9, "every visible edge takes its stroke");
+        assert!(
+            n_long >= 5,
+            "the stretched box still takes strokes: {n_long}"
+        );
+        assert!(
+            e_true > e_long + 0.25 * truth.size.max_element(),
+            "the drawn box explains {e_true:.0}, the stretched one {e_long:.0}"
+        );
+        // The drawn box's explanation is about its drawn edges' length.
+        let drawn: f64 = Primitive::Cuboid(truth.clone())
+            .current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| curve_length(&c.curve))
+            .sum();
+        assert!(
+            (e_true - drawn).abs() < 0.05 * drawn,
+            "{e_true:.0} against {drawn:.0}"
+        );
+    }
 
     /// Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
     fn outline() -> SnapContext {
