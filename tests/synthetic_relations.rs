@@ -529,6 +529,16 @@ fn explain(
         for c in &solve.conflicts {
             lines.push(format!("      conflict: {}", c.message));
         }
+        if let Some(r) = &solve.report {
+            lines.push(format!(
+                "      solve of {} parts: {:?}, {} evaluations, |c| {:.1e}{}",
+                solve.solved.len(),
+                r.termination,
+                r.evaluations,
+                r.max_violation,
+                if solve.reverted { ", reverted" } else { "" }
+            ));
+        }
     }
     lines
 }

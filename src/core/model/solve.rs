@@ -79,8 +79,9 @@ const ANCHOR_WEIGHT: f64 = 1.0;
 /// its outline, which fixes its projected length but not how far it tilts out of the
 /// view, and without this term the solve drifts along that valley (a synthetic table's
 /// hidden leg came out four times too long, turned almost end-on). The weight is small
-/// against the fit: moving a parameter by 5 % of the part's size costs what a 0.2 %
-/// fit error does, so relations and strokes still decide wherever they can.
+/// against the fit: moving a parameter by 5 % of the part's size costs what a 0.05 %
+/// error of one curve's fit does (φ_p is about the squared error in the frame), so
+/// relations and strokes still decide wherever they can.
 const PROXIMAL_WEIGHT: f64 = 1e-4;
 
 /// L-BFGS memory of the global solve. Relations couple the parts' fits into a problem
