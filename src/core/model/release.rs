@@ -26,6 +26,10 @@ use crate::core::relation::{residuals, InferenceSettings, Member, Mode};
 /// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
 const DEPTH_STEPS: i32 = 40;
 
+/// The residual ‖ψ‖ (scale-free) at which [`Document::settle_depth`]'s robust loss turns
+/// from quadratic to logarithmic.
+const DEPTH_SCALE: f64 = 0.05;
+
 fn static_name(features: &[FeatureCurve<f64>], name: &str) -> Option<&'static str> {
     features.iter().find(|f| f.name == name).map(|f| f.name)
 }
@@ -179,8 +183,8 @@ impl Document {
     }
 
     /// Moves part `id` along the view direction to where its relations that are not off
-    /// hold best (least Σ‖ψ‖² with the other parts where they are). Returns the distance
-    /// moved.
+    /// hold best (least Σ ln(1 + ‖ψ‖²/σ²) over its relations, σ = 0.05, with the other
+    /// parts where they are). Returns the distance moved.
     ///
     /// A drawing does not show depth, so a snap leaves a part at an arbitrary depth and
     /// its fit is the same at every depth. Its relations are not: a pipe standing on a
@@ -234,8 +238,13 @@ impl Document {
                         .collect();
                     residuals(r.kind, &members?).ok()
                 })
-                .flatten()
-                .map(|v| v * v)
+                // Relation by relation, with a robust loss: the depth where most of
+                // them hold wins over one that half-satisfies them all, so a relation
+                // inferred by mistake does not drag the part off the others.
+                .map(|psi| {
+                    let sq: f64 = psi.iter().map(|v| v * v).sum();
+                    (1.0 + sq / (DEPTH_SCALE * DEPTH_SCALE)).ln()
+                })
                 .sum()
         };
         // Depths within a few sizes of the parts involved, coarsely, then refined by
