@@ -10,8 +10,9 @@
 //! on a tie). Boxes and bent tubes are not mirrored: which of their edges and end halves
 //! are drawn tells the two poses apart already.
 //!
-//! [`Document::release`] is the whole release: inference, then the global solve of the
-//! parts it changed.
+//! [`Document::release`] is the whole release: inference, then the part is settled in
+//! depth where its relations hold ([`Document::settle_depth`]: the drawing leaves its
+//! depth free), then the global solve of the parts it changed.
 
 use std::collections::BTreeMap;
 
@@ -22,7 +23,6 @@ use crate::core::primitive::{FeatureCurve, Primitive, PrimitiveKind};
 use crate::core::relation::infer::{infer, Part, Proposal};
 use crate::core::relation::{residuals, InferenceSettings, Member, Mode};
 
-/// The feature of `features` named `name`, as the `'static` name inference uses.
 /// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
 const DEPTH_STEPS: i32 = 40;
 
@@ -30,6 +30,7 @@ const DEPTH_STEPS: i32 = 40;
 /// from quadratic to logarithmic.
 const DEPTH_SCALE: f64 = 0.05;
 
+/// The feature of `features` named `name`, as the `'static` name inference uses.
 fn static_name(features: &[FeatureCurve<f64>], name: &str) -> Option<&'static str> {
     features.iter().find(|f| f.name == name).map(|f| f.name)
 }
