@@ -259,8 +259,9 @@ impl Document {
         let step = 2.0 * reach / f64::from(DEPTH_STEPS);
         let best = (0..=DEPTH_STEPS)
             .map(|k| -reach + step * f64::from(k))
-            .min_by(|a, b| misfit(*a).total_cmp(&misfit(*b)))
-            .unwrap_or(0.0);
+            .map(|dz| (dz, misfit(dz)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0.0, |(dz, _)| dz);
         let (mut lo, mut hi) = (best - step, best + step);
         let ratio = (5f64.sqrt() - 1.0) / 2.0;
         for _ in 0..60 {

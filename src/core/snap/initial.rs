@@ -371,13 +371,18 @@ pub(super) mod tests {
         )
     }
 
-    #[test]
-    fn a_drawn_box_gives_its_orientation_and_sizes() {
-        let truth = Cuboid {
+    /// A box turned so that its three visible faces show.
+    pub(in crate::core::snap) fn turned_box() -> Cuboid {
+        Cuboid {
             center: DVec3::new(400.0, -300.0, 0.0),
             rotation: DQuat::from_rotation_y(0.7) * DQuat::from_rotation_x(0.45),
             size: DVec3::new(200.0, 120.0, 90.0),
-        };
+        }
+    }
+
+    #[test]
+    fn a_drawn_box_gives_its_orientation_and_sizes() {
+        let truth = turned_box();
         // Dropped upright, in the palette's default orientation, a little off.
         let dropped = Cuboid {
             center: DVec3::new(420.0, -280.0, 0.0),

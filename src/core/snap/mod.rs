@@ -100,9 +100,22 @@ pub struct SnapResult {
     pub evaluations: u64,
     /// The last fit's multipliers, for a warm start.
     multipliers: Option<Multipliers>,
-    /// How much of the drawing the snap explains (see [`explanation`]), for choosing
-    /// between the snaps of one drop.
+}
+
+/// A cold snap with how much of the drawing it explains (see [`explanation`]), for
+/// choosing between the snaps of one drop. Warm drag frames are never compared, so they
+/// skip the score.
+struct Scored {
+    result: SnapResult,
     explained: f64,
+}
+
+impl Scored {
+    fn of(result: SnapResult, settings: &SnapSettings) -> Self {
+        let gate = settings.tight_gate * result.primitive.size();
+        let explained = explanation(&result.primitive, &result.assignment, gate);
+        Self { result, explained }
+    }
 }
 
 /// Checks that an assignment determines the primitive (the original's `CanSnap`, but
@@ -262,24 +275,28 @@ fn snap_from(
     // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
     // straight drop is tried only when that start gives no good fit.
     if warm.is_none() {
-        let mut from_start: Option<SnapResult> = None;
+        let mut from_start: Option<Scored> = None;
         for start in bgc_start::starts(context, primitive) {
             match snap_rounds(context, &start, settings, None, cancel, clock) {
                 Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
-                Ok(r) if from_start.as_ref().is_none_or(|b| better(&r, b)) => {
-                    from_start = Some(r);
+                Ok(r) => {
+                    let r = Scored::of(r, settings);
+                    if from_start.as_ref().is_none_or(|b| better(&r, b)) {
+                        from_start = Some(r);
+                    }
                 }
-                _ => {}
+                Err(_) => {}
             }
         }
-        if let Some(r) = from_start.filter(|r| r.rms <= GOOD_FIT * r.primitive.size()) {
-            return Ok(r);
+        if let Some(r) = from_start.filter(|r| good(&r.result)) {
+            return Ok(r.result);
         }
     }
-    let mut best = snap_rounds(context, primitive, settings, warm, cancel, clock);
+    let first = snap_rounds(context, primitive, settings, warm, cancel, clock);
     if warm.is_some() {
-        return best;
+        return first;
     }
+    let mut best = first.map(|r| Scored::of(r, settings));
     // A cold drop is also tried from the starting poses the drawing itself suggests (see
     // `initial`: the tilt of drawn end ellipses, the three edge directions of a drawn
     // box); the better snap wins (see `better`).
@@ -287,7 +304,8 @@ fn snap_from(
         if !start.is_finite() {
             continue;
         }
-        let candidate = snap_rounds(context, &start, settings, None, cancel, clock);
+        let candidate = snap_rounds(context, &start, settings, None, cancel, clock)
+            .map(|r| Scored::of(r, settings));
         best = match (best, candidate) {
             (Ok(a), Ok(b)) => Ok(if better(&b, &a) { b } else { a }),
             (Err(SnapError::Cancelled), _) | (_, Err(SnapError::Cancelled)) => {
@@ -298,7 +316,7 @@ fn snap_from(
             (Err(e), Err(_)) => Err(e),
         };
     }
-    best
+    best.map(|s| s.result)
 }
 
 /// A snap may change the dropped size by at most this factor either way; beyond it the
@@ -313,19 +331,24 @@ const GOOD_FIT: f64 = 0.05;
 /// that explains more of the drawing wins (see [`explanation`]), then the closer one. A
 /// fit that takes more strokes by bending itself out of shape loses to one that explains
 /// fewer strokes well.
-fn better(a: &SnapResult, b: &SnapResult) -> bool {
-    let good = |r: &SnapResult| r.rms <= GOOD_FIT * r.primitive.size();
-    match (good(a), good(b)) {
+fn better(a: &Scored, b: &Scored) -> bool {
+    let (ra, rb) = (&a.result, &b.result);
+    match (good(ra), good(rb)) {
         (true, false) => true,
         (false, true) => false,
         _ => {
             // Explanations within a quarter of the size apart are a tie: the closer fit
             // wins.
-            let margin = 0.25 * a.primitive.size().max(b.primitive.size());
+            let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
             a.explained > b.explained + margin
-                || (a.explained >= b.explained - margin && a.rms < b.rms)
+                || (a.explained >= b.explained - margin && ra.rms < rb.rms)
         }
     }
+}
+
+/// Whether a snap's RMS is within [`GOOD_FIT`] of its size.
+fn good(r: &SnapResult) -> bool {
+    r.rms <= GOOD_FIT * r.primitive.size()
 }
 
 /// How much of the drawing a snapped primitive explains, as a length in view units: the
@@ -377,7 +400,8 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
     taken - missing
 }
 
-/// Points along a polyline no farther apart than `step`.
+/// Points along a polyline no farther apart than `step` (each segment split evenly; the
+/// coverage count of [`explanation`] needs no uniform arc length).
 fn resampled(points: &[glam::DVec2], step: f64) -> Vec<glam::DVec2> {
     let mut out = Vec::with_capacity(points.len());
     for w in points.windows(2) {
@@ -445,7 +469,6 @@ fn snap_rounds(
         return Err(SnapError::RanAway { kind, factor });
     }
     let rms = fit_rms(&current, &assignment);
-    let explained = explanation(&current, &assignment, settings.tight_gate * current.size());
     Ok(SnapResult {
         primitive: current,
         assignment,
@@ -453,7 +476,6 @@ fn snap_rounds(
         termination,
         evaluations,
         multipliers,
-        explained,
     })
 }
 
@@ -561,7 +583,7 @@ impl SnapSession {
 
 #[cfg(test)]
 mod tests {
-    use glam::{DQuat, DVec2, DVec3};
+    use glam::{DVec2, DVec3};
 
     use super::assign::curve_length;
     use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
@@ -570,11 +592,7 @@ mod tests {
 
     #[test]
     fn a_pose_with_visible_edges_where_nothing_is_drawn_explains_less() {
-        let truth = Cuboid {
-            center: DVec3::new(400.0, -300.0, 0.0),
-            rotation: DQuat::from_rotation_y(0.7) * DQuat::from_rotation_x(0.45),
-            size: DVec3::new(200.0, 120.0, 90.0),
-        };
+        let truth = initial::tests::turned_box();
         let context = initial::tests::drawn(&truth);
         let score = |p: &Cuboid| {
             let p = Primitive::Cuboid(p.clone());
