@@ -14,6 +14,20 @@ struct Uniforms {
 
 @group(0) @binding(0) var<uniform> u: Uniforms;
 
+// Set where the target cannot be viewed as sRGB (GL without view formats): the shader
+// then writes gamma-encoded bytes itself, which is what the UI reads either way.
+override ENCODE_SRGB: bool = false;
+
+fn shown(c: vec4<f32>) -> vec4<f32> {
+    if (!ENCODE_SRGB) {
+        return c;
+    }
+    let rgb = clamp(c.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let low = rgb * 12.92;
+    let high = 1.055 * pow(rgb, vec3<f32>(1.0 / 2.4)) - vec3<f32>(0.055);
+    return vec4<f32>(select(high, low, rgb <= vec3<f32>(0.0031308)), c.a);
+}
+
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
@@ -41,7 +55,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let len = length(v.normal);
     if (len < 0.5) {
-        return v.color;
+        return shown(v.color);
     }
     let n = v.normal / len;
     let to_eye = normalize(u.eye.xyz - v.world);
@@ -54,5 +68,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let half_vector = normalize(normalize(u.light.xyz) + to_eye);
     let specular = pow(max(dot(facing, half_vector), 0.0), 48.0) * 0.25;
     let lit = v.color.rgb * (ambient + 0.75 * key) + vec3<f32>(rim + specular);
-    return vec4<f32>(lit, v.color.a);
+    return shown(vec4<f32>(lit, v.color.a));
 }

@@ -7,6 +7,13 @@
 #                                            a part selected; default docs/screenshot.png
 #   tools/headless.sh frames [OUT.json] [N]  a palette drag over sketches/sheet.svg
 #                                            (63 strokes) for N frames (default 600)
+#   tools/headless.sh floor [OUT.json] [N]   the platform's floor: an eframe window of
+#                                            the same size drawing only a moving dot
+#                                            (examples/frame_floor.rs)
+#
+# GEOSNAP_MESA=backports runs on the lavapipe of Debian's backports (Mesa 25 on
+# bookworm) instead of the system's: it is unpacked under target/mesa-backports and
+# used through VK_ICD_FILENAMES, nothing is installed on the system.
 #
 # Installs what it needs from Debian's packages when missing (as root, or with sudo).
 set -euo pipefail
@@ -27,6 +34,24 @@ if [ "${#need[@]}" -gt 0 ]; then
 fi
 
 cargo build --release --locked --quiet
+[ "${1:-}" = floor ] && cargo build --release --locked --quiet --example frame_floor
+if [ "${GEOSNAP_MESA:-}" = backports ]; then
+  root="$PWD/target/mesa-backports"
+  if [ ! -e "$root/lvp_icd.json" ]; then
+    . /etc/os-release
+    mkdir -p "$root/lists/partial" "$root/debs"
+    echo "deb http://deb.debian.org/debian ${VERSION_CODENAME}-backports main" >"$root/sources.list"
+    apt=(-o Dir::Etc::sourcelist="$root/sources.list" -o Dir::Etc::sourceparts=- -o Dir::State::Lists="$root/lists")
+    apt-get "${apt[@]}" update -qq
+    (cd "$root/debs" && apt-get "${apt[@]}" download -qq \
+      "mesa-vulkan-drivers/${VERSION_CODENAME}-backports" \
+      "libdrm2/${VERSION_CODENAME}-backports" "libdrm-amdgpu1/${VERSION_CODENAME}-backports")
+    for deb in "$root"/debs/*.deb; do dpkg -x "$deb" "$root/fs"; done
+    printf '{"file_format_version": "1.0.0", "ICD": {"library_path": "%s", "api_version": "1.3.0"}}\n' \
+      "$root/fs/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so" >"$root/lvp_icd.json"
+  fi
+  export VK_ICD_FILENAMES="$root/lvp_icd.json" LD_LIBRARY_PATH="$root/fs/usr/lib/x86_64-linux-gnu"
+fi
 mode="${1:-screenshot}"
 display=":${GEOSNAP_DISPLAY:-97}"
 Xvfb "$display" -screen 0 1280x800x24 -nolisten tcp >/dev/null 2>&1 &
@@ -49,8 +74,14 @@ case "$mode" in
     target/release/geosnap sketches/sheet.svg --drag-benchmark "$frames" --frame-times "$out"
     cat "$out"
     ;;
+  floor)
+    out="$(realpath -m "${2:-target/frame-floor.json}")"
+    frames="${3:-600}"
+    target/release/examples/frame_floor "$frames" "$out"
+    cat "$out"
+    ;;
   *)
-    echo "usage: tools/headless.sh screenshot [OUT.png] | frames [OUT.json] [N]" >&2
+    echo "usage: tools/headless.sh screenshot [OUT.png] | frames [OUT.json] [N] | floor [OUT.json] [N]" >&2
     exit 2
     ;;
 esac

@@ -203,6 +203,52 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// multiplies its fragment work.
 const GPU_SAMPLES: u32 = 4;
 
+/// How the 3D view's colour target gets sRGB-encoded bytes, which egui reads as they are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TargetEncoding {
+    /// Drawn through an sRGB view of the shown texture ([`COLOR_FORMAT`]): the hardware
+    /// encodes, and blends in linear light.
+    View,
+    /// Where a texture cannot be viewed in another format (GL, WebGL): the target is
+    /// plain 8-bit unorm and the shader encodes (its `ENCODE_SRGB` constant).
+    Shader,
+}
+
+impl TargetEncoding {
+    fn of(adapter: &wgpu::Adapter) -> Self {
+        let flags = adapter.get_downlevel_capabilities().flags;
+        if flags.contains(wgpu::DownlevelFlags::VIEW_FORMATS) {
+            Self::View
+        } else {
+            Self::Shader
+        }
+    }
+
+    /// The format the pipelines draw in.
+    fn format(self) -> wgpu::TextureFormat {
+        match self {
+            Self::View => COLOR_FORMAT,
+            Self::Shader => SHOWN_FORMAT,
+        }
+    }
+
+    /// The other views the shown texture needs.
+    fn view_formats(self) -> &'static [wgpu::TextureFormat] {
+        match self {
+            Self::View => &[COLOR_FORMAT],
+            Self::Shader => &[],
+        }
+    }
+
+    /// The shader's pipeline-overridable constants.
+    fn constants(self) -> &'static [(&'static str, f64)] {
+        match self {
+            Self::View => &[],
+            Self::Shader => &[("ENCODE_SRGB", 1.0)],
+        }
+    }
+}
+
 /// The offscreen targets at one size.
 struct Targets {
     size: [u32; 2],
@@ -222,6 +268,7 @@ pub struct Viewport3d {
     /// Static geometry (the model and grid), uploaded when its key changes.
     cached: Option<(u64, Arc<Buffers>)>,
     samples: u32,
+    encoding: TargetEncoding,
     /// What the texture shows now: a frame that would look the same is not drawn again.
     shown: Option<Shown>,
 }
@@ -295,6 +342,7 @@ impl Viewport3d {
         let device = &render_state.device;
         let software = render_state.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
         let samples = if software { 1 } else { GPU_SAMPLES };
+        let encoding = TargetEncoding::of(&render_state.adapter);
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("geosnap mesh.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/mesh.wgsl").into()),
@@ -365,9 +413,12 @@ impl Viewport3d {
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some("fs_main"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: encoding.constants(),
+                        ..wgpu::PipelineCompilationOptions::default()
+                    },
                     targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
+                        format: encoding.format(),
                         blend: Some(wgpu::BlendState::ALPHA_BLENDING),
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
@@ -384,6 +435,7 @@ impl Viewport3d {
             targets: None,
             cached: None,
             samples,
+            encoding,
             shown: None,
         }
     }
@@ -409,10 +461,11 @@ impl Viewport3d {
                         view_formats,
                     })
                 };
+            let target_format = self.encoding.format();
             let msaa = (self.samples > 1).then(|| {
                 texture(
                     "geosnap msaa",
-                    COLOR_FORMAT,
+                    target_format,
                     self.samples,
                     wgpu::TextureUsages::RENDER_ATTACHMENT,
                     &[],
@@ -427,10 +480,10 @@ impl Viewport3d {
                 SHOWN_FORMAT,
                 1,
                 wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                &[COLOR_FORMAT],
+                self.encoding.view_formats(),
             );
             let resolve = image.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(COLOR_FORMAT),
+                format: Some(target_format),
                 ..wgpu::TextureViewDescriptor::default()
             });
             let shown = image.create_view(&wgpu::TextureViewDescriptor::default());
