@@ -349,19 +349,34 @@ fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
             StepOutcome::Placed {
                 id,
                 snap,
+                confidence,
                 relations,
                 solve,
             } => {
                 println!(
-                    "  step {index}: {} #{} snapped to {} strokes, rms {:.2} ({:.1} % of its size), {} evaluations, {}",
+                    "  step {index}: {} #{} snapped to {} strokes, rms {:.2} ({:.1} % of its size), {} evaluations, {}; {} (confidence {:.2})",
                     snap.primitive.kind().name(),
                     id.0,
                     snap.assignment.stroke_ids().len(),
                     snap.rms,
                     100.0 * snap.rms / snap.primitive.size(),
                     snap.evaluations,
-                    snap.termination
+                    snap.termination,
+                    confidence.verdict,
+                    confidence.value,
                 );
+                if let Some(reason) = &confidence.reason {
+                    println!("    {}: {reason}", confidence.verdict);
+                    for (k, alt) in snap.alternatives.iter().enumerate() {
+                        println!(
+                            "    alternative {}: {} strokes, rms {:.1} % of its size, {:.0} % of the size away",
+                            k + 1,
+                            alt.assignment.stroke_ids().len(),
+                            100.0 * alt.rms / alt.primitive.size(),
+                            100.0 * alt.distance
+                        );
+                    }
+                }
                 if let Some(report) = &solve.report {
                     let ms = report.elapsed.as_secs_f64() * 1e3;
                     solve_ms.push(ms);

@@ -492,6 +492,7 @@ fn explain(
             snap,
             relations,
             solve,
+            ..
         } = o
         else {
             continue;

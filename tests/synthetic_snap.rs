@@ -52,7 +52,9 @@ use std::time::{Duration, Instant};
 use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
 use geosnap::core::primitive::{Curve2, CurveClass, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{StrokeClass, StrokeId};
-use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+use geosnap::core::snap::{
+    nobody, snap, Confidence, SnapContext, SnapResult, SnapSettings, Verdict,
+};
 use glam::{DVec2, DVec3};
 use support::assemblies::{mirror, placement, PERMUTATIONS};
 use support::synth::{scene, Rng, Scene, Style};
@@ -67,6 +69,8 @@ const AXIS_TOL_DEG: f64 = 5.0;
 const SIZE_TOL: f64 = 0.07;
 /// The success rate every kind must reach.
 const REQUIRED_RATE: f64 = 0.95;
+/// The largest share of good parts whose snap may call itself doubtful or refused.
+const MAX_GOOD_FLAGGED: f64 = 0.05;
 
 /// The seed of case `index` of `kind`.
 fn seed(kind: PrimitiveKind, index: usize) -> u64 {
@@ -225,11 +229,21 @@ struct Case {
     /// For a failed case, the snap started from the truth itself, and its errors: this
     /// tells the drawing's (and the objective's) limits from the snapper's search.
     from_truth: Option<(Result<SnapResult, String>, Option<Errors>)>,
+    /// The snap's confidence (no part is placed before it).
+    confidence: Option<Confidence>,
 }
 
 impl Case {
     fn ok(&self) -> bool {
         self.errors.is_some_and(|e| e.failures().is_empty())
+    }
+
+    /// Whether the snap says it is not sure (doubtful or refused; a snap that returned
+    /// an error places nothing, so it counts as refused).
+    fn flagged(&self) -> bool {
+        self.confidence
+            .as_ref()
+            .is_none_or(|c| c.verdict != Verdict::Good)
     }
 
     /// The fit RMS relative to the size.
@@ -271,6 +285,10 @@ fn run_case(kind: PrimitiveKind, index: usize, hand: Option<&str>) -> Case {
     let elapsed = start.elapsed();
     let ok = errors.is_some_and(|e| e.failures().is_empty());
     let from_truth = (!ok).then(|| run(&scene.truth));
+    let confidence = result
+        .as_ref()
+        .ok()
+        .map(|r| r.confidence(&dropped, &nobody, &SnapSettings::default()));
     Case {
         index,
         seed,
@@ -280,6 +298,7 @@ fn run_case(kind: PrimitiveKind, index: usize, hand: Option<&str>) -> Case {
         errors,
         elapsed,
         from_truth,
+        confidence,
     }
 }
 
@@ -628,7 +647,7 @@ fn run_kind(
     png: Option<&Path>,
     show: Option<usize>,
     hand: Option<&str>,
-) -> (String, String, f64) {
+) -> (String, String, f64, Flags) {
     let start = Instant::now();
     let results: Vec<Case> = (0..cases).map(|i| run_case(kind, i, hand)).collect();
     let wall = start.elapsed();
@@ -653,11 +672,94 @@ fn run_kind(
     }
     let ok = results.iter().filter(|c| c.ok()).count();
     let rate = ok as f64 / results.len().max(1) as f64;
-    (row(kind, &results, wall), report, rate)
+    if std::env::var_os("GEOSNAP_SYNTH_EVIDENCE").is_some() {
+        for c in &results {
+            if let Some(conf) = &c.confidence {
+                let e = &conf.evidence;
+                let _ = writeln!(
+                    report,
+                    "evidence {} {} ok={} {} {:.2} rms={:.3} support={:.2} moved={:.2} resized={:.2} margin={}",
+                    kind.name(),
+                    c.index,
+                    c.ok(),
+                    conf.verdict,
+                    conf.value,
+                    100.0 * e.rms,
+                    e.support,
+                    e.moved,
+                    e.resized,
+                    e.margin.map_or("-".to_owned(), |m| format!("{m:.3}"))
+                );
+            }
+        }
+    }
+    let counts = Flags::of(&results);
+    (row(kind, &results, wall), report, rate, counts)
 }
 
-#[test]
-fn every_kind_snaps_to_sketches_drawn_by_hand() {
+/// How a kind's confidences sort its cases: good parts the snap flagged (doubtful or
+/// refused) and wrong parts it did.
+#[derive(Clone, Copy, Debug, Default)]
+struct Flags {
+    good: usize,
+    good_flagged: usize,
+    wrong: usize,
+    wrong_flagged: usize,
+}
+
+impl Flags {
+    fn of(cases: &[Case]) -> Self {
+        let mut f = Self::default();
+        for c in cases {
+            if c.ok() {
+                f.good += 1;
+                f.good_flagged += usize::from(c.flagged());
+            } else {
+                f.wrong += 1;
+                f.wrong_flagged += usize::from(c.flagged());
+            }
+        }
+        f
+    }
+}
+
+/// The confidence table: per kind, the good parts flagged doubtful or refused and the
+/// wrong parts flagged; and the totals.
+fn confidence_table(flags: &[(PrimitiveKind, Flags)]) -> (String, Flags) {
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "\nconfidence: flagged = doubtful or refused (a snap error counts as refused)\n\
+         {:<9}{:>16}{:>18}",
+        "kind", "good flagged", "wrong flagged"
+    );
+    let mut total = Flags::default();
+    for (kind, f) in flags {
+        let _ = writeln!(
+            table,
+            "{:<9}{:>10}/{:<5}{:>12}/{:<5}",
+            kind.name(),
+            f.good_flagged,
+            f.good,
+            f.wrong_flagged,
+            f.wrong
+        );
+        total.good += f.good;
+        total.good_flagged += f.good_flagged;
+        total.wrong += f.wrong;
+        total.wrong_flagged += f.wrong_flagged;
+    }
+    let _ = writeln!(
+        table,
+        "{:<9}{:>10}/{:<5}{:>12}/{:<5}",
+        "all", total.good_flagged, total.good, total.wrong_flagged, total.wrong
+    );
+    (table, total)
+}
+
+/// The cases per kind (`GEOSNAP_SYNTH_CASES`) and the kinds to run
+/// (`GEOSNAP_SYNTH_KINDS`).
+fn cases_and_kinds() -> (usize, Vec<PrimitiveKind>) {
     let cases = std::env::var("GEOSNAP_SYNTH_CASES")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -667,6 +769,16 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
             .filter_map(|k| PrimitiveKind::from_name(k.trim()))
             .collect()
     });
+    let kinds = PrimitiveKind::ALL
+        .into_iter()
+        .filter(|k| only.as_ref().is_none_or(|o| o.contains(k)))
+        .collect();
+    (cases, kinds)
+}
+
+#[test]
+fn every_kind_snaps_to_sketches_drawn_by_hand() {
+    let (cases, kinds) = cases_and_kinds();
     let show: Option<(PrimitiveKind, usize)> =
         std::env::var("GEOSNAP_SYNTH_SHOW").ok().and_then(|v| {
             let (k, i) = v.split_once(':')?;
@@ -676,13 +788,9 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
         .map(PathBuf::from)
         .or_else(|| show.map(|_| std::env::temp_dir()));
     let hand = std::env::var("GEOSNAP_SYNTH_HAND").ok();
-    let kinds: Vec<PrimitiveKind> = PrimitiveKind::ALL
-        .into_iter()
-        .filter(|k| only.as_ref().is_none_or(|o| o.contains(k)))
-        .collect();
     let start = Instant::now();
     // One thread per kind; the kinds are independent and each is deterministic.
-    let results: Vec<(PrimitiveKind, String, String, f64)> = std::thread::scope(|scope| {
+    let results: Vec<(PrimitiveKind, String, String, f64, Flags)> = std::thread::scope(|scope| {
         let handles: Vec<_> = kinds
             .iter()
             .map(|kind| {
@@ -693,8 +801,8 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
                 std::thread::Builder::new()
                     .name(format!("synth-{}", kind.name()))
                     .spawn_scoped(scope, move || {
-                        let (row, report, rate) = run_kind(kind, cases, png, show, hand);
-                        (kind, row, report, rate)
+                        let (row, report, rate, flags) = run_kind(kind, cases, png, show, hand);
+                        (kind, row, report, rate, flags)
                     })
                     .expect("a thread")
             })
@@ -731,11 +839,14 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
         "rms %S",
         "time"
     );
-    for (_, row, _, _) in &results {
+    for (_, row, _, _, _) in &results {
         let _ = writeln!(table, "{row}");
     }
+    let flags: Vec<(PrimitiveKind, Flags)> = results.iter().map(|r| (r.0, r.4)).collect();
+    let (confidence, total) = confidence_table(&flags);
+    table.push_str(&confidence);
     let mut failures = String::new();
-    for (kind, _, report, _) in &results {
+    for (kind, _, report, _, _) in &results {
         if !report.is_empty() {
             let _ = writeln!(failures, "{}:\n{report}", kind.name());
         }
@@ -751,6 +862,13 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
         "kinds below the required {:.0} % success rate: {} (table and analyses above)",
         100.0 * REQUIRED_RATE,
         below.join(", ")
+    );
+    assert!(
+        total.good_flagged as f64 <= MAX_GOOD_FLAGGED * total.good as f64,
+        "{} of {} good parts were called doubtful or refused (at most {:.0} % may be)",
+        total.good_flagged,
+        total.good,
+        100.0 * MAX_GOOD_FLAGGED
     );
 }
 

@@ -13,6 +13,7 @@ use super::view3d::part_color;
 use super::{GeosnapApp, Tool};
 use crate::core::primitive::{Primitive, PrimitiveKind};
 use crate::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass, StrokeId};
+use crate::core::snap::Verdict;
 
 const FEATURE: Color32 = Color32::from_rgb(40, 110, 220);
 const SILHOUETTE: Color32 = Color32::from_rgb(45, 45, 50);
@@ -463,13 +464,23 @@ impl GeosnapApp {
             }
             let c = placed.primitive.center();
             let at = self.canvas.to_screen(DVec2::new(c.x, -c.y));
-            painter.text(
+            let label = painter.text(
                 at,
                 egui::Align2::CENTER_CENTER,
                 format!("#{}", id.0),
                 egui::FontId::proportional(if selected { 14.0 } else { 11.0 }),
                 color,
             );
+            // The snap's verdict as a badge before the id: green good, amber doubtful.
+            if let Some(verdict) = placed.fit.verdict {
+                let centre = Pos2::new(label.left() - 6.0, label.center().y);
+                painter.circle(
+                    centre,
+                    4.0,
+                    verdict_color(verdict),
+                    Pen::new(1.0, Color32::from_black_alpha(120)),
+                );
+            }
         }
     }
 
@@ -828,5 +839,14 @@ mod tests {
             .fold(0.0, f64::max);
         assert!(jitter < 0.15, "smoothing damps the zig-zag: {jitter}");
         assert!((distance_to_polyline(DVec2::new(5.0, 3.0), &out) - 3.0).abs() < 0.2);
+    }
+}
+
+/// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.
+pub(crate) fn verdict_color(verdict: Verdict) -> Color32 {
+    match verdict {
+        Verdict::Good => Color32::from_rgb(60, 170, 80),
+        Verdict::Doubtful => Color32::from_rgb(235, 160, 20),
+        Verdict::Refused => Color32::from_rgb(210, 60, 50),
     }
 }

@@ -383,6 +383,18 @@ impl GeosnapApp {
             placed.fit.rms,
             placed.fit.strokes.len()
         ));
+        if let Some(verdict) = placed.fit.verdict {
+            let confidence = placed.fit.confidence.map_or(String::new(), |c| {
+                format!(" (confidence {:.0} %)", 100.0 * c)
+            });
+            ui.label(
+                RichText::new(format!("● snap {verdict}{confidence}"))
+                    .color(super::canvas::verdict_color(verdict)),
+            );
+            if let Some(reason) = &placed.fit.reason {
+                ui.label(RichText::new(format!("Why: {reason}.")).weak());
+            }
+        }
         let fixed: Vec<(Quantity, f64)> = self
             .editor
             .document

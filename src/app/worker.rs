@@ -11,9 +11,9 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::clock::MonotonicClock;
-use crate::core::model::{Companions, Document, GlobalOutcome, PrimitiveId, SessionSettings};
+use crate::core::model::{Companions, Document, Fit, GlobalOutcome, PrimitiveId, SessionSettings};
 use crate::core::primitive::Primitive;
-use crate::core::snap::{snap, SnapContext, SnapResult, SnapSession};
+use crate::core::snap::{snap, SnapContext, SnapResult, SnapSession, Verdict};
 use crate::core::solve::{CancelFlag, Iterate};
 
 /// Called from a worker thread when something is ready for the UI.
@@ -320,7 +320,19 @@ pub fn place(
     if let Some(old) = replacing {
         document.remove(old);
     }
-    let id = document.add_snapped(&snapped);
+    let confidence = snapped.confidence(dragged, &document.owner(), &settings.snap);
+    if confidence.verdict == Verdict::Refused {
+        output.messages.push(format!(
+            "The {} was not placed: {}. Drop it on the strokes of one part.",
+            dragged.kind().name(),
+            confidence
+                .reason
+                .as_deref()
+                .unwrap_or("nothing in the drawing supports it")
+        ));
+        return output;
+    }
+    let id = document.add_fitted(&snapped, Fit::of(&snapped).judged(&confidence));
     let clock = MonotonicClock::start();
     let mut observe = |it: &Iterate<'_>| observer(it);
     let (relations, outcome) = document.release(
@@ -344,6 +356,11 @@ pub fn place(
             placed.fit.strokes.len(),
             placed.fit.rms
         ));
+        if let Some(reason) = &placed.fit.reason {
+            output
+                .messages
+                .push(format!("#{} is doubtful: {reason}.", id.0));
+        }
     }
     output.messages.extend(describe(&outcome, relations.len()));
     output.placed = Some(id);

@@ -13,6 +13,7 @@ use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, Skipped};
 use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
 use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
+use crate::core::snap::Verdict;
 use crate::io::atomic::write_atomic;
 
 /// The `format` value of a model file.
@@ -114,6 +115,69 @@ pub(crate) fn relation_json(r: &Relation, member: impl Fn(PrimitiveId) -> Value)
     Value::Object(map)
 }
 
+/// The `fit` object of a primitive (formats.md §3): its strokes and RMS, and the snap's
+/// verdict, confidence and reason when it was judged.
+fn fit_json(fit: &Fit) -> Value {
+    let mut map = Map::new();
+    map.insert(
+        "strokes".into(),
+        json!(fit.strokes.iter().map(|s| s.0).collect::<Vec<_>>()),
+    );
+    map.insert("rms".into(), json!(fit.rms));
+    if let Some(verdict) = fit.verdict {
+        map.insert("verdict".into(), json!(verdict.name()));
+    }
+    if let Some(confidence) = fit.confidence {
+        map.insert("confidence".into(), json!(confidence));
+    }
+    if let Some(reason) = &fit.reason {
+        map.insert("reason".into(), json!(reason));
+    }
+    Value::Object(map)
+}
+
+/// The `fit` object of primitive `p` and its `step` (formats.md §3); a missing `fit` is an
+/// empty one.
+fn parse_fit(p: &Value) -> Result<Fit, String> {
+    let step = p
+        .get("step")
+        .and_then(Value::as_u64)
+        .and_then(|s| usize::try_from(s).ok());
+    let Some(f) = p.get("fit") else {
+        return Ok(Fit {
+            step,
+            ..Fit::default()
+        });
+    };
+    let verdict = match f.get("verdict") {
+        None => None,
+        Some(v) => Some(v.as_str().and_then(Verdict::from_name).ok_or_else(|| {
+            format!("`fit.verdict` must be \"good\", \"doubtful\" or \"refused\", not {v}")
+        })?),
+    };
+    Ok(Fit {
+        strokes: f
+            .get("strokes")
+            .and_then(Value::as_array)
+            .map(|s| {
+                s.iter()
+                    .filter_map(Value::as_u64)
+                    .filter_map(|i| u32::try_from(i).ok())
+                    .map(StrokeId)
+                    .collect()
+            })
+            .unwrap_or_default(),
+        rms: f.get("rms").and_then(Value::as_f64).unwrap_or(0.0),
+        verdict,
+        confidence: f
+            .get("confidence")
+            .and_then(Value::as_f64)
+            .filter(|c| (0.0..=1.0).contains(c)),
+        reason: f.get("reason").and_then(Value::as_str).map(str::to_owned),
+        step,
+    })
+}
+
 /// The model file's JSON for a document.
 pub fn model_json(document: &Document, sketch: &str) -> Value {
     let primitives: Vec<Value> = document
@@ -122,13 +186,10 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
             let mut map = Map::new();
             map.insert("id".into(), json!(id.0));
             map.extend(primitive_json(&placed.primitive));
-            map.insert(
-                "fit".into(),
-                json!({
-                    "strokes": placed.fit.strokes.iter().map(|s| s.0).collect::<Vec<_>>(),
-                    "rms": placed.fit.rms,
-                }),
-            );
+            map.insert("fit".into(), fit_json(&placed.fit));
+            if let Some(step) = placed.fit.step {
+                map.insert("step".into(), json!(step));
+            }
             Value::Object(map)
         })
         .collect();
@@ -380,20 +441,7 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
             return Err(fail("the id is used twice".into()));
         }
         let primitive = parse_primitive(p).map_err(fail)?;
-        let fit = p.get("fit").map_or_else(Fit::default, |f| Fit {
-            strokes: f
-                .get("strokes")
-                .and_then(Value::as_array)
-                .map(|s| {
-                    s.iter()
-                        .filter_map(Value::as_u64)
-                        .filter_map(|i| u32::try_from(i).ok())
-                        .map(StrokeId)
-                        .collect()
-                })
-                .unwrap_or_default(),
-            rms: f.get("rms").and_then(Value::as_f64).unwrap_or(0.0),
-        });
+        let fit = parse_fit(p).map_err(fail)?;
         document.insert(PrimitiveId(id), Placed { primitive, fit });
     }
     if let Some(skipped) = v.get("skipped").and_then(Value::as_array) {
@@ -479,6 +527,7 @@ mod tests {
     use crate::core::model::{Document, Fit, Placed, Skipped};
     use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
     use crate::core::sketch::StrokeId;
+    use crate::core::snap::Verdict;
 
     #[test]
     fn relations_round_trip_and_bad_ones_are_named() {
@@ -548,13 +597,24 @@ mod tests {
             let mut place = Placement::at(DVec2::new(10.0 * i as f64, 5.0));
             place.axis = DVec2::new(0.3, -1.0);
             let primitive = Primitive::from_placement(kind, &place, 40.0);
-            doc.add(Placed {
-                primitive,
-                fit: Fit {
-                    strokes: vec![StrokeId(3), StrokeId(4)],
-                    rms: 0.5,
-                },
-            });
+            let fit = Fit {
+                strokes: vec![StrokeId(3), StrokeId(4)],
+                rms: 0.5,
+                ..Fit::default()
+            };
+            // Half the parts judged by a script step, as `geosnap run` writes them.
+            let fit = if i % 2 == 0 {
+                Fit {
+                    verdict: Some(Verdict::Doubtful),
+                    confidence: Some(0.25),
+                    reason: Some("only 40 % of its visible outline is drawn".into()),
+                    step: Some(i),
+                    ..fit
+                }
+            } else {
+                fit
+            };
+            doc.add(Placed { primitive, fit });
         }
         doc.skipped.push(Skipped {
             step: 7,

@@ -15,12 +15,15 @@ mod solve;
 
 use std::collections::BTreeMap;
 
+use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use crate::core::relation::{InferenceSettings, Mode, RelationKind};
 use crate::core::sketch::{Sketch, StrokeId};
-use crate::core::snap::{snap, Assignment, SnapContext, SnapResult, SnapSettings};
+use crate::core::snap::{
+    snap, Assignment, Confidence, SnapContext, SnapResult, SnapSettings, Verdict,
+};
 use crate::core::solve::Clock;
 
 pub use dimension::{Dimension, DimensionError, Quantity};
@@ -31,13 +34,49 @@ pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_F
 #[serde(transparent)]
 pub struct PrimitiveId(pub u32);
 
-/// How well a primitive fits its strokes.
+/// How a primitive was snapped: the strokes it took, how closely it fits them, how sure
+/// the snap was and which script step placed it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Fit {
     /// The strokes assigned to it.
     pub strokes: Vec<StrokeId>,
     /// RMS distance of those strokes to its projected curves, in sketch units.
     pub rms: f64,
+    /// The snap's verdict (see [`crate::core::snap::judge`]); `None` for a part that was
+    /// not judged (typed in, or read from a file without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
+    /// The snap's confidence in [0, 1], with the verdict.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
+    /// Why a snap is doubtful, in words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// The index of the script step that placed it, if a script did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<usize>,
+}
+
+impl Fit {
+    /// The fit of a snap: its strokes and RMS, not yet judged.
+    pub fn of(result: &SnapResult) -> Self {
+        Self {
+            strokes: result.assignment.stroke_ids(),
+            rms: result.rms,
+            ..Self::default()
+        }
+    }
+
+    /// This fit with a snap's verdict, confidence and reason.
+    #[must_use]
+    pub fn judged(self, confidence: &Confidence) -> Self {
+        Self {
+            verdict: Some(confidence.verdict),
+            confidence: Some(confidence.value),
+            reason: confidence.reason.clone(),
+            ..self
+        }
+    }
 }
 
 /// A primitive in the document.
@@ -115,12 +154,14 @@ impl Document {
 
     /// Adds a snapped primitive with its fit.
     pub fn add_snapped(&mut self, result: &SnapResult) -> PrimitiveId {
+        self.add_fitted(result, Fit::of(result))
+    }
+
+    /// Adds a snapped primitive with `fit` (its strokes and RMS, and a verdict, say).
+    pub fn add_fitted(&mut self, result: &SnapResult, fit: Fit) -> PrimitiveId {
         let id = self.add(Placed {
             primitive: result.primitive.clone(),
-            fit: Fit {
-                strokes: result.assignment.stroke_ids(),
-                rms: result.rms,
-            },
+            fit,
         });
         self.snaps.insert(
             id,
@@ -130,6 +171,53 @@ impl Document {
             },
         );
         id
+    }
+
+    /// Which part owns a piece of stroke: `owner(stroke, sample)` names the part, placed
+    /// first, that took that sample of that stroke (its snap's assignment; a part read from
+    /// a file without one owns its strokes whole). What a new snap is judged against.
+    pub fn owner(&self) -> impl Fn(StrokeId, DVec2) -> Option<u32> {
+        // Per stroke, each owner with the samples it took (`None`: the whole stroke).
+        let mut owners: BTreeMap<StrokeId, Vec<Taken>> = BTreeMap::new();
+        for (id, placed) in &self.primitives {
+            match self.snaps.get(id) {
+                Some(record) => {
+                    for taken in record.assignment.curves.iter().flatten() {
+                        let entry = owners.entry(taken.stroke).or_default();
+                        let samples = taken.part.as_ref().map(|_| taken.samples.clone());
+                        match entry.iter_mut().find(|(p, _)| *p == id.0) {
+                            Some((_, Some(existing))) => match samples {
+                                Some(more) => existing.extend(more),
+                                None => entry_whole(entry, id.0),
+                            },
+                            Some((_, None)) => {}
+                            None => entry.push((id.0, samples)),
+                        }
+                    }
+                }
+                None => {
+                    for stroke in &placed.fit.strokes {
+                        owners.entry(*stroke).or_default().push((id.0, None));
+                    }
+                }
+            }
+        }
+        move |stroke, sample| {
+            owners.get(&stroke).and_then(|list| {
+                list.iter()
+                    .find(|(_, samples)| {
+                        samples.as_ref().is_none_or(|s| {
+                            // Both snaps take the same evenly chosen samples of a stroke
+                            // (`stroke_samples`), so a taken sample is found again exactly
+                            // (up to rounding).
+                            s.iter().any(|q| {
+                                q.distance_squared(sample) <= 1e-12 * (1.0 + q.length_squared())
+                            })
+                        })
+                    })
+                    .map(|(p, _)| *p)
+            })
+        }
     }
 
     /// The snap of a part placed in this session.
@@ -289,6 +377,8 @@ pub enum StepOutcome {
         id: PrimitiveId,
         /// The snap.
         snap: Box<SnapResult>,
+        /// How sure the snap is.
+        confidence: Box<Confidence>,
         /// The relations inferred on its release (indices into
         /// [`Document::relations`]).
         relations: Vec<usize>,
@@ -334,12 +424,28 @@ pub fn run_steps(
             Step::Invalid { reason } => Err(reason.clone()),
             Step::Place { kind, placement } => {
                 let dropped = Primitive::from_placement(*kind, placement, default_size);
-                snap(&context, &dropped, &settings.snap).map_err(|e| e.to_string())
+                snap(&context, &dropped, &settings.snap)
+                    .map_err(|e| e.to_string())
+                    .and_then(|result| {
+                        let confidence =
+                            result.confidence(&dropped, &document.owner(), &settings.snap);
+                        match confidence.verdict {
+                            Verdict::Refused => Err(format!(
+                                "the snap was refused: {}",
+                                confidence.reason.as_deref().unwrap_or("no evidence for it")
+                            )),
+                            _ => Ok((result, confidence)),
+                        }
+                    })
             }
         };
         outcomes.push(match outcome {
-            Ok(result) => {
-                let id = document.add_snapped(&result);
+            Ok((result, confidence)) => {
+                let fit = Fit {
+                    step: Some(index),
+                    ..Fit::of(&result).judged(&confidence)
+                };
+                let id = document.add_fitted(&result, fit);
                 let (relations, solve) = document.release(
                     id,
                     &settings.inference,
@@ -352,6 +458,7 @@ pub fn run_steps(
                 StepOutcome::Placed {
                     id,
                     snap: Box::new(result),
+                    confidence: Box::new(confidence),
                     relations,
                     solve: Box::new(solve),
                 }
@@ -367,6 +474,16 @@ pub fn run_steps(
         });
     }
     (document, outcomes)
+}
+
+/// A part's id with the samples of one stroke it took (`None`: the whole stroke).
+type Taken = (u32, Option<Vec<DVec2>>);
+
+/// Marks `part` as owning the whole stroke in `entry`.
+fn entry_whole(entry: &mut [Taken], part: u32) {
+    if let Some(e) = entry.iter_mut().find(|(p, _)| *p == part) {
+        e.1 = None;
+    }
 }
 
 #[cfg(test)]

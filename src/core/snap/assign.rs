@@ -194,50 +194,7 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
         if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
             continue;
         }
-        let samples = subsample(&stroke.points);
-        let mut best: Option<(f64, usize, AssignedStroke)> = None;
-        for (k, curve) in curves.iter().enumerate() {
-            if !curve.visible {
-                continue;
-            }
-            let Some(factor) = suitability(curve, stroke) else {
-                continue;
-            };
-            if !direction_ok(&curve.curve, stroke) {
-                continue;
-            }
-            let gate = curve_gate(&curve.curve, gate);
-            let d: Vec<f64> = samples
-                .iter()
-                .map(|p| curve_distance(&curve.curve, *p))
-                .collect();
-            let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
-            let part = if near.len() * 5 >= d.len() * 4 {
-                Some(None)
-            } else {
-                let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
-                (near.len() >= 4 && near_length >= 0.5 * lengths[k]).then_some(Some(near))
-            };
-            let candidate = part.and_then(|part| {
-                let used: Vec<f64> = match &part {
-                    Some(near) => near.iter().map(|i| d[*i]).collect(),
-                    None => d.clone(),
-                };
-                Some(AssignedStroke {
-                    stroke: stroke.id,
-                    samples: taken(&samples, part.as_deref())?,
-                    mean_distance: used.iter().sum::<f64>() / used.len() as f64,
-                    part,
-                })
-            });
-            if let Some(c) = candidate {
-                let score = c.mean_distance * factor;
-                if best.as_ref().is_none_or(|(s, _, _)| score < *s) {
-                    best = Some((score, k, c));
-                }
-            }
-        }
-        if let Some((score, k, c)) = best {
+        for (score, k, c) in pieces(stroke, curves, &lengths, gate) {
             scored[k].push((score, c));
         }
     }
@@ -253,6 +210,140 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
         assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
     }
     assignment
+}
+
+/// The curves one stroke is assigned to, with its score for each: the curve it fits best,
+/// and, when that takes only a piece of it, the curves that other pieces of it fit (a
+/// stroke drawn round a corner, or one that runs down an outline, round an end and back
+/// up the other outline). Pieces may not share more than a sample.
+fn pieces(
+    stroke: &SnapStroke,
+    curves: &[ProjectedCurve<f64>],
+    lengths: &[f64],
+    gate: f64,
+) -> Vec<(f64, usize, AssignedStroke)> {
+    let samples = subsample(&stroke.points);
+    let mut candidates: Vec<Piece> = Vec::new();
+    for (k, curve) in curves.iter().enumerate() {
+        if !curve.visible {
+            continue;
+        }
+        let gate = curve_gate(&curve.curve, gate);
+        let d: Vec<f64> = samples
+            .iter()
+            .map(|p| curve_distance(&curve.curve, *p))
+            .collect();
+        let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
+        let part = if near.len() * 5 >= d.len() * 4 {
+            None
+        } else {
+            let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
+            if near.len() < 4 || near_length < 0.5 * lengths[k] {
+                continue;
+            }
+            Some(near)
+        };
+        // A piece is judged by its own shape: the straight leg of a stroke drawn round a
+        // box corner draws an edge, though the whole stroke is not straight.
+        let piece;
+        let judged = match &part {
+            None => stroke,
+            Some(near) => {
+                let points: Vec<DVec2> = near.iter().map(|i| samples[*i]).collect();
+                let Some(p) = super::context::prepare(stroke.id, points, stroke.class) else {
+                    continue;
+                };
+                piece = p;
+                &piece
+            }
+        };
+        let Some(factor) = suitability(curve, judged) else {
+            continue;
+        };
+        if !direction_ok(&curve.curve, judged) {
+            continue;
+        }
+        candidates.push(Piece {
+            factor,
+            k,
+            whole: part.is_none(),
+            indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
+            distances: d,
+        });
+    }
+    candidates.sort_by(|a, b| a.score().total_cmp(&b.score()).then(a.k.cmp(&b.k)));
+    let accepted: Vec<Piece> = match candidates.first() {
+        None => Vec::new(),
+        // The stroke fits one curve whole: it draws that curve.
+        Some(first) if first.whole => candidates.into_iter().take(1).collect(),
+        // Pieces: where two meet (a corner, an outline running into its end), a sample
+        // near both curves goes to the nearer; a piece left with less than half of its
+        // samples was mostly another curve's and is dropped.
+        Some(_) => {
+            candidates.retain(|p| !p.whole);
+            let owner: Vec<Option<usize>> = (0..samples.len())
+                .map(|i| {
+                    candidates
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, p)| p.indices.binary_search(&i).is_ok())
+                        .min_by(|(_, a), (_, b)| a.distances[i].total_cmp(&b.distances[i]))
+                        .map(|(c, _)| c)
+                })
+                .collect();
+            let mut kept = Vec::new();
+            for (c, mut piece) in candidates.into_iter().enumerate() {
+                let before = piece.indices.len();
+                piece.indices.retain(|i| owner[*i] == Some(c));
+                if piece.indices.len() >= 4 && 2 * piece.indices.len() >= before {
+                    kept.push(piece);
+                }
+            }
+            kept
+        }
+    };
+    accepted
+        .into_iter()
+        .filter_map(|piece| {
+            let part = (!piece.whole).then(|| piece.indices.clone());
+            let mean_distance = piece.mean_distance();
+            Some((
+                mean_distance * piece.factor,
+                piece.k,
+                AssignedStroke {
+                    stroke: stroke.id,
+                    samples: taken(&samples, part.as_deref())?,
+                    mean_distance,
+                    part,
+                },
+            ))
+        })
+        .collect()
+}
+
+/// A stroke, or a piece of one, that suits a curve.
+struct Piece {
+    /// The score factor of its class against the curve's (see `suitability`).
+    factor: f64,
+    /// The curve.
+    k: usize,
+    /// Whether it is the whole stroke.
+    whole: bool,
+    /// The indices of its samples among the stroke's.
+    indices: Vec<usize>,
+    /// The distance of every sample of the stroke to the curve.
+    distances: Vec<f64>,
+}
+
+impl Piece {
+    fn mean_distance(&self) -> f64 {
+        self.indices.iter().map(|i| self.distances[*i]).sum::<f64>()
+            / self.indices.len().max(1) as f64
+    }
+
+    fn score(&self) -> f64 {
+        self.mean_distance() * self.factor
+    }
 }
 
 /// The strokes of one projected curve as a file stores them: each stroke's id with the
@@ -437,6 +528,130 @@ mod tests {
         );
         assert_eq!(a.stroke_ids(), vec![StrokeId(0), StrokeId(1), StrokeId(2)]);
         assert!((curve_length(&shape.curves[2].curve) - 40.0 * 0.96).abs() < 1e-6);
+    }
+
+    #[test]
+    fn one_stroke_down_an_outline_round_an_end_and_back_up_is_taken_in_pieces() {
+        // The cylinder of the test above, its left outline, the front arc of its bottom
+        // end and its right outline drawn as one U-shaped stroke (sketch space, y down),
+        // and its top ellipse.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let mut u: Vec<DVec2> = (0..=12)
+            .map(|i| DVec2::new(-10.0, -19.2 + 3.2 * f64::from(i)))
+            .collect();
+        u.extend((1..24).map(|i| {
+            let t = std::f64::consts::PI * (1.0 - f64::from(i) / 24.0);
+            DVec2::new(10.0 * t.cos(), 19.2 + 2.8 * t.sin())
+        }));
+        u.extend((0..=12).map(|i| DVec2::new(10.0, 19.2 - 3.2 * f64::from(i))));
+        let top: Vec<DVec2> = (0..=24)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 24.0;
+                DVec2::new(10.0 * t.cos(), -19.2 + 2.8 * t.sin())
+            })
+            .collect();
+        let strokes = [
+            (StrokeId(0), u, StrokeClass::Silhouette),
+            (StrokeId(1), top, StrokeClass::Feature),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        for (curve, strokes) in shape.curves.iter().zip(&a.curves) {
+            let expected = if curve.name == "top" {
+                StrokeId(1)
+            } else {
+                StrokeId(0)
+            };
+            assert_eq!(
+                strokes.iter().map(|s| s.stroke).collect::<Vec<_>>(),
+                vec![expected],
+                "{}: {strokes:?}",
+                curve.name
+            );
+        }
+        // The pieces do not overlap: each sample of the U serves one curve.
+        let mut seen: Vec<usize> = a
+            .curves
+            .iter()
+            .flatten()
+            .filter(|s| s.stroke == StrokeId(0))
+            .flat_map(|s| s.part.clone().expect("taken in part"))
+            .collect();
+        let n = seen.len();
+        seen.sort_unstable();
+        seen.dedup();
+        assert!(
+            n - seen.len() <= 2,
+            "{n} samples taken, {} distinct",
+            seen.len()
+        );
+    }
+
+    #[test]
+    fn a_stroke_drawn_round_a_box_corner_draws_both_edges() {
+        use crate::core::primitive::Cuboid;
+        let b = Cuboid {
+            center: DVec3::ZERO,
+            rotation: glam::DQuat::from_rotation_x(0.4) * glam::DQuat::from_rotation_y(0.6),
+            size: DVec3::new(60.0, 40.0, 30.0),
+        };
+        let shape = Primitive::Cuboid(b).current_shape();
+        // Two visible edges that meet at a corner, drawn as one L-shaped stroke.
+        let edges: Vec<(usize, DVec2, DVec2)> = shape
+            .curves
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.visible)
+            .filter_map(|(k, c)| match &c.curve {
+                crate::core::primitive::Curve2::Polyline(p) if p.len() == 2 => {
+                    Some((k, p[0].to_dvec2(), p[1].to_dvec2()))
+                }
+                _ => None,
+            })
+            .collect();
+        let (ka, kb, corner, a_end, b_end) = edges
+            .iter()
+            .flat_map(|a| edges.iter().map(move |b| (a, b)))
+            .find_map(|((ka, a0, a1), (kb, b0, b1))| {
+                if ka >= kb {
+                    return None;
+                }
+                let ends = [
+                    (*a0, *a1, *b0, *b1),
+                    (*a1, *a0, *b0, *b1),
+                    (*a0, *a1, *b1, *b0),
+                    (*a1, *a0, *b1, *b0),
+                ];
+                ends.into_iter()
+                    .find(|(pa, _, pb, _)| pa.distance(*pb) < 1e-6)
+                    .map(|(c, ae, _, be)| (*ka, *kb, c, ae, be))
+            })
+            .expect("two visible edges meet");
+        let leg = |from: DVec2, to: DVec2| -> Vec<DVec2> {
+            (0..=20)
+                .map(|i| from.lerp(to, f64::from(i) / 20.0))
+                .collect()
+        };
+        let mut l = leg(a_end, corner);
+        l.extend(leg(corner, b_end).into_iter().skip(1));
+        // View plane → sketch space (y down) for the context.
+        let l: Vec<DVec2> = l.into_iter().map(|p| DVec2::new(p.x, -p.y)).collect();
+        let ctx = SnapContext::new([(StrokeId(7), l.as_slice(), StrokeClass::Silhouette)]);
+        let a = assign(&ctx, &shape.curves, 5.0);
+        for k in [ka, kb] {
+            assert_eq!(
+                a.curves[k].iter().map(|s| s.stroke).collect::<Vec<_>>(),
+                vec![StrokeId(7)],
+                "edge {k}: {:?}",
+                a.curves
+            );
+        }
     }
 
     #[test]

@@ -80,7 +80,9 @@ impl SnapContext {
     }
 }
 
-fn prepare(id: StrokeId, points: Vec<DVec2>, class: StrokeClass) -> Option<SnapStroke> {
+/// A stroke (or a piece of one) prepared for matching: its length, bounds, principal
+/// direction and straightness; `None` for fewer than two points or no length.
+pub(crate) fn prepare(id: StrokeId, points: Vec<DVec2>, class: StrokeClass) -> Option<SnapStroke> {
     if points.len() < 2 {
         return None;
     }

@@ -11,8 +11,9 @@
 
 mod assign;
 mod bgc_start;
+mod confidence;
 mod context;
-mod initial;
+pub(crate) mod initial;
 mod objective;
 
 use thiserror::Error;
@@ -21,6 +22,7 @@ pub use assign::{
     assign, restore_assignment, stroke_samples, AssignedStroke, Assignment, CurveStrokes,
     RestoreError,
 };
+pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
 pub use context::{SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
@@ -98,8 +100,78 @@ pub struct SnapResult {
     pub termination: Termination,
     /// Solver iterations and evaluations over all rounds.
     pub evaluations: u64,
+    /// How much of the drawing it explains (see [`explanation`]), as a length in view
+    /// units; computed for cold snaps, which are compared with other readings.
+    pub explained: Option<f64>,
+    /// The other readings of the drawing a cold snap found (poses whose outline differs
+    /// from this one's), best first; empty for a warm drag frame.
+    pub alternatives: Vec<Alternative>,
     /// The last fit's multipliers, for a warm start.
     multipliers: Option<Multipliers>,
+}
+
+/// Another reading of the drawing that a snap found and did not choose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Alternative {
+    /// The fitted primitive.
+    pub primitive: Primitive,
+    /// Its strokes per projected curve.
+    pub assignment: Assignment,
+    /// Its fit RMS in sketch units.
+    pub rms: f64,
+    /// How much of the drawing it explains (see [`SnapResult::explained`]).
+    pub explained: f64,
+    /// How far its outline lies from the chosen snap's, relative to the size.
+    pub distance: f64,
+}
+
+impl SnapResult {
+    /// The snap's confidence (see [`judge`]), with `owner` telling which part placed
+    /// before owns a stroke, if any, and the drop it was snapped from.
+    pub fn confidence(
+        &self,
+        dropped: &Primitive,
+        owner: &Owner<'_>,
+        settings: &SnapSettings,
+    ) -> Confidence {
+        judge(
+            self,
+            dropped,
+            owner,
+            settings.tight_gate * self.primitive.size(),
+        )
+    }
+
+    /// This snap with `alternative` chosen instead (the chosen one becomes its first
+    /// alternative): for cycling through the readings a snap found.
+    pub fn with_alternative(&self, index: usize) -> Option<Self> {
+        let alt = self.alternatives.get(index)?;
+        let mut alternatives = self.alternatives.clone();
+        alternatives.remove(index);
+        alternatives.insert(
+            0,
+            Alternative {
+                primitive: self.primitive.clone(),
+                assignment: self.assignment.clone(),
+                rms: self.rms,
+                explained: self.explained.unwrap_or(0.0),
+                distance: alt.distance,
+            },
+        );
+        for a in alternatives.iter_mut().skip(1) {
+            a.distance = confidence::outline_distance(&alt.primitive, &a.primitive);
+        }
+        Some(Self {
+            primitive: alt.primitive.clone(),
+            assignment: alt.assignment.clone(),
+            rms: alt.rms,
+            termination: self.termination,
+            evaluations: self.evaluations,
+            explained: Some(alt.explained),
+            alternatives,
+            multipliers: None,
+        })
+    }
 }
 
 /// A cold snap with how much of the drawing it explains (see [`explanation`]), for
@@ -111,12 +183,67 @@ struct Scored {
 }
 
 impl Scored {
-    fn of(result: SnapResult, settings: &SnapSettings) -> Self {
+    fn of(mut result: SnapResult, settings: &SnapSettings) -> Self {
         let gate = settings.tight_gate * result.primitive.size();
         let explained = explanation(&result.primitive, &result.assignment, gate);
+        result.explained = Some(explained);
         Self { result, explained }
     }
 }
+
+/// The best of `candidates` (see [`better`]) with the others that read the drawing
+/// differently as its alternatives, best first (good fits first, then by explanation);
+/// a candidate whose outline nearly coincides with a kept one's is the same reading.
+fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
+    let mut best: Option<Scored> = None;
+    let mut rest = Vec::with_capacity(candidates.len());
+    for c in candidates {
+        match best.take() {
+            None => best = Some(c),
+            Some(b) if better(&c, &b) => {
+                rest.push(b);
+                best = Some(c);
+            }
+            Some(b) => {
+                rest.push(c);
+                best = Some(b);
+            }
+        }
+    }
+    let mut best = best?.result;
+    rest.sort_by(|a, b| {
+        good(&b.result)
+            .cmp(&good(&a.result))
+            .then(b.explained.total_cmp(&a.explained))
+    });
+    let mut alternatives: Vec<Alternative> = Vec::new();
+    for c in rest {
+        let distance = confidence::outline_distance(&best.primitive, &c.result.primitive);
+        let seen = distance <= confidence::DISTINCT
+            || alternatives.iter().any(|a| {
+                confidence::outline_distance(&a.primitive, &c.result.primitive)
+                    <= confidence::DISTINCT
+            });
+        if seen || !c.result.primitive.is_finite() {
+            continue;
+        }
+        alternatives.push(Alternative {
+            primitive: c.result.primitive,
+            assignment: c.result.assignment,
+            rms: c.result.rms,
+            explained: c.explained,
+            distance,
+        });
+        if alternatives.len() == MAX_ALTERNATIVES {
+            break;
+        }
+    }
+    best.alternatives = alternatives;
+    Some(best)
+}
+
+/// A snap keeps at most this many alternatives.
+const MAX_ALTERNATIVES: usize = 3;
 
 /// Checks that an assignment determines the primitive (the original's `CanSnap`, but
 /// checked before every fit rather than ignored on release).
@@ -274,49 +401,52 @@ fn snap_from(
     };
     // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
     // straight drop is tried only when that start gives no good fit.
-    if warm.is_none() {
-        let mut from_start: Option<Scored> = None;
-        for start in bgc_start::starts(context, primitive) {
-            match snap_rounds(context, &start, settings, None, cancel, clock) {
-                Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
-                Ok(r) => {
-                    let r = Scored::of(r, settings);
-                    if from_start.as_ref().is_none_or(|b| better(&r, b)) {
-                        from_start = Some(r);
-                    }
-                }
-                Err(_) => {}
-            }
-        }
-        if let Some(r) = from_start.filter(|r| good(&r.result)) {
-            return Ok(r.result);
-        }
-    }
-    let first = snap_rounds(context, primitive, settings, warm, cancel, clock);
     if warm.is_some() {
-        return first;
+        return snap_rounds(context, primitive, settings, warm, cancel, clock);
     }
-    let mut best = first.map(|r| Scored::of(r, settings));
-    // A cold drop is also tried from the starting poses the drawing itself suggests (see
-    // `initial`: the tilt of drawn end ellipses, the three edge directions of a drawn
-    // box); the better snap wins (see `better`).
-    for start in initial::starting_poses(context, primitive) {
-        if !start.is_finite() {
-            continue;
-        }
-        let candidate = snap_rounds(context, &start, settings, None, cancel, clock)
-            .map(|r| Scored::of(r, settings));
-        best = match (best, candidate) {
-            (Ok(a), Ok(b)) => Ok(if better(&b, &a) { b } else { a }),
-            (Err(SnapError::Cancelled), _) | (_, Err(SnapError::Cancelled)) => {
-                return Err(SnapError::Cancelled)
+    let mut candidates: Vec<Scored> = Vec::new();
+    let mut errors: Vec<SnapError> = Vec::new();
+    let attempt = |start: &Primitive, candidates: &mut Vec<Scored>, errors: &mut Vec<SnapError>| {
+        match snap_rounds(context, start, settings, None, cancel, clock) {
+            Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
+            Ok(r) => {
+                candidates.push(Scored::of(r, settings));
+                Ok(())
             }
-            (Ok(a), Err(_)) => Ok(a),
-            (Err(_), Ok(b)) => Ok(b),
-            (Err(e), Err(_)) => Err(e),
-        };
+            Err(e) => {
+                errors.push(e);
+                Ok(())
+            }
+        }
+    };
+    for start in bgc_start::starts(context, primitive) {
+        attempt(&start, &mut candidates, &mut errors)?;
     }
-    best.map(|s| s.result)
+    if !candidates.iter().any(|c| good(&c.result)) {
+        // No good fit from the drawn spine: the straight drop and the starting poses
+        // compete alone, and the drop's error is the one reported when nothing snaps.
+        candidates.clear();
+        errors.clear();
+        attempt(primitive, &mut candidates, &mut errors)?;
+        // A cold drop is also tried from the starting poses the drawing itself suggests
+        // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
+        // drawn box); the better snap wins (see `better`).
+        for start in initial::starting_poses(context, primitive) {
+            if start.is_finite() {
+                attempt(&start, &mut candidates, &mut errors)?;
+            }
+        }
+    }
+    match choose(candidates) {
+        Some(best) => Ok(best),
+        None => Err(errors
+            .into_iter()
+            .next()
+            .unwrap_or(SnapError::NotEnoughStrokes {
+                kind,
+                found: "no strokes".to_owned(),
+            })),
+    }
 }
 
 /// A snap may change the dropped size by at most this factor either way; beyond it the
@@ -405,7 +535,9 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
 fn resampled(points: &[glam::DVec2], step: f64) -> Vec<glam::DVec2> {
     let mut out = Vec::with_capacity(points.len());
     for w in points.windows(2) {
-        let n = (w[0].distance(w[1]) / step).ceil().max(1.0) as usize;
+        // At most 64 points a segment: a degenerate fit (a curve huge against its
+        // size) must not ask for gigabytes.
+        let n = (w[0].distance(w[1]) / step).ceil().clamp(1.0, 64.0) as usize;
         out.extend((0..n).map(|k| w[0].lerp(w[1], k as f64 / n as f64)));
     }
     out.extend(points.last().copied());
@@ -475,6 +607,8 @@ fn snap_rounds(
         rms,
         termination,
         evaluations,
+        explained: None,
+        alternatives: Vec::new(),
         multipliers,
     })
 }
