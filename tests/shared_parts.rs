@@ -8,7 +8,10 @@
 //! `tests/shared_scripts/parts/NAME.script.json` places every part of `NAME.svg` as a
 //! designer would: a rough drop (centre roughly on the part, axis roughly along it, sizes
 //! roughly right) of the kind a designer would pick — a bent tube is a `bgc`, a vase-like
-//! body an `sgc`. `NAME.reference.json` beside it holds one entry per step: the part's
+//! body an `sgc`, a flaring foot a `cone`. They live in their own folder, apart from
+//! `tests/shared_scripts/*.script.json`: `shared_snap` holds every script there to an RMS
+//! of 3 % and `shared_relations` runs some by name, and both are kept as they are (the
+//! goblet's foot, a cylinder there, is a cone here, as the drawing flares). `NAME.reference.json` beside it holds one entry per step: the part's
 //! name and kind, the strokes that draw it (`measure`, ids as `geosnap check --strokes`
 //! lists them) and the measurements, in sketch space (viewBox units, y down):
 //!
@@ -20,15 +23,20 @@
 //! The measurements describe the DRAWING, not the snapper: the strokes of each part were
 //! read off a drawing of the sketch with every stroke labelled by its id, and
 //! `tools/measure_parts.py measure` turned them into numbers from the raw stroke points
-//! (`examples/dump_strokes.rs` prints them). An end is measured from its ellipse (or, when
+//! (`examples/dump_strokes.rs` prints them; `tools/measure_parts.py draw` draws the
+//! labelled strokes and, given a reference, the measurements over them). An end is measured from its ellipse (or, when
 //! it is hidden, from the silhouette ends meeting there): the major axis of a circle's
 //! orthographic image lies across the part's axis, so its end points are the stroke points
 //! furthest out across the axis through the two end centres; the centre is their midpoint
 //! and the radius half their spread. A sphere is a least-squares circle through its
 //! outline; a box's corners are the means of the edge end points meeting there; a tube's
 //! spine is the midline of its two silhouettes, resampled at equal arc-length fractions,
-//! and its radius the median half-distance between them. Nothing was adjusted to make a
-//! part pass.
+//! and its radius the median half-distance between them. Where one stroke draws two parts,
+//! it is cut where the outline changes course (the goblet's bowl and stem) or at the axis
+//! of the part between them (the menorah's arms at the stem); the rounded bottom of
+//! `sketch1`'s bowl is measured at the flat of its outline. An end drawn inconsistently
+//! with its sides (the lego studs' tilted ellipses on upright sides) is measured as drawn:
+//! across the axis through its centres. Nothing was adjusted to make a part pass.
 //!
 //! # Judging a part
 //!
@@ -96,13 +104,15 @@ const DROPS: usize = 10;
 /// Drops that must take the nominal strokes for a part to be stable.
 const STABLE_DROPS: usize = 9;
 
-/// Today's floor: parts whose snap matches their reference. Raise it as snapping
-/// improves; never lower it to make a change pass.
-const GOOD_FLOOR: usize = 0;
-/// Today's floor: bent tubes whose snap matches their reference.
+/// Today's floor (39 of 62): parts whose snap matches their reference. Raise it as
+/// snapping improves; never lower it to make a change pass.
+const GOOD_FLOOR: usize = 39;
+/// Today's floor (0 of 7): bent tubes whose snap matches their reference. Raise it as
+/// snapping improves.
 const GOOD_BGC_FLOOR: usize = 0;
-/// Today's floor: parts stable under perturbed drops.
-const STABLE_FLOOR: usize = 0;
+/// Today's floor (38 of 62): parts stable under perturbed drops. Raise it as snapping
+/// improves.
+const STABLE_FLOOR: usize = 38;
 
 /// The sketches every part of which is scripted: all sixteen shared sketches.
 const SKETCHES: [&str; 16] = [
@@ -641,19 +651,32 @@ fn stability(dir: &Path) -> (usize, usize) {
                 h.wrapping_mul(31).wrapping_add(b as u64)
             });
             let mut rng = Rng(seed);
-            let same = (0..DROPS)
-                .filter(|_| {
-                    let p = perturbed(placement, fallback, &mut rng);
-                    nominal.is_some() && strokes(&p) == nominal
-                })
+            let drops: Vec<Option<Vec<StrokeId>>> = (0..DROPS)
+                .map(|_| strokes(&perturbed(placement, fallback, &mut rng)))
+                .collect();
+            let same = drops
+                .iter()
+                .filter(|d| nominal.is_some() && **d == nominal)
                 .count();
             if same >= STABLE_DROPS {
                 stable += 1;
             } else {
+                let show = |set: &Option<Vec<StrokeId>>| {
+                    set.as_ref().map_or_else(
+                        || "no snap".to_owned(),
+                        |ids| format!("{:?}", ids.iter().map(|id| id.0).collect::<Vec<_>>()),
+                    )
+                };
+                let mut others: Vec<String> =
+                    drops.iter().filter(|d| **d != nominal).map(show).collect();
+                others.sort();
+                others.dedup();
                 let _ = writeln!(
                     report,
-                    "unstable: {name} step {index} ({}): {same} of {DROPS} drops take the nominal strokes",
-                    reference.name
+                    "unstable: {name} step {index} ({}): {same} of {DROPS} drops take the nominal strokes {}; others take {}",
+                    reference.name,
+                    show(&nominal),
+                    others.join(", ")
                 );
             }
         }
@@ -667,6 +690,21 @@ fn every_shared_part_has_a_script_and_a_reference() {
     let Some(dir) = shared_dir() else {
         return;
     };
+    let mut shared: Vec<String> = std::fs::read_dir(&dir)
+        .expect("the sketch folder is readable")
+        .filter_map(Result::ok)
+        .filter_map(|e| {
+            e.file_name()
+                .to_str()
+                .and_then(|n| n.strip_suffix(".svg"))
+                .map(str::to_owned)
+        })
+        .collect();
+    shared.sort();
+    assert_eq!(
+        shared, SKETCHES,
+        "every shared sketch has a per-part script"
+    );
     for name in SKETCHES {
         let (steps, _, references) = load(name, &dir);
         assert!(!steps.is_empty(), "{name}: no parts scripted");
@@ -719,7 +757,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 }
 
 #[test]
-#[ignore = "issue 16's targets; today: TODO"]
+#[ignore = "issue 16's targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable) are not met yet: today 39 of 62 parts good (63 %), 0 of 7 bent tubes, 38 of 62 stable (61 %)"]
 fn shared_parts_meet_issue_16s_targets() {
     let Some(dir) = shared_dir() else {
         return;
