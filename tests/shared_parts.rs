@@ -63,7 +63,9 @@
 //! Each part is also dropped 10 more times, deterministically perturbed as a person's hand
 //! would (centre moved up to ±10 % of the drop's size in x and y, axis turned up to ±10°,
 //! each size scaled by 0.75–1.25), and snapped over `SnapContext::from_sketch`; a part is
-//! stable when at least 9 of the 10 snaps take exactly the strokes the nominal drop took.
+//! stable when at least 9 of the 10 snaps take exactly the strokes the nominal drop took
+//! (a part whose nominal drop does not snap is not stable). The unstable parts are listed
+//! with the other stroke sets their drops took.
 //!
 //! The targets (≥ 95 % of parts good, ≥ 90 % of bent tubes good, ≥ 90 % of parts
 //! stable) are asserted by an ignored acceptance test until the snapper reaches them; the
@@ -347,132 +349,160 @@ fn radius_ok(got: f64, want: f64, size: f64, noise: f64) -> bool {
     (got - want).abs() <= (RADIUS_TOL * want).max(RADIUS_FLOOR * size).max(noise)
 }
 
+/// What is wrong with a cylinder's, cone's or SGC's ends.
+fn end_problems(primitive: &Primitive, ends: &[EndRef], name: &str, noise: f64) -> Vec<String> {
+    let mut problems = Vec::new();
+    let Some(got) = snapped_ends(primitive) else {
+        return vec![format!("a {} has no ends", primitive.kind().name())];
+    };
+    let want: Vec<(DVec2, f64)> = ends.iter().map(|e| (point(e.center), e.radius)).collect();
+    assert_eq!(want.len(), 2, "{name}: two ends");
+    let size = want[0]
+        .0
+        .distance(want[1].0)
+        .max(2.0 * want[0].1.max(want[1].1));
+    let straight = got[0].0.distance(want[0].0) + got[1].0.distance(want[1].0);
+    let crossed = got[0].0.distance(want[1].0) + got[1].0.distance(want[0].0);
+    let paired = if straight <= crossed {
+        [(got[0], want[0]), (got[1], want[1])]
+    } else {
+        [(got[1], want[0]), (got[0], want[1])]
+    };
+    for (k, (g, w)) in paired.iter().enumerate() {
+        let off = g.0.distance(w.0);
+        if off > (CENTER_TOL * size).max(noise) {
+            problems.push(format!(
+                "end {k} centre ({:.0}, {:.0}) for ({:.0}, {:.0}): off by {off:.1} = {:.0} % of size {size:.0}",
+                g.0.x,
+                g.0.y,
+                w.0.x,
+                w.0.y,
+                100.0 * off / size
+            ));
+        }
+        if !radius_ok(g.1, w.1, size, noise) {
+            problems.push(format!("end {k} radius {:.1} for {:.1}", g.1, w.1));
+        }
+    }
+    problems
+}
+
+/// What is wrong with a sphere.
+fn sphere_problems(primitive: &Primitive, sphere: &SphereRef, noise: f64) -> Vec<String> {
+    let mut problems = Vec::new();
+    let Primitive::Sphere(s) = primitive else {
+        return vec![format!("a {} is no sphere", primitive.kind().name())];
+    };
+    let size = 2.0 * sphere.radius;
+    let off = sketch_from_model(s.center).distance(point(sphere.center));
+    if off > (CENTER_TOL * size).max(noise) {
+        problems.push(format!(
+            "centre off by {off:.1} = {:.0} % of size",
+            100.0 * off / size
+        ));
+    }
+    if !radius_ok(s.radius, sphere.radius, size, noise) {
+        problems.push(format!("radius {:.1} for {:.1}", s.radius, sphere.radius));
+    }
+    problems
+}
+
+/// What is wrong with a box's outline.
+fn box_problems(primitive: &Primitive, outline: &BoxRef, noise: f64) -> Vec<String> {
+    let mut problems = Vec::new();
+    let Primitive::Cuboid(b) = primitive else {
+        return vec![format!("a {} is no box", primitive.kind().name())];
+    };
+    let axes = b.axes();
+    let corners: Vec<DVec2> = (0..8)
+        .map(|k| {
+            let sign = |bit: usize| if k & (1 << bit) == 0 { -0.5 } else { 0.5 };
+            let p: DVec3 = b.center
+                + axes[0] * (sign(0) * b.size.x)
+                + axes[1] * (sign(1) * b.size.y)
+                + axes[2] * (sign(2) * b.size.z);
+            sketch_from_model(p)
+        })
+        .collect();
+    let hull = convex_hull(corners);
+    let want: Vec<DVec2> = outline.outline.iter().copied().map(point).collect();
+    let size = want
+        .iter()
+        .flat_map(|a| want.iter().map(move |b| a.distance(*b)))
+        .fold(0.0, f64::max);
+    for (k, c) in want.iter().enumerate() {
+        let off = hull
+            .iter()
+            .map(|h| h.distance(*c))
+            .fold(f64::INFINITY, f64::min);
+        if off > (BOX_TOL * size).max(noise) {
+            problems.push(format!(
+                "corner {k} off by {off:.1} = {:.0} % of size {size:.0}",
+                100.0 * off / size
+            ));
+        }
+    }
+    let apart = hausdorff(&closed(&hull), &closed(&want), size / 200.0);
+    if apart > (BOX_TOL * size).max(noise) {
+        problems.push(format!(
+            "outlines {apart:.1} = {:.0} % apart",
+            100.0 * apart / size
+        ));
+    }
+    problems
+}
+
+/// What is wrong with a bent tube.
+fn tube_problems(primitive: &Primitive, tube: &TubeRef, noise: f64) -> Vec<String> {
+    let mut problems = Vec::new();
+    let Primitive::Bgc(t) = primitive else {
+        return vec![format!("a {} is no tube", primitive.kind().name())];
+    };
+    let want: Vec<DVec2> = tube.spine.iter().copied().map(point).collect();
+    let got: Vec<DVec2> = t
+        .projected_spine()
+        .into_iter()
+        .map(sketch_from_view)
+        .collect();
+    let size = polyline_length(&want);
+    let apart = hausdorff(&got, &want, size / 200.0);
+    if apart > (SPINE_TOL * size).max(noise) {
+        let ends = |line: &[DVec2]| {
+            line.first()
+                .zip(line.last())
+                .map_or_else(String::new, |(a, b)| {
+                    format!("({:.0}, {:.0})–({:.0}, {:.0})", a.x, a.y, b.x, b.y)
+                })
+        };
+        problems.push(format!(
+            "spine {} for {}: {apart:.1} = {:.0} % of its length {size:.0} away",
+            ends(&got),
+            ends(&want),
+            100.0 * apart / size
+        ));
+    }
+    let radius = t.radii.iter().sum::<f64>() / t.radii.len().max(1) as f64;
+    if !radius_ok(radius, tube.radius, size, noise) {
+        problems.push(format!("radius {radius:.1} for {:.1}", tube.radius));
+    }
+    problems
+}
+
 /// Judges a snapped primitive against its reference; `noise` is the smallest tolerance,
 /// in sketch units.
 fn judge(primitive: &Primitive, reference: &PartRef, noise: f64) -> Verdict {
     let mut problems = Vec::new();
     if let Some(ends) = &reference.ends {
-        let Some(got) = snapped_ends(primitive) else {
-            return Verdict::Wrong(format!("a {} has no ends", primitive.kind().name()));
-        };
-        let want: Vec<(DVec2, f64)> = ends.iter().map(|e| (point(e.center), e.radius)).collect();
-        assert_eq!(want.len(), 2, "{}: two ends", reference.name);
-        let size = want[0]
-            .0
-            .distance(want[1].0)
-            .max(2.0 * want[0].1.max(want[1].1));
-        let straight = got[0].0.distance(want[0].0) + got[1].0.distance(want[1].0);
-        let crossed = got[0].0.distance(want[1].0) + got[1].0.distance(want[0].0);
-        let paired = if straight <= crossed {
-            [(got[0], want[0]), (got[1], want[1])]
-        } else {
-            [(got[1], want[0]), (got[0], want[1])]
-        };
-        for (k, (g, w)) in paired.iter().enumerate() {
-            let off = g.0.distance(w.0);
-            if off > (CENTER_TOL * size).max(noise) {
-                problems.push(format!(
-                    "end {k} centre ({:.0}, {:.0}) for ({:.0}, {:.0}): off by {off:.1} = {:.0} % of size {size:.0}",
-                    g.0.x,
-                    g.0.y,
-                    w.0.x,
-                    w.0.y,
-                    100.0 * off / size
-                ));
-            }
-            if !radius_ok(g.1, w.1, size, noise) {
-                problems.push(format!("end {k} radius {:.1} for {:.1}", g.1, w.1));
-            }
-        }
+        problems.extend(end_problems(primitive, ends, &reference.name, noise));
     }
     if let Some(sphere) = &reference.sphere {
-        let Primitive::Sphere(s) = primitive else {
-            return Verdict::Wrong(format!("a {} is no sphere", primitive.kind().name()));
-        };
-        let size = 2.0 * sphere.radius;
-        let off = sketch_from_model(s.center).distance(point(sphere.center));
-        if off > (CENTER_TOL * size).max(noise) {
-            problems.push(format!(
-                "centre off by {off:.1} = {:.0} % of size",
-                100.0 * off / size
-            ));
-        }
-        if !radius_ok(s.radius, sphere.radius, size, noise) {
-            problems.push(format!("radius {:.1} for {:.1}", s.radius, sphere.radius));
-        }
+        problems.extend(sphere_problems(primitive, sphere, noise));
     }
     if let Some(outline) = &reference.outline {
-        let Primitive::Cuboid(b) = primitive else {
-            return Verdict::Wrong(format!("a {} is no box", primitive.kind().name()));
-        };
-        let axes = b.axes();
-        let corners: Vec<DVec2> = (0..8)
-            .map(|k| {
-                let sign = |bit: usize| if k & (1 << bit) == 0 { -0.5 } else { 0.5 };
-                let p: DVec3 = b.center
-                    + axes[0] * (sign(0) * b.size.x)
-                    + axes[1] * (sign(1) * b.size.y)
-                    + axes[2] * (sign(2) * b.size.z);
-                sketch_from_model(p)
-            })
-            .collect();
-        let hull = convex_hull(corners);
-        let want: Vec<DVec2> = outline.outline.iter().copied().map(point).collect();
-        let size = want
-            .iter()
-            .flat_map(|a| want.iter().map(move |b| a.distance(*b)))
-            .fold(0.0, f64::max);
-        for (k, c) in want.iter().enumerate() {
-            let off = hull
-                .iter()
-                .map(|h| h.distance(*c))
-                .fold(f64::INFINITY, f64::min);
-            if off > (BOX_TOL * size).max(noise) {
-                problems.push(format!(
-                    "corner {k} off by {off:.1} = {:.0} % of size {size:.0}",
-                    100.0 * off / size
-                ));
-            }
-        }
-        let apart = hausdorff(&closed(&hull), &closed(&want), size / 200.0);
-        if apart > (BOX_TOL * size).max(noise) {
-            problems.push(format!(
-                "outlines {apart:.1} = {:.0} % apart",
-                100.0 * apart / size
-            ));
-        }
+        problems.extend(box_problems(primitive, outline, noise));
     }
     if let Some(tube) = &reference.tube {
-        let Primitive::Bgc(t) = primitive else {
-            return Verdict::Wrong(format!("a {} is no tube", primitive.kind().name()));
-        };
-        let want: Vec<DVec2> = tube.spine.iter().copied().map(point).collect();
-        let got: Vec<DVec2> = t
-            .projected_spine()
-            .into_iter()
-            .map(sketch_from_view)
-            .collect();
-        let size = polyline_length(&want);
-        let apart = hausdorff(&got, &want, size / 200.0);
-        if apart > (SPINE_TOL * size).max(noise) {
-            let ends = |line: &[DVec2]| {
-                line.first()
-                    .zip(line.last())
-                    .map_or_else(String::new, |(a, b)| {
-                        format!("({:.0}, {:.0})–({:.0}, {:.0})", a.x, a.y, b.x, b.y)
-                    })
-            };
-            problems.push(format!(
-                "spine {} for {}: {apart:.1} = {:.0} % of its length {size:.0} away",
-                ends(&got),
-                ends(&want),
-                100.0 * apart / size
-            ));
-        }
-        let radius = t.radii.iter().sum::<f64>() / t.radii.len().max(1) as f64;
-        if !radius_ok(radius, tube.radius, size, noise) {
-            problems.push(format!("radius {radius:.1} for {:.1}", tube.radius));
-        }
+        problems.extend(tube_problems(primitive, tube, noise));
     }
     if problems.is_empty() {
         Verdict::Good
@@ -728,6 +758,10 @@ fn every_shared_part_has_a_script_and_a_reference() {
 }
 
 #[test]
+#[allow(
+    clippy::absurd_extreme_comparisons,
+    reason = "a floor of 0 is today's figure for bent tubes; the check bites once it is raised"
+)]
 fn shared_parts_match_their_references_at_least_as_often_as_today() {
     let Some(dir) = shared_dir() else {
         return;
