@@ -50,6 +50,10 @@
 //! acceptance run, default [`ACCEPTANCE_ASSEMBLIES`]); `GEOSNAP_SYNTH_CONDITION_PNG` (a
 //! folder: an overlay PNG of every failed case, strokes grey, truth green, dropped blue,
 //! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case);
+//! `GEOSNAP_SYNTH_CONDITION_PROGRESS` (set: prints each drawing to stderr as it starts
+//! and ends); `GEOSNAP_SYNTH_CONDITION_ONLY` (comma-separated kind, assembly kind and
+//! condition names: runs only those drawings, for example `sgc,table,near-axial`; the
+//! floors and targets still apply to what ran);
 //! `GEOSNAP_SYNTH_CONDITION_SHOW` (`kind:condition:case`, for example
 //! `cylinder:joined:3` or `table:side-on:1`: prints that case's analysis, every part of
 //! an assembly, and writes its PNGs, failed or not, to the PNG folder or the temporary
@@ -96,41 +100,62 @@ const REQUIRED_KIND_RATE: f64 = 0.95;
 /// The issue's target per condition (single primitives, and parts of assemblies).
 const REQUIRED_CONDITION_RATE: f64 = 0.90;
 
-/// Today's floor per kind in the floor test ([`FLOOR_CASES`]): the rate measured when
-/// the test was written minus a few points. Raise these as snapping improves; the target
-/// is [`REQUIRED_KIND_RATE`].
+/// Today's floor per kind in the floor test ([`FLOOR_CASES`], 32 cases per kind): the
+/// rate measured when the test was written (cylinder 78.1 %, cone 87.5 %, sphere 100 %,
+/// box 78.1 %, SGC 81.2 %, BGC 31.2 %) minus about 5 points, rounded down to 5 %.
+/// Raise these as snapping improves; the target is [`REQUIRED_KIND_RATE`].
 const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
-    (PrimitiveKind::Cylinder, 0.0),
-    (PrimitiveKind::Cone, 0.0),
-    (PrimitiveKind::Sphere, 0.0),
-    (PrimitiveKind::Cuboid, 0.0),
-    (PrimitiveKind::Sgc, 0.0),
-    (PrimitiveKind::Bgc, 0.0),
+    (PrimitiveKind::Cylinder, 0.70),
+    (PrimitiveKind::Cone, 0.80),
+    (PrimitiveKind::Sphere, 0.95),
+    (PrimitiveKind::Cuboid, 0.70),
+    (PrimitiveKind::Sgc, 0.75),
+    (PrimitiveKind::Bgc, 0.25),
 ];
-/// Today's floor per condition in the floor test, as [`KIND_FLOOR`]; the target is
-/// [`REQUIRED_CONDITION_RATE`].
+/// Today's floor per condition in the floor test (24 cases per condition), as
+/// [`KIND_FLOOR`]: measured plain 91.7 %, near-axial 58.3 %, side-on 83.3 %, missing
+/// 91.7 %, overshoots 70.8 %, sketchy 83.3 %, joined 54.2 %, fragments 75.0 %. The
+/// target is [`REQUIRED_CONDITION_RATE`].
 const CONDITION_FLOOR: [(Condition, f64); 8] = [
-    (Condition::Plain, 0.0),
-    (Condition::NearAxial, 0.0),
-    (Condition::SideOn, 0.0),
-    (Condition::Missing, 0.0),
-    (Condition::Overshoots, 0.0),
-    (Condition::Sketchy, 0.0),
-    (Condition::Joined, 0.0),
-    (Condition::Fragments, 0.0),
+    (Condition::Plain, 0.85),
+    (Condition::NearAxial, 0.50),
+    (Condition::SideOn, 0.75),
+    (Condition::Missing, 0.85),
+    (Condition::Overshoots, 0.65),
+    (Condition::Sketchy, 0.75),
+    (Condition::Joined, 0.45),
+    (Condition::Fragments, 0.70),
 ];
-/// Today's floor per assembly kind (its parts) in the floor test, as [`KIND_FLOOR`];
-/// the target is [`REQUIRED_KIND_RATE`].
+/// Today's floor per assembly kind (its parts; 22–39 per kind) in the floor test, as
+/// [`KIND_FLOOR`]: measured stack 81.8 %, table 62.2 %, ball+tubes 93.3 %, brick+studs
+/// 82.1 %, box+pipes 82.1 %. The target is [`REQUIRED_KIND_RATE`].
 const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
-    (AssemblyKind::Stack, 0.0),
-    (AssemblyKind::Table, 0.0),
-    (AssemblyKind::SphereTubes, 0.0),
-    (AssemblyKind::BrickStuds, 0.0),
-    (AssemblyKind::BoxPipes, 0.0),
+    (AssemblyKind::Stack, 0.75),
+    (AssemblyKind::Table, 0.55),
+    (AssemblyKind::SphereTubes, 0.85),
+    (AssemblyKind::BrickStuds, 0.75),
+    (AssemblyKind::BoxPipes, 0.75),
 ];
-/// Today's floor per condition among the assemblies' parts in the floor test, as
-/// [`KIND_FLOOR`]; the target is [`REQUIRED_CONDITION_RATE`].
-const ASSEMBLY_CONDITION_FLOOR: f64 = 0.0;
+/// Today's floor per condition among the assemblies' parts (17–23 per condition) in the
+/// floor test, as [`KIND_FLOOR`]: measured plain 94.7 %, near-axial 78.3 %, side-on
+/// 82.4 %, missing 80.0 %, overshoots 90.9 %, sketchy 94.4 %, joined 22.2 %, fragments
+/// 89.5 %. The target is [`REQUIRED_CONDITION_RATE`].
+const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
+    (Condition::Plain, 0.85),
+    (Condition::NearAxial, 0.70),
+    (Condition::SideOn, 0.75),
+    (Condition::Missing, 0.75),
+    (Condition::Overshoots, 0.85),
+    (Condition::Sketchy, 0.85),
+    (Condition::Joined, 0.15),
+    (Condition::Fragments, 0.80),
+];
+
+/// Drawings (`kind:condition:case`) on which today's snapper aborts the process: its
+/// explanation score ([`snap`] → `Scored::of`) asks for an allocation of about 18 GB.
+/// They are not run and count as failed (`abort`); `GEOSNAP_SYNTH_CONDITION_SHOW` runs
+/// one anyway. Remove them as the snapper is mended.
+const ABORTS: &[&str] = &["sgc:plain:32", "sgc:sketchy:20", "sgc:joined:34"];
 
 /// What a case drew: a single primitive, or an assembly whose parts are judged one by one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -405,6 +430,18 @@ fn judge_part(
     outcome
 }
 
+/// The outcome of a drawing in [`ABORTS`]: failed, not run.
+fn aborted(job: Job) -> Outcome {
+    Outcome {
+        job,
+        part: None,
+        failed: vec!["abort"],
+        at_truth: None,
+        misclassified: (0, 0),
+        elapsed: Duration::ZERO,
+    }
+}
+
 /// Runs one job: its outcomes (one per part of an assembly) and its report.
 fn run_job(job: Job, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) {
     let mut report = String::new();
@@ -474,6 +511,12 @@ struct Run {
     show_png: PathBuf,
     show: Option<(Subject, Condition, usize)>,
     list: bool,
+    /// Print each job's name to stderr as it starts and ends.
+    progress: bool,
+    /// Only these subjects (none: all) …
+    only_subjects: Vec<Subject>,
+    /// … and these conditions (none: all).
+    only_conditions: Vec<Condition>,
 }
 
 impl Run {
@@ -490,6 +533,9 @@ impl Run {
                 Some((subject, condition, index))
             });
         let png = std::env::var_os("GEOSNAP_SYNTH_CONDITION_PNG").map(PathBuf::from);
+        let only: Vec<String> = std::env::var("GEOSNAP_SYNTH_CONDITION_ONLY")
+            .map(|v| v.split(',').map(|n| n.trim().to_owned()).collect())
+            .unwrap_or_default();
         Self {
             cases,
             assemblies,
@@ -497,6 +543,12 @@ impl Run {
             png,
             show,
             list: std::env::var_os("GEOSNAP_SYNTH_CONDITION_LIST").is_some(),
+            progress: std::env::var_os("GEOSNAP_SYNTH_CONDITION_PROGRESS").is_some(),
+            only_subjects: only.iter().filter_map(|n| Subject::from_name(n)).collect(),
+            only_conditions: only
+                .iter()
+                .filter_map(|n| Condition::from_name(n))
+                .collect(),
         }
     }
 }
@@ -526,6 +578,10 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
             }
         }
     }
+    jobs.retain(|j| {
+        (run.only_subjects.is_empty() || run.only_subjects.contains(&j.subject))
+            && (run.only_conditions.is_empty() || run.only_conditions.contains(&j.condition))
+    });
     if let Some((subject, condition, index)) = run.show {
         let known = jobs
             .iter()
@@ -557,7 +613,17 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
                     } else {
                         run.png.as_deref()
                     };
-                    let (outcomes, report) = run_job(*job, shown, png);
+                    if run.progress {
+                        eprintln!("start {}", job.name());
+                    }
+                    let (outcomes, report) = if ABORTS.contains(&job.name().as_str()) && !shown {
+                        (vec![aborted(*job)], String::new())
+                    } else {
+                        run_job(*job, shown, png)
+                    };
+                    if run.progress {
+                        eprintln!("end {}", job.name());
+                    }
                     done.lock()
                         .expect("no worker panicked")
                         .push((i, outcomes, report));
@@ -697,7 +763,9 @@ fn single_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: 
                 .filter(single)
                 .filter(|o| o.job.subject == Subject::Single(kind)),
         );
-        rates.kinds.push((kind, t.rate()));
+        if t.cases > 0 {
+            rates.kinds.push((kind, t.rate()));
+        }
         let _ = writeln!(table, "{}", t.row(kind.name()));
     }
     let _ = writeln!(
@@ -713,7 +781,9 @@ fn single_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: 
                 .filter(single)
                 .filter(|o| o.job.condition == condition),
         );
-        rates.conditions.push((condition, t.rate()));
+        if t.cases > 0 {
+            rates.conditions.push((condition, t.rate()));
+        }
         let _ = writeln!(table, "{}", t.row(condition.name()));
     }
     for (hidden, name) in [(true, "hidden lines"), (false, "no hidden lines")] {
@@ -750,53 +820,54 @@ fn single_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: 
 /// condition.
 fn assembly_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: &mut Rates) {
     let part = |o: &&Outcome| matches!(o.job.subject, Subject::Assembly(_));
-    {
-        let _ = writeln!(
-            table,
-            "\nassemblies, every part, per assembly kind\n{header}"
+    let _ = writeln!(
+        table,
+        "\nassemblies, every part, per assembly kind\n{header}"
+    );
+    for kind in AssemblyKind::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(part)
+                .filter(|o| o.job.subject == Subject::Assembly(kind)),
         );
-        for kind in AssemblyKind::ALL {
-            let t = Tally::of(
-                outcomes
-                    .iter()
-                    .filter(part)
-                    .filter(|o| o.job.subject == Subject::Assembly(kind)),
-            );
+        if t.cases > 0 {
             rates.assemblies.push((kind, t.rate()));
-            let _ = writeln!(table, "{}", t.row(kind.name()));
         }
-        let tables = |top: bool| {
-            move |o: &&Outcome| {
-                o.job.subject == Subject::Assembly(AssemblyKind::Table)
-                    && (o.part == Some(0)) == top
-            }
-        };
-        let _ = writeln!(
-            table,
-            "{}",
-            Tally::of(outcomes.iter().filter(tables(true))).row("  table tops")
+        let _ = writeln!(table, "{}", t.row(kind.name()));
+    }
+    let tables = |top: bool| {
+        move |o: &&Outcome| {
+            o.job.subject == Subject::Assembly(AssemblyKind::Table) && (o.part == Some(0)) == top
+        }
+    };
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(tables(true))).row("  table tops")
+    );
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(tables(false))).row("  table legs")
+    );
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(part)).row("all")
+    );
+    let _ = writeln!(table, "\nassemblies, every part, per condition\n{header}");
+    for condition in Condition::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(part)
+                .filter(|o| o.job.condition == condition),
         );
-        let _ = writeln!(
-            table,
-            "{}",
-            Tally::of(outcomes.iter().filter(tables(false))).row("  table legs")
-        );
-        let _ = writeln!(
-            table,
-            "{}",
-            Tally::of(outcomes.iter().filter(part)).row("all")
-        );
-        let _ = writeln!(table, "\nassemblies, every part, per condition\n{header}");
-        for condition in Condition::ALL {
-            let t = Tally::of(
-                outcomes
-                    .iter()
-                    .filter(part)
-                    .filter(|o| o.job.condition == condition),
-            );
+        if t.cases > 0 {
             rates.assembly_conditions.push((condition, t.rate()));
-            let _ = writeln!(table, "{}", t.row(condition.name()));
         }
+        let _ = writeln!(table, "{}", t.row(condition.name()));
     }
 }
 
@@ -826,7 +897,13 @@ fn env_usize(name: &str) -> Option<usize> {
 
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
-#[ignore = "today's snapper misses the issue's targets on this variety: see the figures in the ignore reason of the README of this test (filled in below)"]
+#[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
+            assemblies per kind and condition (release, commit of this test): single \
+            primitives 72.6 % (cylinder 75.6, cone 83.1, sphere 99.1, box 74.1, SGC 78.1, \
+            BGC 25.6); conditions plain 85.4, near-axial 56.7, side-on 70.8, missing 85.0, \
+            overshoots 73.3, sketchy 83.8, joined 53.8, fragments 72.1; assembly parts \
+            79.4 % (stack 81.2, table 60.1 with tops 35.9, ball+tubes 88.8, brick+studs \
+            87.2, box+pipes 83.4); assembly conditions 44.3 (joined) to 94.7 (sketchy)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -911,7 +988,12 @@ fn conditions_stay_above_todays_floor() {
     ));
     missed.extend(below(
         &rates.assembly_conditions,
-        |_| ASSEMBLY_CONDITION_FLOOR,
+        |c| {
+            ASSEMBLY_CONDITION_FLOOR
+                .iter()
+                .find(|(x, _)| *x == c)
+                .map_or(0.0, |(_, f)| *f)
+        },
         |c| format!("assemblies {}", c.name()),
     ));
     assert!(
