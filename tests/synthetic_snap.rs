@@ -55,7 +55,7 @@ use geosnap::core::sketch::{StrokeClass, StrokeId};
 use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
 use glam::DVec2;
 use support::assemblies::placement;
-use support::judge::{describe, evaluate, Errors};
+use support::judge::{describe, distance_to, evaluate, Errors};
 use support::overlay;
 use support::synth::{scene, Rng, Scene, Style};
 
@@ -500,26 +500,6 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
         100.0 * REQUIRED_RATE,
         below.join(", ")
     );
-}
-
-/// The distance from `p` to a numeric curve (ellipses by dense sampling).
-fn distance_to(curve: &Curve2<f64>, p: DVec2) -> f64 {
-    let segment = |a: DVec2, b: DVec2| {
-        let ab = b - a;
-        let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-        (a + ab * t).distance(p)
-    };
-    match curve {
-        Curve2::Ellipse { .. } => curve
-            .points(1024)
-            .windows(2)
-            .map(|w| segment(w[0], w[1]))
-            .fold(f64::INFINITY, f64::min),
-        Curve2::Polyline(points) => points
-            .windows(2)
-            .map(|w| segment(w[0].to_dvec2(), w[1].to_dvec2()))
-            .fold(f64::INFINITY, f64::min),
-    }
 }
 
 /// Drawn with a perfect hand, every stroke lies on a visible projected curve of the

@@ -38,6 +38,19 @@
 //! directed in view space: 10°–60° out of the view plane, at least 30° apart in the
 //! drawing, and 40°–70° or 110°–140° apart in space (clearly neither parallel nor
 //! orthogonal).
+//!
+//! # Conditions
+//!
+//! [`assembly_with`] builds the assemblies of issue 16's wider test
+//! (`synthetic_conditions`): tables come from [`wide_table`] (a thin disc top of
+//! thickness 0.1–0.3 × its radius, or a slab 1/15–1/5 as thick as it is wide, on legs of
+//! length over radius 8–20), the other kinds as [`assembly`] builds them. The view comes
+//! from the condition's range ([`view_in`]: a designer's view as above, nearly along the
+//! up axis, or from the side; a ball's tubes keep their own directions), and every part
+//! is drawn by [`draw_with`] under the condition, with hidden lines when asked. As in
+//! [`assembly`], each part is drawn whole, as if the others were transparent, and
+//! [`Assembly::part_of`] tells which part each stroke belongs to. [`assembly`] is
+//! unchanged: the same seed gives the same assembly as before.
 
 use std::f64::consts::TAU;
 

@@ -12,8 +12,8 @@
 //!   both radii, length; sphere: radius; box: the three sizes, permuted as its axes; SGC:
 //!   the end radii and the length; BGC: the end radii and the spine length).
 
-use geosnap::core::primitive::Primitive;
-use glam::DVec3;
+use geosnap::core::primitive::{Curve2, Primitive};
+use glam::{DVec2, DVec3};
 
 use super::assemblies::{mirror, PERMUTATIONS};
 
@@ -220,5 +220,25 @@ pub(crate) fn describe(p: &Primitive) -> String {
                 list(&b.radii)
             )
         }
+    }
+}
+
+/// The distance from `p` to a numeric curve (ellipses by dense sampling).
+pub(crate) fn distance_to(curve: &Curve2<f64>, p: DVec2) -> f64 {
+    let segment = |a: DVec2, b: DVec2| {
+        let ab = b - a;
+        let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (a + ab * t).distance(p)
+    };
+    match curve {
+        Curve2::Ellipse { .. } => curve
+            .points(1024)
+            .windows(2)
+            .map(|w| segment(w[0], w[1]))
+            .fold(f64::INFINITY, f64::min),
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| segment(w[0].to_dvec2(), w[1].to_dvec2()))
+            .fold(f64::INFINITY, f64::min),
     }
 }

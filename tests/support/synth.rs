@@ -79,6 +79,93 @@
 //! 15 %) split in two pieces with a gap of 2–6 % of their length, and closed strokes
 //! that do not close: the sweep misses or overlaps by up to 0.35–0.45 rad and the radius
 //! drifts by up to 3 % from start to end. Strokes are drawn in either direction.
+//!
+//! # Conditions
+//!
+//! [`scene_with`] (single primitives) and [`draw_with`] (an assembly's parts) draw the
+//! wider variety of issue 16 under a [`Condition`]; [`scene`] and [`draw`] are unchanged
+//! (the same seed gives the same scene as before). The conditioned renderer first
+//! *records* every ideal curve the pen would draw (the same geometry as above: contours,
+//! end ellipses and front arcs, box edges, a closed curve with its closure error and
+//! radius drift already in its sweep), then draws the recorded curves under the
+//! condition ([`Pen::render`]).
+//!
+//! ## Shapes
+//!
+//! The size (largest extent) is log-uniform in 50 … 2000 as before.
+//! - Cylinders: length over radius A from a mixture: a quarter thin discs (A = 0.1–0.25,
+//!   a table top of thickness 1/8 of its radius has A = 0.125), a quarter rods (A =
+//!   8–20), the rest log-uniform in 0.25–8; the largest extent max(length, 2·radius) is
+//!   the size.
+//! - Cones: length over bottom radius log-uniform in 0.3–12, top radius 0.25–0.8 × the
+//!   bottom's, the wide end on top in 30 %; redrawn while |β| > 0.8 (as above), so flat
+//!   cones only appear where the view lets their contours show.
+//! - Spheres as before.
+//! - Boxes: the largest side 1 and the others 0.6–1 (near-cubes, 30 %), one of them
+//!   1/15–1/4 log-uniform and the other 0.4–1 (slabs, 35 %), or both 1/15–1/3
+//!   log-uniform (planks, 35 %), given to the box's axes in a random cyclic order.
+//! - SGCs: the profile of above with mean radius R = length/A, A log-uniform in 0.6–8,
+//!   never thinner than 0.35·R, scaled so that its largest extent is the size.
+//! - BGCs: a planar spine parameterised by arc length u ∈ [0, 1] (speed = its length,
+//!   the size) through its tangent angle θ(u) in the spine's plane: a C is a circular
+//!   arc, θ = b·(u − ½), b = 40°–150°; an S bends one way then the other, θ =
+//!   4·h·u·(1 − u) − θ_c (the curvature 4h·(1 − 2u) changes sign at the middle), each
+//!   half bending by h = 40°–90°; θ_c turns the chord onto the canonical +Y. Its points
+//!   are integrated from the tangent (Simpson's rule, 64 steps), so the
+//!   [`PROFILE_SAMPLES`] samples of the truth, at even u, are evenly spaced along it as
+//!   the model wants. The radius r·(1 − τ/2 + τ·u)·(1 + φ·u³) has r = 0.094–0.15 × the
+//!   length, a taper |τ| ≤ 0.3 and, in half of the tubes, a flare φ = 0.3–0.8 that
+//!   widens the top end like a horn. The end circles face along the end tangents, and
+//!   the outlines are the projected spine offset by ± the radius along its 2D normal, as
+//!   for [`Pen::tube`] (the model's own approximation of a tube's contours).
+//!
+//! ## Views
+//!
+//! [`Condition::view`]: [`Condition::NearAxial`] puts the axis 65°–80° out of the view
+//! plane, [`Condition::SideOn`] 0.5°–5° (the end ellipses are nearly straight), the other
+//! conditions 5°–65° (a designer's view, as above). A box's view is its designer's
+//! view; near-axial, a uniformly random rotation with one axis 10°–25° from the view
+//! direction (two faces seen very obliquely); side-on, one with an axis within 4.6° of
+//! the view plane (|a_z| ≤ 0.08, that face edge-on) and none within 25° of the view
+//! direction. A tube's view is a uniformly random rotation with its plane within 60° of
+//! the view plane and its end tangents at least 20° from the view direction; near-axial,
+//! its plane within 75.5° of the view plane and one end tangent 12°–30° from the view
+//! direction (looking into one end); side-on, its plane within 14° of the view plane
+//! (both end ellipses nearly straight).
+//!
+//! ## Hidden lines
+//!
+//! With `hidden_lines` (the test draws them in half of its scenes) a designer draws what
+//! is behind the solid as ordinary strokes with the same hand: the rest of a far end's
+//! rim, θ ∈ (asin β, π − asin β), the complement of its visible front arc (module docs
+//! above), and a box's three edges whose adjacent faces both face away. Their labels
+//! start with `hidden`.
+//!
+//! ## How the curves are drawn
+//!
+//! Every recorded curve is drawn as above, except that the hand's errors scale with the
+//! curve drawn rather than with the primitive (a person's errors grow with the
+//! movement): the jitter's σ and the over- and undershoots are fractions of the curve's
+//! extent (at most the size), so the short outlines of a thin disc are not swamped by
+//! errors the size of the whole disc. Then, per condition:
+//! - [`Condition::Plain`], [`Condition::NearAxial`], [`Condition::SideOn`]: the hand
+//!   only.
+//! - [`Condition::Missing`]: one silhouette curve (an outline, a box edge or a sphere's
+//!   outline), chosen at random, has a stretch of 20–60 % of its length left out,
+//!   anywhere along it (pieces shorter than 3 % of it are not drawn).
+//! - [`Condition::Overshoots`]: over- and undershoots up to 15 % of each curve's extent
+//!   (at most 30 % of its length), 60 % of the open curves split by a gap of 4–12 % of
+//!   their length, closed curves missing or overlapping by up to 8 % of their length.
+//! - [`Condition::Sketchy`]: 80 % of the curves drawn as 2–3 strokes, each with its own
+//!   hand, the later ones shifted by 0.3–1.2 % of the curve's extent in a random
+//!   direction.
+//! - [`Condition::Joined`]: a solid of revolution's or a tube's two outlines and its far
+//!   end's front arc (which meets both) become one U stroke, outline + arc + outline; a
+//!   box has one or two pairs of edges that meet at a corner drawn as L strokes. Joined
+//!   strokes are never split, and are labelled `U: …` or `L: …` (no single class).
+//! - [`Condition::Fragments`]: 70 % of the curves drawn in 3–5 pieces of about equal
+//!   length (cuts ± 30 % of a piece), each joint a gap or an overlap of up to 2 % of the
+//!   curve's length.
 
 use std::f64::consts::{PI, TAU};
 
@@ -1294,15 +1381,17 @@ fn wide_bgc(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> (Primit
 
 /// Draws a random primitive of `kind` of the wider variety under `condition`, with hidden
 /// lines when `hidden_lines` (module docs, "Conditions"); the same arguments give the
-/// same scene.
+/// same scene. `style` overrides the random hand, as for [`scene`].
 pub(crate) fn scene_with(
     kind: PrimitiveKind,
     seed: u64,
     condition: Condition,
     hidden_lines: bool,
+    style: Option<Style>,
 ) -> Scene {
     let mut rng = Rng::new(seed);
-    let style = Style::random(&mut rng);
+    let random = Style::random(&mut rng);
+    let style = style.unwrap_or(random);
     let size = rng.log_range(50.0, 2000.0);
     let center = DVec3::new(
         rng.range(0.0, 3000.0),
