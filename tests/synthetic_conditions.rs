@@ -55,8 +55,9 @@
 //! condition names: runs only those drawings, for example `sgc,table,near-axial`; the
 //! floors and targets still apply to what ran);
 //! `GEOSNAP_SYNTH_CONDITION_SHOW` (`kind:condition:case`, for example
-//! `cylinder:joined:3` or `table:side-on:1`: prints that case's analysis, every part of
-//! an assembly, and writes its PNGs, failed or not, to the PNG folder or the temporary
+//! `cylinder:joined:3` or `table:side-on:1`: runs only that case, prints its analysis,
+//! every part of an assembly, and writes its PNGs, failed or not, to the PNG folder or
+//! the temporary
 //! folder).
 //!
 //! ```text
@@ -245,6 +246,8 @@ struct Outcome {
     part: Option<usize>,
     /// The failed criteria (`"error"` when the snap returned an error).
     failed: Vec<&'static str>,
+    /// The shape's class among its kind's ([`shape_class`]).
+    shape: Option<&'static str>,
     /// For a failure: whether it persists when the snap starts from the truth.
     at_truth: Option<bool>,
     /// The part's strokes (or the scene's) that the classifier gave another class than
@@ -256,6 +259,20 @@ struct Outcome {
 impl Outcome {
     fn ok(&self) -> bool {
         self.failed.is_empty()
+    }
+}
+
+/// The extremes of the wider variety, reported apart: thin discs (length under 0.25 ×
+/// the radius) and rods (over 8 ×) among cylinders, flat boxes (a side under 1/4 of the
+/// largest: slabs and planks) among boxes.
+fn shape_class(truth: &Primitive) -> Option<&'static str> {
+    match truth {
+        Primitive::Cylinder(c) if c.length < 0.25 * c.radius => Some("thin discs"),
+        Primitive::Cylinder(c) if c.length > 8.0 * c.radius => Some("rods"),
+        Primitive::Cuboid(b) if b.size.min_element() < 0.25 * b.size.max_element() => {
+            Some("flat boxes")
+        }
+        _ => None,
     }
 }
 
@@ -370,6 +387,7 @@ fn judge_part(
     let outcome = Outcome {
         job,
         part,
+        shape: shape_class(truth),
         failed,
         at_truth,
         misclassified: misclassified(context, strokes, own),
@@ -444,6 +462,7 @@ fn aborted(job: Job) -> Outcome {
         job,
         part: None,
         failed: vec!["abort"],
+        shape: None,
         at_truth: None,
         misclassified: (0, 0),
         elapsed: Duration::ZERO,
@@ -591,16 +610,11 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
             && (run.only_conditions.is_empty() || run.only_conditions.contains(&j.condition))
     });
     if let Some((subject, condition, index)) = run.show {
-        let known = jobs
-            .iter()
-            .any(|j| j.subject == subject && j.condition == condition && j.index == index);
-        if !known {
-            jobs.push(Job {
-                subject,
-                condition,
-                index,
-            });
-        }
+        jobs = vec![Job {
+            subject,
+            condition,
+            index,
+        }];
     }
     let next = AtomicUsize::new(0);
     let done: Mutex<Vec<(usize, Vec<Outcome>, String)>> = Mutex::new(Vec::new());
@@ -776,6 +790,15 @@ fn single_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: 
         }
         let _ = writeln!(table, "{}", t.row(kind.name()));
     }
+    for shape in ["thin discs", "rods", "flat boxes"] {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(single)
+                .filter(|o| o.shape == Some(shape)),
+        );
+        let _ = writeln!(table, "{}", t.row(&format!("  {shape}")));
+    }
     let _ = writeln!(
         table,
         "{}",
@@ -926,6 +949,10 @@ fn conditions_meet_the_issue_targets() {
         &failures,
         start.elapsed(),
     );
+    if run.show.is_some() {
+        // One case shown for a diagnosis: no rates to judge.
+        return;
+    }
     let mut missed = below(
         &rates.kinds,
         |_| REQUIRED_KIND_RATE,
@@ -966,6 +993,10 @@ fn conditions_stay_above_todays_floor() {
         &failures,
         start.elapsed(),
     );
+    if run.show.is_some() {
+        // One case shown for a diagnosis: no rates to judge.
+        return;
+    }
     let lookup = |table: &[(PrimitiveKind, f64)], k: PrimitiveKind| {
         table.iter().find(|(x, _)| *x == k).map_or(0.0, |(_, f)| *f)
     };
