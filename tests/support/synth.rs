@@ -125,9 +125,12 @@
 //! plane, [`Condition::SideOn`] 0.5°–5° (the end ellipses are nearly straight), the other
 //! conditions 5°–65° (a designer's view, as above). A box's view is its designer's
 //! view; near-axial, a uniformly random rotation with one axis 10°–25° from the view
-//! direction (two faces seen very obliquely); side-on, one with an axis within 4.6° of
-//! the view plane (|a_z| ≤ 0.08, that face edge-on) and none within 25° of the view
-//! direction. A tube's view is a uniformly random rotation with its plane within 60° of
+//! direction (two faces seen very obliquely); side-on, one with an axis 2.9°–8.6° out of
+//! the view plane (0.05 ≤ |a_z| ≤ 0.15: that face nearly edge-on, the third face a thin
+//! sliver) and none within 25° of the view direction. A face exactly edge-on would leave
+//! the box undetermined: the two axes perpendicular to the one in the view plane then
+//! project onto one line, and any turn θ about that axis with lengths Lb·cos θ, Lc·sin θ
+//! draws the same, so such views are not drawn. A tube's view is a uniformly random rotation with its plane within 60° of
 //! the view plane and its end tangents at least 20° from the view direction; near-axial,
 //! its plane within 75.5° of the view plane and one end tangent 12°–30° from the view
 //! direction (looking into one end); side-on, its plane within 14° of the view plane
@@ -1251,7 +1254,7 @@ fn wide_cuboid(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> Prim
         let ok = match view {
             ViewRange::Designer => lo >= 0.15 && hi <= max_z,
             ViewRange::NearAxial => (max_z..=10f64.to_radians().cos()).contains(&hi),
-            ViewRange::SideOn => lo <= 0.08 && hi <= max_z,
+            ViewRange::SideOn => (0.05..=0.15).contains(&lo) && hi <= max_z,
         };
         if ok {
             return Primitive::Cuboid(b);
