@@ -49,24 +49,20 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
+use geosnap::core::geom::projection::view_from_sketch;
 use geosnap::core::primitive::{Curve2, CurveClass, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{StrokeClass, StrokeId};
 use geosnap::core::snap::{
     nobody, snap, Confidence, SnapContext, SnapResult, SnapSettings, Verdict,
 };
-use glam::{DVec2, DVec3};
-use support::assemblies::{mirror, placement, PERMUTATIONS};
+use glam::DVec2;
+use support::assemblies::placement;
+use support::judge::{describe, distance_to, evaluate, Errors};
+use support::overlay;
 use support::synth::{scene, Rng, Scene, Style};
 
 /// Cases per kind unless `GEOSNAP_SYNTH_CASES` says otherwise.
 const DEFAULT_CASES: usize = 80;
-/// Largest projected centre error, relative to the size.
-const CENTRE_TOL: f64 = 0.03;
-/// Largest axis error in degrees.
-const AXIS_TOL_DEG: f64 = 5.0;
-/// Largest relative error of a radius or length.
-const SIZE_TOL: f64 = 0.07;
 /// The success rate every kind must reach.
 const REQUIRED_RATE: f64 = 0.95;
 /// The largest share of good parts whose snap may call itself doubtful or refused.
@@ -79,142 +75,6 @@ fn seed(kind: PrimitiveKind, index: usize) -> u64 {
         .position(|x| *x == kind)
         .unwrap_or(0) as u64;
     0x5EED_0000 + 1000 * (k + 1) + index as u64
-}
-
-/// The smallest angle (degrees) between `truth` and `fit` over the mirror and, with
-/// it, whether the fit is reversed (closest to −truth).
-fn axis_error(truth: DVec3, fit: DVec3) -> (f64, bool) {
-    let mut best = (f64::INFINITY, false);
-    for f in [fit, mirror(fit)] {
-        for (sign, reversed) in [(1.0, false), (-1.0, true)] {
-            let angle = truth.angle_between(f * sign).to_degrees();
-            if angle < best.0 {
-                best = (angle, reversed);
-            }
-        }
-    }
-    best
-}
-
-/// |fit − truth| / truth.
-fn rel(fit: f64, truth: f64) -> f64 {
-    (fit - truth).abs() / truth.abs()
-}
-
-/// The angle (degrees) between two lines.
-fn line_angle(a: DVec3, b: DVec3) -> f64 {
-    a.dot(b).abs().min(1.0).acos().to_degrees()
-}
-
-/// The errors of one snapped primitive against the truth.
-#[derive(Clone, Copy, Debug, Default)]
-struct Errors {
-    /// Projected centre distance / size.
-    centre: f64,
-    /// Axis angle in degrees (none for a sphere).
-    axis: Option<f64>,
-    /// Worst relative radius error (none for a box).
-    radius: Option<f64>,
-    /// Worst relative length error (a box's sizes; none for a sphere).
-    length: Option<f64>,
-}
-
-impl Errors {
-    /// The criteria that fail, in words.
-    fn failures(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        if self.centre > CENTRE_TOL {
-            out.push(format!("centre {:.1} %S > 3", 100.0 * self.centre));
-        }
-        if let Some(a) = self.axis.filter(|a| *a > AXIS_TOL_DEG) {
-            out.push(format!("axis {a:.1}° > 5"));
-        }
-        if let Some(r) = self.radius.filter(|r| *r > SIZE_TOL) {
-            out.push(format!("radius {:.1} % > 7", 100.0 * r));
-        }
-        if let Some(l) = self.length.filter(|l| *l > SIZE_TOL) {
-            out.push(format!("length {:.1} % > 7", 100.0 * l));
-        }
-        out
-    }
-}
-
-/// Compares `fit` with `truth` as the module docs say.
-fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
-    let size = truth.size();
-    let centre = truth.center().truncate().distance(fit.center().truncate()) / size;
-    let mut e = Errors {
-        centre,
-        ..Errors::default()
-    };
-    match (truth, fit) {
-        (Primitive::Cylinder(t), Primitive::Cylinder(f)) => {
-            e.axis = Some(axis_error(t.axis, f.axis).0);
-            e.radius = Some(rel(f.radius, t.radius));
-            e.length = Some(rel(f.length, t.length));
-        }
-        (Primitive::Cone(t), Primitive::Cone(f)) => {
-            let (angle, reversed) = axis_error(t.axis, f.axis);
-            let (rb, rt) = if reversed {
-                (f.radius_top, f.radius_bottom)
-            } else {
-                (f.radius_bottom, f.radius_top)
-            };
-            e.axis = Some(angle);
-            e.radius = Some(rel(rb, t.radius_bottom).max(rel(rt, t.radius_top)));
-            e.length = Some(rel(f.length, t.length));
-        }
-        (Primitive::Sphere(t), Primitive::Sphere(f)) => {
-            e.radius = Some(rel(f.radius, t.radius));
-        }
-        (Primitive::Cuboid(t), Primitive::Cuboid(f)) => {
-            let (ta, fa) = (t.axes(), f.axes());
-            let mut best = (f64::INFINITY, 0.0);
-            for m in [false, true] {
-                for p in PERMUTATIONS {
-                    let fit_axis = |i: usize| if m { mirror(fa[i]) } else { fa[i] };
-                    let angle = (0..3)
-                        .map(|i| line_angle(fit_axis(i), ta[p[i]]))
-                        .fold(0.0, f64::max);
-                    if angle < best.0 {
-                        let sizes = (0..3)
-                            .map(|i| rel(f.size[i], t.size[p[i]]))
-                            .fold(0.0, f64::max);
-                        best = (angle, sizes);
-                    }
-                }
-            }
-            e.axis = Some(best.0);
-            e.length = Some(best.1);
-        }
-        (Primitive::Sgc(t), Primitive::Sgc(f)) => {
-            let (angle, reversed) = axis_error(t.axis, f.axis);
-            let (k, kf) = (t.radii.len() - 1, f.radii.len() - 1);
-            let (r0, r1) = if reversed {
-                (f.radii[kf], f.radii[0])
-            } else {
-                (f.radii[0], f.radii[kf])
-            };
-            e.axis = Some(angle);
-            e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
-            e.length = Some(rel(f.length, t.length));
-        }
-        (Primitive::Bgc(t), Primitive::Bgc(f)) => {
-            let chord = |s: &[DVec3]| (s[s.len() - 1] - s[0]).normalize_or_zero();
-            let (angle, reversed) = axis_error(chord(&t.spine), chord(&f.spine));
-            let (k, kf) = (t.radii.len() - 1, f.radii.len() - 1);
-            let (r0, r1) = if reversed {
-                (f.radii[kf], f.radii[0])
-            } else {
-                (f.radii[0], f.radii[kf])
-            };
-            e.axis = Some(angle);
-            e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
-            e.length = Some(rel(f.spine_length(), t.spine_length()));
-        }
-        (t, f) => panic!("a {:?} snapped to a {:?}", t.kind(), f.kind()),
-    }
-    e
 }
 
 /// One case, run.
@@ -299,70 +159,6 @@ fn run_case(kind: PrimitiveKind, index: usize, hand: Option<&str>) -> Case {
         elapsed,
         from_truth,
         confidence,
-    }
-}
-
-/// A short description of a primitive's parameters.
-fn describe(p: &Primitive) -> String {
-    let v = |d: DVec3| format!("({:.1}, {:.1}, {:.1})", d.x, d.y, d.z);
-    let a = |d: DVec3| format!("({:.3}, {:.3}, {:.3})", d.x, d.y, d.z);
-    let list = |r: &[f64]| {
-        r.iter()
-            .map(|x| format!("{x:.1}"))
-            .collect::<Vec<_>>()
-            .join(" ")
-    };
-    match p {
-        Primitive::Cylinder(c) => format!(
-            "centre {} axis {} length {:.1} radius {:.1}",
-            v(c.center),
-            a(c.axis),
-            c.length,
-            c.radius
-        ),
-        Primitive::Cone(c) => format!(
-            "centre {} axis {} length {:.1} radii {:.1} → {:.1}",
-            v(c.center),
-            a(c.axis),
-            c.length,
-            c.radius_bottom,
-            c.radius_top
-        ),
-        Primitive::Sphere(s) => format!("centre {} radius {:.1}", v(s.center), s.radius),
-        Primitive::Cuboid(b) => {
-            let [x, y, z] = b.axes();
-            format!(
-                "centre {} axes {} {} {} size {}",
-                v(b.center),
-                a(x),
-                a(y),
-                a(z),
-                v(b.size)
-            )
-        }
-        Primitive::Sgc(s) => format!(
-            "centre {} axis {} length {:.1} radii [{}]",
-            v(s.center),
-            a(s.axis),
-            s.length,
-            list(&s.radii)
-        ),
-        Primitive::Bgc(b) => {
-            let k = b.spine.len();
-            let chord = (b.spine[k - 1] - b.spine[0]).normalize_or_zero();
-            let bottom = (b.spine[0] - b.spine[1]).normalize_or_zero();
-            let top = (b.spine[k - 1] - b.spine[k - 2]).normalize_or_zero();
-            format!(
-                "centre {} chord {} spine length {:.1} plane normal {} end normals z {:.2}, {:.2} radii [{}]",
-                v(p.center()),
-                a(chord),
-                b.spine_length(),
-                a(b.plane_normal),
-                bottom.z,
-                top.z,
-                list(&b.radii)
-            )
-        }
     }
 }
 
@@ -541,69 +337,21 @@ fn row(kind: PrimitiveKind, cases: &[Case], wall: Duration) -> String {
     )
 }
 
-/// A view-plane curve as sketch points.
-fn curve_points(curve: &Curve2<f64>) -> Vec<DVec2> {
-    curve.points(96).into_iter().map(sketch_from_view).collect()
-}
-
 /// Writes an overlay of a case: strokes grey, truth green, dropped blue, snapped red.
 fn write_overlay(path: &Path, case: &Case) -> Result<(), String> {
-    use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
-    let mut layers: Vec<(Vec<Vec<DVec2>>, [u8; 4], f32)> = Vec::new();
-    let strokes: Vec<Vec<DVec2>> = case
+    let strokes: Vec<&[DVec2]> = case
         .scene
         .strokes
         .iter()
-        .map(|s| s.points.clone())
+        .map(|s| s.points.as_slice())
         .collect();
-    layers.push((strokes, [150, 150, 150, 255], 2.5));
-    let curves = |p: &Primitive| -> Vec<Vec<DVec2>> {
-        p.current_shape()
-            .curves
-            .iter()
-            .filter(|c| c.visible)
-            .map(|c| curve_points(&c.curve))
-            .collect()
-    };
-    layers.push((curves(&case.scene.truth), [0, 160, 0, 220], 1.5));
-    layers.push((curves(&case.dropped), [40, 80, 255, 200], 1.2));
-    if let Ok(r) = &case.result {
-        layers.push((curves(&r.primitive), [220, 0, 0, 230], 1.2));
-    }
-    let all = layers.iter().flat_map(|l| l.0.iter().flatten());
-    let (lo, hi) = all.fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let side = 900.0;
-    let margin = 20.0;
-    let scale = (side - 2.0 * margin) / (hi - lo).max_element().max(1e-9);
-    let mut pixmap = Pixmap::new(side as u32, side as u32).ok_or("no pixmap")?;
-    pixmap.fill(Color::WHITE);
-    for (lines, [r, g, b, a], width) in &layers {
-        let mut paint = Paint::default();
-        paint.set_color_rgba8(*r, *g, *b, *a);
-        paint.anti_alias = true;
-        let stroke = Stroke {
-            width: *width,
-            ..Stroke::default()
-        };
-        for line in lines {
-            let mut pb = PathBuilder::new();
-            for (i, p) in line.iter().enumerate() {
-                let q = (*p - lo) * scale + DVec2::splat(margin);
-                if i == 0 {
-                    pb.move_to(q.x as f32, q.y as f32);
-                } else {
-                    pb.line_to(q.x as f32, q.y as f32);
-                }
-            }
-            if let Some(path) = pb.finish() {
-                pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
-            }
-        }
-    }
-    pixmap.save_png(path).map_err(|e| e.to_string())
+    overlay::write_overlay(
+        path,
+        &strokes,
+        &case.scene.truth,
+        &case.dropped,
+        case.result.as_ref().ok().map(|r| &r.primitive),
+    )
 }
 
 /// The random hand of a case with its imperfections scaled for a diagnosis:
@@ -870,26 +618,6 @@ fn every_kind_snaps_to_sketches_drawn_by_hand() {
         total.good,
         100.0 * MAX_GOOD_FLAGGED
     );
-}
-
-/// The distance from `p` to a numeric curve (ellipses by dense sampling).
-fn distance_to(curve: &Curve2<f64>, p: DVec2) -> f64 {
-    let segment = |a: DVec2, b: DVec2| {
-        let ab = b - a;
-        let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-        (a + ab * t).distance(p)
-    };
-    match curve {
-        Curve2::Ellipse { .. } => curve
-            .points(1024)
-            .windows(2)
-            .map(|w| segment(w[0], w[1]))
-            .fold(f64::INFINITY, f64::min),
-        Curve2::Polyline(points) => points
-            .windows(2)
-            .map(|w| segment(w[0].to_dvec2(), w[1].to_dvec2()))
-            .fold(f64::INFINITY, f64::min),
-    }
 }
 
 /// Drawn with a perfect hand, every stroke lies on a visible projected curve of the

@@ -38,6 +38,19 @@
 //! directed in view space: 10°–60° out of the view plane, at least 30° apart in the
 //! drawing, and 40°–70° or 110°–140° apart in space (clearly neither parallel nor
 //! orthogonal).
+//!
+//! # Conditions
+//!
+//! [`assembly_with`] builds the assemblies of issue 16's wider test
+//! (`synthetic_conditions`): tables come from [`wide_table`] (a thin disc top of
+//! thickness 0.1–0.3 × its radius, or a slab 1/15–1/5 as thick as it is wide, on legs of
+//! length over radius 8–20), the other kinds as [`assembly`] builds them. The view comes
+//! from the condition's range ([`view_in`]: a designer's view as above, nearly along the
+//! up axis, or from the side; a ball's tubes keep their own directions), and every part
+//! is drawn by [`draw_with`] under the condition, with hidden lines when asked. As in
+//! [`assembly`], each part is drawn whole, as if the others were transparent, and
+//! [`Assembly::part_of`] tells which part each stroke belongs to. [`assembly`] is
+//! unchanged: the same seed gives the same assembly as before.
 
 use std::f64::consts::TAU;
 
@@ -50,7 +63,9 @@ use geosnap::core::relation::RelationKind;
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
 use glam::{DQuat, DVec2, DVec3};
 
-use super::synth::{draw, Rng, Style, SynthStroke};
+use super::synth::{
+    draw, draw_with, random_rotation, Condition, Rng, Style, SynthStroke, ViewRange,
+};
 
 /// Smallest ratio between sizes (radii, lengths) that are not designed equal.
 pub(crate) const DISTINCT: f64 = 1.3;
@@ -131,6 +146,8 @@ pub(crate) struct Assembly {
     pub(crate) designed: Vec<Designed>,
     /// The strokes of every part, part after part.
     pub(crate) strokes: Vec<SynthStroke>,
+    /// The part (index into `parts`) each stroke belongs to.
+    pub(crate) part_of: Vec<usize>,
     /// The hand.
     pub(crate) style: Style,
 }
@@ -187,15 +204,19 @@ pub(crate) fn assembly(kind: AssemblyKind, seed: u64) -> Assembly {
         .iter()
         .map(|p| moved(p, view, size, centre))
         .collect();
-    let strokes = parts
-        .iter()
-        .flat_map(|p| draw(p, style, &mut rng))
-        .collect();
+    let mut strokes = Vec::new();
+    let mut part_of = Vec::new();
+    for (i, p) in parts.iter().enumerate() {
+        let drawn = draw(p, style, &mut rng);
+        part_of.extend(std::iter::repeat_n(i, drawn.len()));
+        strokes.extend(drawn);
+    }
     Assembly {
         kind,
         parts,
         designed,
         strokes,
+        part_of,
         style,
     }
 }
@@ -374,10 +395,16 @@ fn table(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
             leg_radius,
         ));
     }
+    let designed = table_relations(parts.len());
+    (parts, designed)
+}
+
+/// The designed relations of a table of `n` parts (the top, then the legs).
+fn table_relations(n: usize) -> Vec<Designed> {
     let mut designed = vec![rel(RelationKind::Parallel, (0, "top"), (1, "top"))];
-    for leg in 1..parts.len() {
+    for leg in 1..n {
         designed.push(rel(RelationKind::Coplanar, (0, "bottom"), (leg, "top")));
-        if leg + 1 < parts.len() {
+        if leg + 1 < n {
             designed.push(rel(RelationKind::Parallel, (leg, "top"), (leg + 1, "top")));
             designed.push(rel(
                 RelationKind::SameRadius,
@@ -387,7 +414,131 @@ fn table(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
             designed.push(equal_length(leg, leg + 1));
         }
     }
+    designed
+}
+
+/// A table of the wider variety (module docs, "Conditions"): a thin disc top (thickness
+/// 0.1–0.3 × its radius) or a slab (thickness 1/15–1/5 of its width), on rod-like legs
+/// (length over radius 8–20).
+fn wide_table(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
+    let leg_length = rng.range(0.5, 0.8);
+    let leg_radius = leg_length / rng.range(8.0, 20.0);
+    let mut parts = Vec::new();
+    let (thickness, corners): (f64, Vec<DVec2>) = if rng.chance(0.5) {
+        let radius = rng.range(0.4, 0.5);
+        let thickness = radius * rng.range(0.1, 0.3);
+        parts.push(Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: thickness,
+            radius,
+        }));
+        let n = if rng.chance(0.5) { 3 } else { 4 };
+        let phase = rng.range(0.0, TAU);
+        let corners = (0..n)
+            .map(|k| DVec2::from_angle(phase + TAU * k as f64 / n as f64) * (0.65 * radius))
+            .collect();
+        (thickness, corners)
+    } else {
+        let thickness = rng.log_range(1.0 / 15.0, 0.2);
+        let depth = rng.range(0.5, 0.9);
+        parts.push(Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: DQuat::IDENTITY,
+            size: DVec3::new(1.0, thickness, depth),
+        }));
+        let margin = 1.5 * leg_radius + 0.04;
+        let (hx, hz) = (0.5 - margin, depth / 2.0 - margin);
+        let corners = vec![
+            DVec2::new(-hx, -hz),
+            DVec2::new(hx, -hz),
+            DVec2::new(hx, hz),
+            DVec2::new(-hx, hz),
+        ];
+        (thickness, corners)
+    };
+    for c in &corners {
+        parts.push(upright_cylinder(
+            c.x,
+            -thickness / 2.0 - leg_length,
+            c.y,
+            leg_length,
+            leg_radius,
+        ));
+    }
+    let designed = table_relations(parts.len());
     (parts, designed)
+}
+
+/// The seed-determined assembly of `kind` of the wider variety (tables of
+/// [`wide_table`]; the other kinds as [`assembly`] builds them), seen from a view of
+/// `condition`'s range ([`view_in`]) and drawn part by part under `condition` with
+/// hidden lines when `hidden_lines` ([`draw_with`]).
+pub(crate) fn assembly_with(
+    kind: AssemblyKind,
+    seed: u64,
+    condition: Condition,
+    hidden_lines: bool,
+) -> Assembly {
+    let mut rng = Rng::new(seed);
+    let style = Style::random(&mut rng);
+    let view = match kind {
+        AssemblyKind::SphereTubes => DQuat::IDENTITY,
+        _ => view_in(&mut rng, condition.view()),
+    };
+    let (canonical, designed) = match kind {
+        AssemblyKind::Table => wide_table(&mut rng),
+        _ => canonical(kind, &mut rng, view),
+    };
+    let size = rng.log_range(600.0, 1800.0);
+    let centre = DVec3::new(
+        rng.range(size, 3000.0 - size),
+        -rng.range(size, 3000.0 - size),
+        rng.range(-size, size),
+    );
+    let parts: Vec<Primitive> = canonical
+        .iter()
+        .map(|p| moved(p, view, size, centre))
+        .collect();
+    let mut strokes = Vec::new();
+    let mut part_of = Vec::new();
+    for (i, p) in parts.iter().enumerate() {
+        let drawn = draw_with(p, style, &mut rng, condition, hidden_lines);
+        part_of.extend(std::iter::repeat_n(i, drawn.len()));
+        strokes.extend(drawn);
+    }
+    Assembly {
+        kind,
+        parts,
+        designed,
+        strokes,
+        part_of,
+        style,
+    }
+}
+
+/// A view of the canonical frame from `range`: a designer's view ([`view`]); nearly
+/// along the up axis (within 10°–25° of the view direction); or from the side (the up
+/// axis 2.9°–8.6° out of the view plane, no axis within 25° of the view direction: a
+/// box's top face nearly edge-on but not quite, see the renderer's "Views").
+pub(crate) fn view_in(rng: &mut Rng, range: ViewRange) -> DQuat {
+    let max_z = 25f64.to_radians().cos();
+    match range {
+        ViewRange::Designer => view(rng),
+        ViewRange::NearAxial => loop {
+            let r = random_rotation(rng);
+            if (max_z..=10f64.to_radians().cos()).contains(&(r * DVec3::Y).z.abs()) {
+                return r;
+            }
+        },
+        ViewRange::SideOn => loop {
+            let r = random_rotation(rng);
+            let z = [DVec3::X, DVec3::Y, DVec3::Z].map(|a| (r * a).z.abs());
+            if (0.05..=0.15).contains(&z[1]) && z.iter().all(|v| *v <= max_z) {
+                return r;
+            }
+        },
+    }
 }
 
 fn sphere_tubes(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
@@ -604,19 +755,61 @@ fn cuboid_as_a_person_sees_it(truth: &Cuboid) -> (DVec3, [f64; 3]) {
     (up, sizes)
 }
 
+/// How far a drop is from the truth: its centre by up to `centre` × the part's size (in
+/// a uniformly random direction of the view plane), its axis by up to `axis_deg` (a 3D
+/// rotation about a uniformly random axis, then projected), each size by a factor
+/// uniform in 1 ± `size`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Perturbation {
+    /// Largest centre offset, a fraction of the part's size.
+    pub(crate) centre: f64,
+    /// Largest axis tilt in degrees.
+    pub(crate) axis_deg: f64,
+    /// Largest relative size error.
+    pub(crate) size: f64,
+}
+
+impl Perturbation {
+    /// The drops of `synthetic_snap` and `synthetic_relations`: 15 %, 15°, ±25 %.
+    pub(crate) const SCRIPT: Self = Self {
+        centre: 0.15,
+        axis_deg: 15.0,
+        size: 0.25,
+    };
+    /// The drops of issue 16 (`synthetic_conditions`): 10 %, 10°, ±25 %.
+    pub(crate) const ISSUE_16: Self = Self {
+        centre: 0.10,
+        axis_deg: 10.0,
+        size: 0.25,
+    };
+}
+
 /// The placement a person (or a script step) gives for a part, the drops of both
 /// synthetic tests: centre off by up to 15 % of the part's size, axis by up to 15° (a 3D
-/// rotation, then projected), sizes by ±25 %.
+/// rotation, then projected), sizes by ±25 % ([`Perturbation::SCRIPT`]).
 pub(crate) fn placement(truth: &Primitive, rng: &mut Rng) -> Placement {
+    perturbed_placement(truth, rng, Perturbation::SCRIPT)
+}
+
+/// The placement of a part off its truth by up to `off` (see [`Perturbation`]); a box's
+/// sizes are given for the labelling of its axes a person sees (the palette's box with
+/// the same up direction), an SGC's or BGC's radius as the mean of its radii and a BGC's
+/// axis and length as its chord's.
+pub(crate) fn perturbed_placement(
+    truth: &Primitive,
+    rng: &mut Rng,
+    off: Perturbation,
+) -> Placement {
     let size = truth.size();
-    let offset = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, 0.15) * size);
+    let offset = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, off.centre) * size);
     let mut p = Placement::at(sketch_from_view(truth.center().truncate() + offset));
-    let tilt = DQuat::from_axis_angle(rng.unit_vector(), rng.degrees(0.0, 15.0));
+    let tilt = DQuat::from_axis_angle(rng.unit_vector(), rng.degrees(0.0, off.axis_deg));
     let sketch_axis = |a: DVec3| {
         let a = tilt * a;
         DVec2::new(a.x, -a.y)
     };
-    let mut f = || rng.range(0.75, 1.25);
+    let (lo, hi) = (1.0 - off.size, 1.0 + off.size);
+    let mut f = || rng.range(lo, hi);
     match truth {
         Primitive::Cylinder(c) => {
             p.axis = sketch_axis(c.axis);

@@ -79,6 +79,96 @@
 //! 15 %) split in two pieces with a gap of 2–6 % of their length, and closed strokes
 //! that do not close: the sweep misses or overlaps by up to 0.35–0.45 rad and the radius
 //! drifts by up to 3 % from start to end. Strokes are drawn in either direction.
+//!
+//! # Conditions
+//!
+//! [`scene_with`] (single primitives) and [`draw_with`] (an assembly's parts) draw the
+//! wider variety of issue 16 under a [`Condition`]; [`scene`] and [`draw`] are unchanged
+//! (the same seed gives the same scene as before). The conditioned renderer first
+//! *records* every ideal curve the pen would draw (the same geometry as above: contours,
+//! end ellipses and front arcs, box edges, a closed curve with its closure error and
+//! radius drift already in its sweep), then draws the recorded curves under the
+//! condition ([`Pen::render`]).
+//!
+//! ## Shapes
+//!
+//! The size (largest extent) is log-uniform in 50 … 2000 as before.
+//! - Cylinders: length over radius A from a mixture: a quarter thin discs (A = 0.1–0.25,
+//!   a table top of thickness 1/8 of its radius has A = 0.125), a quarter rods (A =
+//!   8–20), the rest log-uniform in 0.25–8; the largest extent max(length, 2·radius) is
+//!   the size.
+//! - Cones: length over bottom radius log-uniform in 0.3–12, top radius 0.25–0.8 × the
+//!   bottom's, the wide end on top in 30 %; redrawn while |β| > 0.8 (as above), so flat
+//!   cones only appear where the view lets their contours show.
+//! - Spheres as before.
+//! - Boxes: the largest side 1 and the others 0.6–1 (near-cubes, 30 %), one of them
+//!   1/15–1/4 log-uniform and the other 0.4–1 (slabs, 35 %), or both 1/15–1/3
+//!   log-uniform (planks, 35 %), given to the box's axes in a random cyclic order.
+//! - SGCs: the profile of above with mean radius R = length/A, A log-uniform in 0.6–8,
+//!   never thinner than 0.35·R, scaled so that its largest extent is the size.
+//! - BGCs: a planar spine parameterised by arc length u ∈ [0, 1] (speed = its length,
+//!   the size) through its tangent angle θ(u) in the spine's plane: a C is a circular
+//!   arc, θ = b·(u − ½), b = 40°–150°; an S bends one way then the other, θ =
+//!   4·h·u·(1 − u) − θ_c (the curvature 4h·(1 − 2u) changes sign at the middle), each
+//!   half bending by h = 40°–90°; θ_c turns the chord onto the canonical +Y. Its points
+//!   are integrated from the tangent (Simpson's rule, 64 steps), so the
+//!   [`PROFILE_SAMPLES`] samples of the truth, at even u, are evenly spaced along it as
+//!   the model wants. The radius r·(1 − τ/2 + τ·u)·(1 + φ·u³) has r = 0.094–0.15 × the
+//!   length, a taper |τ| ≤ 0.3 and, in half of the tubes, a flare φ = 0.3–0.8 that
+//!   widens the top end like a horn. The end circles face along the end tangents, and
+//!   the outlines are the projected spine offset by ± the radius along its 2D normal, as
+//!   for [`Pen::tube`] (the model's own approximation of a tube's contours).
+//!
+//! ## Views
+//!
+//! [`Condition::view`]: [`Condition::NearAxial`] puts the axis 65°–80° out of the view
+//! plane, [`Condition::SideOn`] 0.5°–5° (the end ellipses are nearly straight), the other
+//! conditions 5°–65° (a designer's view, as above). A box's view is its designer's
+//! view; near-axial, a uniformly random rotation with one axis 10°–25° from the view
+//! direction (two faces seen very obliquely); side-on, one with an axis 2.9°–8.6° out of
+//! the view plane (0.05 ≤ |a_z| ≤ 0.15: that face nearly edge-on, the third face a thin
+//! sliver) and none within 25° of the view direction. A face exactly edge-on would leave
+//! the box undetermined: the two axes perpendicular to the one in the view plane then
+//! project onto one line, and any turn θ about that axis with lengths Lb·cos θ, Lc·sin θ
+//! draws the same, so such views are not drawn. A tube's view is a uniformly random rotation with its plane within 60° of
+//! the view plane and its end tangents at least 20° from the view direction; near-axial,
+//! its plane within 75.5° of the view plane and one end tangent 12°–30° from the view
+//! direction (looking into one end); side-on, its plane within 14° of the view plane
+//! (both end ellipses nearly straight).
+//!
+//! ## Hidden lines
+//!
+//! With `hidden_lines` (the test draws them in half of its scenes) a designer draws what
+//! is behind the solid as ordinary strokes with the same hand: the rest of a far end's
+//! rim, θ ∈ (asin β, π − asin β), the complement of its visible front arc (module docs
+//! above), and a box's three edges whose adjacent faces both face away. Their labels
+//! start with `hidden`.
+//!
+//! ## How the curves are drawn
+//!
+//! Every recorded curve is drawn as above, except that the hand's errors scale with the
+//! curve drawn rather than with the primitive (a person's errors grow with the
+//! movement): the jitter's σ and the over- and undershoots are fractions of the curve's
+//! extent (at most the size), so the short outlines of a thin disc are not swamped by
+//! errors the size of the whole disc. Then, per condition:
+//! - [`Condition::Plain`], [`Condition::NearAxial`], [`Condition::SideOn`]: the hand
+//!   only.
+//! - [`Condition::Missing`]: one silhouette curve (an outline, a box edge or a sphere's
+//!   outline), chosen at random, has a stretch of 20–60 % of its length left out,
+//!   anywhere along it (pieces shorter than 3 % of it are not drawn).
+//! - [`Condition::Overshoots`]: over- and undershoots up to 15 % of each curve's extent
+//!   (at most 30 % of its length), 60 % of the open curves split by a gap of 4–12 % of
+//!   their length, closed curves missing or overlapping by up to 8 % of their length.
+//! - [`Condition::Sketchy`]: 80 % of the curves drawn as 2–3 strokes, each with its own
+//!   hand, the later ones shifted by 0.3–1.2 % of the curve's extent in a random
+//!   direction.
+//! - [`Condition::Joined`]: a solid of revolution's or a tube's two outlines and its far
+//!   end's front arc (which meets both) become one U stroke, outline + arc + outline; a
+//!   box has one or two pairs of edges that meet at a corner drawn as L strokes. Joined
+//!   strokes are never split, and are labelled `U: …` or `L: …` (no single class).
+//! - [`Condition::Fragments`]: 70 % of the curves drawn in 3–5 pieces of about equal
+//!   length (cuts ± 30 % of a piece), each joint a gap or an overlap of up to 2 % of the
+//!   curve's length.
 
 use std::f64::consts::{PI, TAU};
 
@@ -260,6 +350,8 @@ pub(crate) fn scene(kind: PrimitiveKind, seed: u64, style: Option<Style>) -> Sce
         style,
         size: truth.size(),
         strokes: Vec::new(),
+        record: None,
+        hidden: false,
     };
     match (&truth, drawing) {
         (Primitive::Cylinder(c), _) => {
@@ -296,6 +388,8 @@ enum Drawing {
     Profile(Profile),
     /// The circular-arc spine of a BGC.
     Arc(Arc),
+    /// The C or S spine of a BGC of the wider variety.
+    Spine(SpineCurve),
 }
 
 /// A smooth SGC profile r(t) = R·(1 + g·(t − ½) + b·sin(π·(f·t + φ))), t from bottom (0)
@@ -573,6 +667,11 @@ struct Pen<'a> {
     style: Style,
     size: f64,
     strokes: Vec<SynthStroke>,
+    /// When set, the curves are recorded here as ideals instead of being drawn: the
+    /// conditioned renderer ([`Pen::render`]) draws them afterwards.
+    record: Option<Vec<Ideal>>,
+    /// Whether hidden lines are recorded too (only with `record`).
+    hidden: bool,
 }
 
 impl Pen<'_> {
@@ -584,6 +683,12 @@ impl Pen<'_> {
     /// The ideal polyline from arc length `s0` to `s1` (beyond its ends along the end
     /// tangents), resampled evenly, wobbled and jittered.
     fn humanize(&mut self, ideal: &[DVec2], s0: f64, s1: f64) -> Vec<DVec2> {
+        self.humanize_with(ideal, s0, s1, self.size)
+    }
+
+    /// [`Pen::humanize`] with the jitter's σ a fraction of `scale` rather than of the
+    /// primitive's size (the conditioned renderer scales it with the curve drawn).
+    fn humanize_with(&mut self, ideal: &[DVec2], s0: f64, s1: f64, scale: f64) -> Vec<DVec2> {
         let cum = cumulative(ideal);
         let spacing = self.style.spacing * self.size;
         let n = (((s1 - s0) / spacing).ceil() as usize).max(12) + 1;
@@ -621,7 +726,7 @@ impl Pen<'_> {
             })
             .collect();
         let mean = offsets.iter().sum::<f64>() / n as f64;
-        let sigma = self.style.jitter * self.size;
+        let sigma = self.style.jitter * scale;
         (0..n)
             .map(|i| {
                 let (lo, hi) = (i.saturating_sub(1), (i + 1).min(n - 1));
@@ -648,6 +753,16 @@ impl Pen<'_> {
     /// An open curve with over- or undershoots at both ends, sometimes in two pieces
     /// (with probability `gap_chance` × `gap_factor`).
     fn open(&mut self, ideal: &[DVec2], class: StrokeClass, label: &str, gap_factor: f64) {
+        if let Some(record) = &mut self.record {
+            record.push(Ideal {
+                points: ideal.to_vec(),
+                closed: false,
+                class,
+                label: label.to_owned(),
+                gap_factor,
+            });
+            return;
+        }
         let total = *cumulative(ideal).last().unwrap_or(&0.0);
         let limit = 0.3 * total;
         let s0 = -self.overshoot().clamp(-limit, limit);
@@ -697,6 +812,16 @@ impl Pen<'_> {
                 f(theta0 + sweep * t, 1.0 + drift * t)
             })
             .collect();
+        if let Some(record) = &mut self.record {
+            record.push(Ideal {
+                points: dense,
+                closed: true,
+                class,
+                label,
+                gap_factor: 0.0,
+            });
+            return;
+        }
         let total = *cumulative(&dense).last().unwrap_or(&0.0);
         let points = self.humanize(&dense, 0.0, total);
         self.emit(points, class, label);
@@ -723,6 +848,19 @@ impl Pen<'_> {
                 .map(|i| circle_point(m, n, r, start + (end - start) * f64::from(i) / 360.0))
                 .collect();
             self.open(&dense, StrokeClass::Feature, &format!("{name} arc"), 0.0);
+            if self.hidden {
+                // The rest of the rim, behind the solid: θ ∈ (asin β, π − asin β).
+                let (start, end) = (beta.asin(), PI - beta.asin());
+                let dense: Vec<DVec2> = (0..=360)
+                    .map(|i| circle_point(m, n, r, start + (end - start) * f64::from(i) / 360.0))
+                    .collect();
+                self.open(
+                    &dense,
+                    StrokeClass::Feature,
+                    &format!("hidden {name} arc"),
+                    0.0,
+                );
+            }
         }
     }
 
@@ -795,13 +933,14 @@ impl Pen<'_> {
             let (i, j) = ((along + 1) % 3, (along + 2) % 3);
             for (si, sj) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
                 let visible = axes[i].z * si > 0.0 || axes[j].z * sj > 0.0;
-                if !visible {
+                if !visible && !self.hidden {
                     continue;
                 }
                 let mid = b.center + axes[i] * (half[i] * si) + axes[j] * (half[j] * sj);
                 let d = axes[along] * half[along];
                 let ideal = [(mid - d).truncate(), (mid + d).truncate()];
-                let label = format!("edge ∥{} ({si:+},{sj:+})", ["x", "y", "z"][along]);
+                let hidden = if visible { "" } else { "hidden " };
+                let label = format!("{hidden}edge ∥{} ({si:+},{sj:+})", ["x", "y", "z"][along]);
                 self.open(&ideal, StrokeClass::Silhouette, &label, 0.5);
             }
         }
@@ -838,6 +977,8 @@ pub(crate) fn draw(truth: &Primitive, style: Style, rng: &mut Rng) -> Vec<SynthS
         style,
         size: truth.size(),
         strokes: Vec::new(),
+        record: None,
+        hidden: false,
     };
     match truth {
         Primitive::Cylinder(c) => {
@@ -856,4 +997,776 @@ pub(crate) fn draw(truth: &Primitive, style: Style, rng: &mut Rng) -> Vec<SynthS
         }
     }
     pen.strokes
+}
+
+/// A drawing condition of [`scene_with`] and [`draw_with`] (module docs, "Conditions").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(crate) enum Condition {
+    /// The wider shapes from a designer's view, drawn with the usual hand.
+    Plain,
+    /// Views nearly along the axis (65°–80° out of the view plane).
+    NearAxial,
+    /// Views from the side (the axis 0.5°–5° out of the view plane).
+    SideOn,
+    /// 20–60 % of one silhouette left out.
+    Missing,
+    /// Large over- and undershoots and gaps.
+    Overshoots,
+    /// Lines drawn as 2–3 overlapping strokes.
+    Sketchy,
+    /// Strokes joined across corners: U (outline, end arc, outline) and L (two box edges).
+    Joined,
+    /// Lines drawn in several short pieces.
+    Fragments,
+}
+
+impl Condition {
+    /// Every condition.
+    pub(crate) const ALL: [Self; 8] = [
+        Self::Plain,
+        Self::NearAxial,
+        Self::SideOn,
+        Self::Missing,
+        Self::Overshoots,
+        Self::Sketchy,
+        Self::Joined,
+        Self::Fragments,
+    ];
+
+    /// A short name.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Self::Plain => "plain",
+            Self::NearAxial => "near-axial",
+            Self::SideOn => "side-on",
+            Self::Missing => "missing",
+            Self::Overshoots => "overshoots",
+            Self::Sketchy => "sketchy",
+            Self::Joined => "joined",
+            Self::Fragments => "fragments",
+        }
+    }
+
+    /// The condition named `name` ([`Condition::name`]).
+    pub(crate) fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    /// The range of views the condition draws from.
+    pub(crate) fn view(self) -> ViewRange {
+        match self {
+            Self::NearAxial => ViewRange::NearAxial,
+            Self::SideOn => ViewRange::SideOn,
+            _ => ViewRange::Designer,
+        }
+    }
+}
+
+/// Which views a conditioned scene is drawn from (module docs, "Conditions").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ViewRange {
+    /// A designer's view, as [`scene`] draws.
+    Designer,
+    /// Looking nearly along the axis.
+    NearAxial,
+    /// Looking at the side, the axis nearly in the view plane.
+    SideOn,
+}
+
+/// An ideal curve recorded by the conditioned renderer before it is drawn.
+#[derive(Clone, Debug)]
+struct Ideal {
+    /// The view-plane polyline (dense).
+    points: Vec<DVec2>,
+    /// Whether it is a closed curve (its sweep and drift already include the hand's
+    /// closure error).
+    closed: bool,
+    /// The class it is drawn as.
+    class: StrokeClass,
+    /// The curve it depicts.
+    label: String,
+    /// Scales the chance of a gap, as in [`Pen::open`].
+    gap_factor: f64,
+}
+
+impl Ideal {
+    fn hidden(&self) -> bool {
+        self.label.starts_with("hidden")
+    }
+}
+
+/// A unit axis `elevation_deg` (a range, either sign) out of the view plane, any
+/// in-plane direction.
+fn axis_in(rng: &mut Rng, view: ViewRange) -> DVec3 {
+    let (lo, hi) = match view {
+        ViewRange::Designer => (5.0, 65.0),
+        ViewRange::NearAxial => (65.0, 80.0),
+        ViewRange::SideOn => (0.5, 5.0),
+    };
+    let elevation = rng.degrees(lo, hi) * rng.sign();
+    axis_at(elevation, rng.range(0.0, TAU))
+}
+
+/// A uniformly random rotation (a normalised 4D Gaussian).
+pub(crate) fn random_rotation(rng: &mut Rng) -> DQuat {
+    loop {
+        let q = DQuat::from_xyzw(rng.normal(), rng.normal(), rng.normal(), rng.normal());
+        if q.length() > 1e-3 {
+            return q.normalize();
+        }
+    }
+}
+
+/// A length over radius ratio: a quarter thin discs (0.1–0.25), a quarter rods (8–20),
+/// the rest log-uniform in between.
+fn aspect(rng: &mut Rng) -> f64 {
+    let u = rng.unit();
+    if u < 0.25 {
+        rng.log_range(0.1, 0.25)
+    } else if u < 0.5 {
+        rng.log_range(8.0, 20.0)
+    } else {
+        rng.log_range(0.25, 8.0)
+    }
+}
+
+fn wide_cylinder(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> Primitive {
+    let a = aspect(rng);
+    let (length, radius) = if a >= 2.0 {
+        (size, size / a)
+    } else {
+        (a * size / 2.0, size / 2.0)
+    };
+    Primitive::Cylinder(Cylinder {
+        center,
+        axis: axis_in(rng, view),
+        length,
+        radius,
+    })
+}
+
+fn wide_cone(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> Primitive {
+    loop {
+        let a = rng.log_range(0.3, 12.0);
+        let (length, mut rb) = if a >= 2.0 {
+            (size, size / a)
+        } else {
+            (a * size / 2.0, size / 2.0)
+        };
+        let mut rt = rb * rng.range(0.25, 0.8);
+        if rng.chance(0.3) {
+            std::mem::swap(&mut rb, &mut rt);
+        }
+        let axis = axis_in(rng, view);
+        if contour_beta(axis, (rt - rb) / length).abs() <= 0.8 {
+            return Primitive::Cone(Cone {
+                center,
+                axis,
+                length,
+                radius_bottom: rb,
+                radius_top: rt,
+            });
+        }
+    }
+}
+
+fn wide_sgc(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> (Primitive, Profile) {
+    loop {
+        // Built for length 1, then scaled so that its largest extent is `size`.
+        let mean = 1.0 / rng.log_range(0.6, 8.0);
+        let profile = Profile {
+            r: mean,
+            g: rng.range(-0.6, 0.6),
+            b: rng.range(-0.3, 0.3),
+            f: rng.range(0.8, 2.0),
+            phi: rng.range(0.0, 1.0),
+        };
+        let axis = axis_in(rng, view);
+        let ok = (0..=50).all(|i| {
+            let (r, dr) = profile.at(f64::from(i) / 50.0);
+            r >= 0.35 * mean && contour_beta(axis, dr).abs() <= 0.8
+        });
+        if !ok {
+            continue;
+        }
+        let widest = (0..=50)
+            .map(|i| profile.at(f64::from(i) / 50.0).0)
+            .fold(0.0, f64::max);
+        let scale = size / (2.0 * widest).max(1.0);
+        let profile = Profile {
+            r: profile.r * scale,
+            ..profile
+        };
+        let k = PROFILE_SAMPLES;
+        let radii = (0..k)
+            .map(|i| profile.at(i as f64 / (k - 1) as f64).0)
+            .collect();
+        let p = Primitive::Sgc(Sgc {
+            center,
+            axis,
+            length: scale,
+            radii,
+        });
+        return (p, profile);
+    }
+}
+
+fn wide_cuboid(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> Primitive {
+    let u = rng.unit();
+    let mut sides = if u < 0.3 {
+        [1.0, rng.range(0.6, 1.0), rng.range(0.6, 1.0)]
+    } else if u < 0.65 {
+        [1.0, rng.log_range(1.0 / 15.0, 0.25), rng.range(0.4, 1.0)]
+    } else {
+        [
+            1.0,
+            rng.log_range(1.0 / 15.0, 1.0 / 3.0),
+            rng.log_range(1.0 / 15.0, 1.0 / 3.0),
+        ]
+    };
+    // Which box axis gets which side.
+    let shift = (rng.next_u64() % 3) as usize;
+    sides.rotate_left(shift);
+    let extents = DVec3::from_array(sides) * size;
+    let max_z = 25f64.to_radians().cos();
+    loop {
+        let rotation = match view {
+            ViewRange::Designer => {
+                let pitch = rng.degrees(10.0, 45.0) * rng.sign();
+                let yaw = rng.degrees(10.0, 80.0) * rng.sign();
+                let roll = rng.range(0.0, TAU);
+                DQuat::from_rotation_z(roll)
+                    * DQuat::from_rotation_x(pitch)
+                    * DQuat::from_rotation_y(yaw)
+            }
+            _ => random_rotation(rng),
+        };
+        let b = Cuboid {
+            center,
+            rotation,
+            size: extents,
+        };
+        let z = b.axes().map(|a| a.z.abs());
+        let (lo, hi) = (
+            z.iter().copied().fold(1.0, f64::min),
+            z.iter().copied().fold(0.0, f64::max),
+        );
+        let ok = match view {
+            ViewRange::Designer => lo >= 0.15 && hi <= max_z,
+            ViewRange::NearAxial => (max_z..=10f64.to_radians().cos()).contains(&hi),
+            ViewRange::SideOn => (0.05..=0.15).contains(&lo) && hi <= max_z,
+        };
+        if ok {
+            return Primitive::Cuboid(b);
+        }
+    }
+}
+
+/// A BGC's planar spine of any shape (module docs, "Conditions"), parameterised by arc
+/// length: u ∈ [0, 1] runs at speed `length`.
+#[derive(Clone, Copy, Debug)]
+struct SpineCurve {
+    length: f64,
+    /// An S (two bends of opposite sense) rather than a C (one circular arc).
+    s_shape: bool,
+    /// The C's total bend, or each half's bend of the S (radians).
+    bend: f64,
+    /// The tangent angle that turns the chord onto +Y.
+    chord_angle: f64,
+    /// The mean radius, its linear taper (r·(1 − taper/2 + taper·u)) and its flare
+    /// (× (1 + flare·u³)).
+    r: f64,
+    taper: f64,
+    flare: f64,
+    rotation: DQuat,
+    offset: DVec3,
+}
+
+impl SpineCurve {
+    /// The tangent angle at u in the canonical plane (0 is +Y, positive towards −X).
+    fn theta(&self, u: f64) -> f64 {
+        let raw = if self.s_shape {
+            4.0 * self.bend * u * (1.0 - u)
+        } else {
+            self.bend * (u - 0.5)
+        };
+        raw - self.chord_angle
+    }
+
+    /// The canonical (unrotated) point at u, by Simpson's rule over the tangent.
+    fn canonical(&self, u: f64) -> DVec3 {
+        let steps = 64;
+        let h = u / f64::from(steps);
+        let t = |v: f64| {
+            let a = self.theta(v);
+            DVec3::new(-a.sin(), a.cos(), 0.0)
+        };
+        let mut sum = t(0.0) + t(u);
+        for i in 1..steps {
+            let w = if i % 2 == 1 { 4.0 } else { 2.0 };
+            sum += t(h * f64::from(i)) * w;
+        }
+        sum * (h / 3.0 * self.length)
+    }
+
+    fn point(&self, u: f64) -> DVec3 {
+        self.rotation * self.canonical(u) + self.offset
+    }
+
+    fn tangent(&self, u: f64) -> DVec3 {
+        let a = self.theta(u);
+        self.rotation * DVec3::new(-a.sin(), a.cos(), 0.0)
+    }
+
+    fn radius(&self, u: f64) -> f64 {
+        self.r * (1.0 - self.taper / 2.0 + self.taper * u) * (1.0 + self.flare * u.powi(3))
+    }
+
+    /// dr/ds (per unit of arc length) at u.
+    fn slope(&self, u: f64) -> f64 {
+        let lin = 1.0 - self.taper / 2.0 + self.taper * u;
+        let fl = 1.0 + self.flare * u.powi(3);
+        self.r * (self.taper * fl + lin * 3.0 * self.flare * u.powi(2)) / self.length
+    }
+}
+
+fn wide_bgc(rng: &mut Rng, center: DVec3, size: f64, view: ViewRange) -> (Primitive, SpineCurve) {
+    loop {
+        let s_shape = rng.chance(0.5);
+        let bend = if s_shape {
+            rng.degrees(40.0, 90.0)
+        } else {
+            rng.degrees(40.0, 150.0)
+        };
+        let mut spine = SpineCurve {
+            length: size,
+            s_shape,
+            bend,
+            chord_angle: 0.0,
+            r: size * rng.range(MIN_RADIUS / 0.85, 0.15),
+            taper: rng.range(-0.3, 0.3),
+            flare: if rng.chance(0.5) {
+                rng.range(0.3, 0.8)
+            } else {
+                0.0
+            },
+            rotation: random_rotation(rng),
+            offset: DVec3::ZERO,
+        };
+        let chord = spine.canonical(1.0);
+        spine.chord_angle = (-chord.x).atan2(chord.y);
+        let normal = spine.rotation * DVec3::Z;
+        let ends = [spine.tangent(0.0).z.abs(), spine.tangent(1.0).z.abs()];
+        let steepest = ends[0].max(ends[1]);
+        let ok = match view {
+            ViewRange::Designer => normal.z.abs() >= 0.5 && steepest <= 20f64.to_radians().cos(),
+            ViewRange::NearAxial => {
+                normal.z.abs() >= 0.25
+                    && (30f64.to_radians().cos()..=12f64.to_radians().cos()).contains(&steepest)
+            }
+            ViewRange::SideOn => normal.z.abs() >= 0.97,
+        };
+        if !ok {
+            continue;
+        }
+        let k = PROFILE_SAMPLES;
+        let us: Vec<f64> = (0..k).map(|i| i as f64 / (k - 1) as f64).collect();
+        let mean = us.iter().map(|u| spine.point(*u)).sum::<DVec3>() / k as f64;
+        spine.offset = center - mean;
+        let p = Primitive::Bgc(Bgc {
+            spine: us.iter().map(|u| spine.point(*u)).collect(),
+            radii: us.iter().map(|u| spine.radius(*u)).collect(),
+            plane_normal: normal,
+        });
+        return (p, spine);
+    }
+}
+
+/// Draws a random primitive of `kind` of the wider variety under `condition`, with hidden
+/// lines when `hidden_lines` (module docs, "Conditions"); the same arguments give the
+/// same scene. `style` overrides the random hand, as for [`scene`].
+pub(crate) fn scene_with(
+    kind: PrimitiveKind,
+    seed: u64,
+    condition: Condition,
+    hidden_lines: bool,
+    style: Option<Style>,
+) -> Scene {
+    let mut rng = Rng::new(seed);
+    let random = Style::random(&mut rng);
+    let style = style.unwrap_or(random);
+    let size = rng.log_range(50.0, 2000.0);
+    let center = DVec3::new(
+        rng.range(0.0, 3000.0),
+        -rng.range(0.0, 3000.0),
+        rng.range(-size, size),
+    );
+    let view = condition.view();
+    let (truth, drawing) = match kind {
+        PrimitiveKind::Cylinder => (wide_cylinder(&mut rng, center, size, view), Drawing::Plain),
+        PrimitiveKind::Cone => (wide_cone(&mut rng, center, size, view), Drawing::Plain),
+        PrimitiveKind::Sphere => (
+            Primitive::Sphere(Sphere {
+                center,
+                radius: size / 2.0,
+            }),
+            Drawing::Plain,
+        ),
+        PrimitiveKind::Cuboid => (wide_cuboid(&mut rng, center, size, view), Drawing::Plain),
+        PrimitiveKind::Sgc => {
+            let (p, profile) = wide_sgc(&mut rng, center, size, view);
+            (p, Drawing::Profile(profile))
+        }
+        PrimitiveKind::Bgc => {
+            let (p, spine) = wide_bgc(&mut rng, center, size, view);
+            (p, Drawing::Spine(spine))
+        }
+    };
+    let strokes = conditioned(&truth, &drawing, style, &mut rng, condition, hidden_lines);
+    Scene {
+        truth,
+        strokes,
+        style,
+    }
+}
+
+/// Draws a given cylinder, cone, sphere or box under `condition`, with hidden lines when
+/// `hidden_lines` (an assembly's parts), as [`scene_with`] draws its primitives.
+pub(crate) fn draw_with(
+    truth: &Primitive,
+    style: Style,
+    rng: &mut Rng,
+    condition: Condition,
+    hidden_lines: bool,
+) -> Vec<SynthStroke> {
+    assert!(
+        !matches!(truth, Primitive::Sgc(_) | Primitive::Bgc(_)),
+        "draw_with() takes cylinders, cones, spheres and boxes"
+    );
+    conditioned(truth, &Drawing::Plain, style, rng, condition, hidden_lines)
+}
+
+/// Records the curves of `truth` and draws them under `condition`.
+fn conditioned(
+    truth: &Primitive,
+    drawing: &Drawing,
+    style: Style,
+    rng: &mut Rng,
+    condition: Condition,
+    hidden_lines: bool,
+) -> Vec<SynthStroke> {
+    let mut pen = Pen {
+        rng,
+        style,
+        size: truth.size(),
+        strokes: Vec::new(),
+        record: Some(Vec::new()),
+        hidden: hidden_lines,
+    };
+    match (truth, drawing) {
+        (Primitive::Cylinder(c), _) => {
+            pen.revolution(c.center, c.axis, c.length, &|_| (c.radius, 0.0));
+        }
+        (Primitive::Cone(c), _) => {
+            let (rb, rt) = (c.radius_bottom, c.radius_top);
+            pen.revolution(c.center, c.axis, c.length, &|t| {
+                (rb + (rt - rb) * t, rt - rb)
+            });
+        }
+        (Primitive::Sphere(s), _) => pen.sphere(s.center, s.radius),
+        (Primitive::Cuboid(b), _) => pen.cuboid(b),
+        (Primitive::Sgc(s), Drawing::Profile(profile)) => {
+            pen.revolution(s.center, s.axis, s.length, &|t| profile.at(t));
+        }
+        (Primitive::Bgc(_), Drawing::Spine(spine)) => pen.spine_tube(spine),
+        (p, d) => unreachable!("{p:?} is drawn by {d:?}"),
+    }
+    pen.render(condition);
+    pen.strokes
+}
+
+/// The largest extent of a polyline's bounding box.
+fn extent(points: &[DVec2]) -> f64 {
+    let (lo, hi) = points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    (hi - lo).max_element().max(0.0)
+}
+
+/// `a` then `b`, with `a` turned so that it ends at the end of `b` it is nearest to and
+/// `b` turned to start there.
+fn chain(a: &[DVec2], b: &[DVec2]) -> Vec<DVec2> {
+    let (Some(a0), Some(a1), Some(b0), Some(b1)) = (a.first(), a.last(), b.first(), b.last())
+    else {
+        return a.iter().chain(b).copied().collect();
+    };
+    // The pairing of ends that are nearest: (a's end at the joint, b's end at the joint).
+    let pairs = [(a1, b0), (a1, b1), (a0, b0), (a0, b1)];
+    let best = (0..4)
+        .min_by(|i, j| {
+            let d = |k: usize| pairs[k].0.distance(*pairs[k].1);
+            d(*i).total_cmp(&d(*j))
+        })
+        .unwrap_or(0);
+    let mut first = a.to_vec();
+    let mut second = b.to_vec();
+    if best >= 2 {
+        first.reverse();
+    }
+    if best % 2 == 1 {
+        second.reverse();
+    }
+    first.extend(second);
+    first
+}
+
+impl Pen<'_> {
+    /// A bent tube along any spine: the outlines and the end circles as [`Pen::tube`]
+    /// draws them.
+    fn spine_tube(&mut self, spine: &SpineCurve) {
+        for (side, name) in [(1.0, "left"), (-1.0, "right")] {
+            let dense: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    let u = f64::from(i) / 200.0;
+                    let t = spine.tangent(u).truncate();
+                    let nu = DVec2::new(-t.y, t.x).normalize_or_zero();
+                    spine.point(u).truncate() + nu * (side * spine.radius(u))
+                })
+                .collect();
+            self.open(&dense, StrokeClass::Silhouette, name, 1.0);
+        }
+        let (t0, t1) = (spine.tangent(0.0), spine.tangent(1.0));
+        let (r0, r1) = (spine.radius(0.0), spine.radius(1.0));
+        self.end(spine.point(0.0), -t0, t0, r0, spine.slope(0.0), "bottom");
+        self.end(spine.point(1.0), t1, t1, r1, spine.slope(1.0), "top");
+    }
+
+    /// Draws the recorded ideals under `condition` (module docs, "Conditions").
+    fn render(&mut self, condition: Condition) {
+        let mut ideals = self.record.take().unwrap_or_default();
+        if condition == Condition::Joined {
+            ideals = self.join(ideals);
+        }
+        let missing = if condition == Condition::Missing {
+            let candidates: Vec<usize> = (0..ideals.len())
+                .filter(|i| ideals[*i].class == StrokeClass::Silhouette && !ideals[*i].hidden())
+                .collect();
+            let pick = (self.rng.next_u64() % candidates.len().max(1) as u64) as usize;
+            candidates.get(pick).copied()
+        } else {
+            None
+        };
+        for (i, ideal) in ideals.iter().enumerate() {
+            let scale = extent(&ideal.points).min(self.size);
+            if missing == Some(i) {
+                self.draw_missing(ideal, scale);
+                continue;
+            }
+            let copies = if condition == Condition::Sketchy && self.rng.chance(0.8) {
+                2 + (self.rng.next_u64() % 2) as usize
+            } else {
+                1
+            };
+            for copy in 0..copies {
+                let shift = if copy == 0 {
+                    DVec2::ZERO
+                } else {
+                    DVec2::from_angle(self.rng.range(0.0, TAU))
+                        * (self.rng.range(0.003, 0.012) * scale)
+                };
+                let label = if copies > 1 {
+                    format!("{} (copy {}/{copies})", ideal.label, copy + 1)
+                } else {
+                    ideal.label.clone()
+                };
+                self.draw_ideal(ideal, &label, scale, condition, shift);
+            }
+        }
+    }
+
+    /// Joins strokes across corners: the outlines of a solid of revolution or a tube and
+    /// its far end's front arc into one U stroke; one or two pairs of box edges that meet
+    /// at a corner into L strokes.
+    fn join(&mut self, ideals: Vec<Ideal>) -> Vec<Ideal> {
+        let find = |pred: &dyn Fn(&Ideal) -> bool| ideals.iter().position(pred);
+        let left = find(&|i| i.label == "left");
+        let right = find(&|i| i.label == "right");
+        let arc = find(&|i| !i.closed && i.class == StrokeClass::Feature && !i.hidden());
+        if let (Some(l), Some(r), Some(a)) = (left, right, arc) {
+            let u = chain(
+                &chain(&ideals[l].points, &ideals[a].points),
+                &ideals[r].points,
+            );
+            let joined = Ideal {
+                points: u,
+                closed: false,
+                class: StrokeClass::Silhouette,
+                label: format!("U: left + {} + right", ideals[a].label),
+                gap_factor: 0.0,
+            };
+            let mut out: Vec<Ideal> = ideals
+                .into_iter()
+                .enumerate()
+                .filter(|(k, _)| ![l, r, a].contains(k))
+                .map(|(_, i)| i)
+                .collect();
+            out.push(joined);
+            return out;
+        }
+        // Box edges: pairs sharing a corner, taken in a random order, at most two.
+        let edges: Vec<usize> = (0..ideals.len())
+            .filter(|k| ideals[*k].label.starts_with("edge"))
+            .collect();
+        let tol = 1e-6 * self.size;
+        let mut pairs = Vec::new();
+        for (x, a) in edges.iter().enumerate() {
+            for b in &edges[x + 1..] {
+                let (pa, pb) = (&ideals[*a].points, &ideals[*b].points);
+                let meet = [pa[0], pa[pa.len() - 1]].iter().any(|p| {
+                    [pb[0], pb[pb.len() - 1]]
+                        .iter()
+                        .any(|q| p.distance(*q) < tol)
+                });
+                if meet {
+                    pairs.push((*a, *b));
+                }
+            }
+        }
+        let mut used: Vec<usize> = Vec::new();
+        let mut joined = Vec::new();
+        let wanted = 1 + (self.rng.next_u64() % 2) as usize;
+        while joined.len() < wanted && !pairs.is_empty() {
+            let (a, b) = pairs.swap_remove((self.rng.next_u64() % pairs.len() as u64) as usize);
+            if used.contains(&a) || used.contains(&b) {
+                continue;
+            }
+            used.extend([a, b]);
+            joined.push(Ideal {
+                points: chain(&ideals[a].points, &ideals[b].points),
+                closed: false,
+                class: StrokeClass::Silhouette,
+                label: format!("L: {} + {}", ideals[a].label, ideals[b].label),
+                gap_factor: 0.0,
+            });
+        }
+        let mut out: Vec<Ideal> = ideals
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| !used.contains(k))
+            .map(|(_, i)| i)
+            .collect();
+        out.extend(joined);
+        out
+    }
+
+    /// One drawing of an ideal: over- and undershoots and gaps (larger under
+    /// [`Condition::Overshoots`]), in pieces under [`Condition::Fragments`], moved by
+    /// `shift` (a sketchy copy).
+    fn draw_ideal(
+        &mut self,
+        ideal: &Ideal,
+        label: &str,
+        scale: f64,
+        condition: Condition,
+        shift: DVec2,
+    ) {
+        let total = *cumulative(&ideal.points).last().unwrap_or(&0.0);
+        if total <= 0.0 {
+            return;
+        }
+        let heavy = condition == Condition::Overshoots;
+        let (s0, s1) = if ideal.closed {
+            let extra = if heavy {
+                self.rng.range(-0.08, 0.08) * total
+            } else {
+                0.0
+            };
+            (0.0, total + extra)
+        } else {
+            let reach = if heavy { 0.15 } else { self.style.overshoot } * scale;
+            let limit = 0.3 * total;
+            let a = (self.rng.range(-1.0, 1.0) * reach).clamp(-limit, limit);
+            let b = (self.rng.range(-1.0, 1.0) * reach).clamp(-limit, limit);
+            (-a, total + b)
+        };
+        let mut pieces = vec![(s0, s1)];
+        if condition == Condition::Fragments && self.rng.chance(0.7) {
+            let n = 3 + (self.rng.next_u64() % 3) as usize;
+            let mut cuts: Vec<f64> = (1..n)
+                .map(|k| {
+                    let even = k as f64 / n as f64;
+                    s0 + (s1 - s0) * (even + self.rng.range(-0.3, 0.3) / n as f64)
+                })
+                .collect();
+            cuts.sort_by(f64::total_cmp);
+            let mut bounds = vec![s0];
+            bounds.extend(cuts);
+            bounds.push(s1);
+            pieces = bounds
+                .windows(2)
+                .map(|w| {
+                    // Each joint a small gap or overlap, up to 2 % of the curve.
+                    let d0 = self.rng.range(-0.02, 0.02) * total;
+                    let d1 = self.rng.range(-0.02, 0.02) * total;
+                    (w[0] + d0, w[1] - d1)
+                })
+                .collect();
+            if let Some(first) = pieces.first_mut() {
+                first.0 = s0;
+            }
+            if let Some(last) = pieces.last_mut() {
+                last.1 = s1;
+            }
+        } else if !ideal.closed {
+            let (chance, lo, hi) = if heavy {
+                (0.6, 0.04, 0.12)
+            } else {
+                (self.style.gap_chance * ideal.gap_factor, 0.02, 0.06)
+            };
+            if self.rng.chance(chance) {
+                let at = s0 + (s1 - s0) * self.rng.range(0.3, 0.7);
+                let gap = self.rng.range(lo, hi) * total;
+                pieces = vec![(s0, at - gap / 2.0), (at + gap / 2.0, s1)];
+            }
+        }
+        let n = pieces.len();
+        for (k, (a, b)) in pieces.into_iter().enumerate() {
+            if b - a <= 0.0 {
+                continue;
+            }
+            let points: Vec<DVec2> = self
+                .humanize_with(&ideal.points, a, b, scale)
+                .into_iter()
+                .map(|p| p + shift)
+                .collect();
+            let name = if n > 1 {
+                format!("{label} ({}/{n})", k + 1)
+            } else {
+                label.to_owned()
+            };
+            self.emit(points, ideal.class, name);
+        }
+    }
+
+    /// An ideal with 20–60 % of its length left out, anywhere along it.
+    fn draw_missing(&mut self, ideal: &Ideal, scale: f64) {
+        let total = *cumulative(&ideal.points).last().unwrap_or(&0.0);
+        let f = self.rng.range(0.2, 0.6);
+        let a = self.rng.range(0.0, 1.0 - f);
+        let (cut0, cut1) = (a * total, (a + f) * total);
+        let mut n = 0;
+        for (s0, s1) in [(0.0, cut0), (cut1, total)] {
+            if s1 - s0 < 0.03 * total {
+                continue;
+            }
+            n += 1;
+            let points = self.humanize_with(&ideal.points, s0, s1, scale);
+            self.emit(
+                points,
+                ideal.class,
+                format!("{} (part {n}, {:.0} % missing)", ideal.label, 100.0 * f),
+            );
+        }
+    }
 }

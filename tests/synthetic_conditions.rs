@@ -1,0 +1,1130 @@
+//! Snapping under the drawing conditions of issue 16: other hands, other shapes, other
+//! views, and the classes from the automatic classifier.
+//!
+//! `synthetic_snap` draws kind shapes from a designer's view and hands the snapper the
+//! renderer's true stroke classes. Here every case is drawn by the conditioned renderer
+//! (`support::synth::scene_with`, module docs "Conditions"): the wider variety of shapes
+//! (cylinders of length over radius 0.1–20, thin discs to rods; boxes from cubes to 1:15
+//! slabs and planks; C and S spined, flared bent tubes), under each [`Condition`] (plain;
+//! near-axial and side-on views; 20–60 % of a silhouette missing; large overshoots and
+//! gaps; sketchy doubled lines; U and L strokes joined across corners; lines in short
+//! fragments), with hidden lines in every odd case (half of the scenes). The strokes
+//! become a [`Sketch`] without classes, and [`SnapContext::from_sketch`] preprocesses and
+//! classifies them as the app does. Each primitive is then dropped off its truth by
+//! [`Perturbation::ISSUE_16`] (centre by up to 10 % of its size, axis by up to 10°, each
+//! size by ±25 %; `support::assemblies::perturbed_placement`) and snapped with
+//! [`snap`] and the default settings.
+//!
+//! The assemblies section does the same for every part of each assembly kind
+//! (`support::assemblies::assembly_with`: stacks, tables with thin disc or slab tops on
+//! rod legs, balls with tubes, bricks with studs, boxes with pipes), all parts drawn
+//! together in one view under the same condition and snapped one by one among the
+//! clutter of the others' strokes.
+//!
+//! A case is judged as `synthetic_snap` judges it (`support::judge`: centre within 3 % of
+//! the size, axis within 5°, radii and lengths within 7 %). For a failed case the snap is
+//! also started from the truth itself: a failure that persists there is the drawing's or
+//! the objective's, not the search's ("truth" column).
+//!
+//! The table has one row per kind, per condition, with and without hidden lines, per
+//! assembly kind and per condition among the assemblies: cases, successes, rate, the
+//! failures that persist from the truth, the share of strokes the classifier gave
+//! another class than the renderer drew them with (joined strokes have no single class
+//! and are left out), and the most common failed criteria. A matrix of rates per kind
+//! and condition follows.
+//!
+//! Two tests:
+//! - [`conditions_meet_the_issue_targets`] (ignored: today's snapper does not meet them)
+//!   asserts exactly the issue's targets: ≥ 95 % per kind and per assembly kind, ≥ 90 %
+//!   per condition (single primitives and assemblies).
+//! - [`conditions_stay_above_todays_floor`] runs [`FLOOR_CASES`] cases per kind and
+//!   condition and [`FLOOR_ASSEMBLIES`] assemblies per kind and condition, and asserts
+//!   the regression floors ([`KIND_FLOOR`], [`CONDITION_FLOOR`], [`ASSEMBLY_FLOOR`],
+//!   [`ASSEMBLY_CONDITION_FLOOR`]): today's rates minus a few points.
+//!
+//! Both are deterministic.
+//!
+//! Environment (all optional): `GEOSNAP_SYNTH_CONDITION_CASES` (cases per kind and
+//! condition of the acceptance run, default [`ACCEPTANCE_CASES`]);
+//! `GEOSNAP_SYNTH_CONDITION_ASSEMBLIES` (assemblies per kind and condition of the
+//! acceptance run, default [`ACCEPTANCE_ASSEMBLIES`]); `GEOSNAP_SYNTH_CONDITION_PNG` (a
+//! folder: an overlay PNG of every failed case, strokes grey, truth green, dropped blue,
+//! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case);
+//! `GEOSNAP_SYNTH_CONDITION_PROGRESS` (set: prints each drawing to stderr as it starts
+//! and ends); `GEOSNAP_SYNTH_CONDITION_ONLY` (comma-separated kind, assembly kind and
+//! condition names: runs only those drawings, for example `sgc,table,near-axial`; the
+//! floors and targets still apply to what ran);
+//! `GEOSNAP_SYNTH_CONDITION_SHOW` (`kind:condition:case`, for example
+//! `cylinder:joined:3` or `table:side-on:1`: runs only that case, prints its analysis,
+//! every part of an assembly, and writes its PNGs, failed or not, to the PNG folder or
+//! the temporary
+//! folder).
+//!
+//! ```text
+//! GEOSNAP_SYNTH_CONDITION_PNG=/tmp/cond cargo test --release --no-default-features \
+//!     --test synthetic_conditions -- --ignored --nocapture
+//! ```
+
+#![expect(clippy::print_stdout, reason = "the test prints its tables")]
+
+mod support;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use geosnap::core::geom::projection::view_from_sketch;
+use geosnap::core::primitive::{Primitive, PrimitiveKind};
+use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
+use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+use glam::DVec2;
+use support::assemblies::{assembly_with, perturbed_placement, AssemblyKind, Perturbation};
+use support::judge::{describe, distance_to, evaluate, Errors};
+use support::overlay::write_overlay;
+use support::synth::{scene_with, Condition, Rng, SynthStroke};
+
+/// Cases per kind and condition of the acceptance run unless
+/// `GEOSNAP_SYNTH_CONDITION_CASES` says otherwise.
+const ACCEPTANCE_CASES: usize = 24;
+/// Assemblies per kind and condition of the acceptance run unless
+/// `GEOSNAP_SYNTH_CONDITION_ASSEMBLIES` says otherwise.
+const ACCEPTANCE_ASSEMBLIES: usize = 4;
+/// Cases per kind and condition of the floor test (fixed: the floors were measured with
+/// it).
+const FLOOR_CASES: usize = 4;
+/// Assemblies per kind and condition of the floor test (fixed, as [`FLOOR_CASES`]).
+const FLOOR_ASSEMBLIES: usize = 1;
+/// The issue's target per kind (single primitives) and per assembly kind (its parts).
+const REQUIRED_KIND_RATE: f64 = 0.95;
+/// The issue's target per condition (single primitives, and parts of assemblies).
+const REQUIRED_CONDITION_RATE: f64 = 0.90;
+
+/// Today's floor per kind in the floor test ([`FLOOR_CASES`], 32 cases per kind): the
+/// rate measured when the test was written (cylinder 78.1 %, cone 87.5 %, sphere 100 %,
+/// box 75.0 %, SGC 81.2 %, BGC 31.2 %) minus about 5 points, rounded down to 5 %.
+/// Raise these as snapping improves; the target is [`REQUIRED_KIND_RATE`].
+const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
+    (PrimitiveKind::Cylinder, 0.70),
+    (PrimitiveKind::Cone, 0.80),
+    (PrimitiveKind::Sphere, 0.95),
+    (PrimitiveKind::Cuboid, 0.70),
+    (PrimitiveKind::Sgc, 0.75),
+    (PrimitiveKind::Bgc, 0.25),
+];
+/// Today's floor per condition in the floor test (24 cases per condition), as
+/// [`KIND_FLOOR`]: measured plain 91.7 %, near-axial 58.3 %, side-on 79.2 %, missing
+/// 91.7 %, overshoots 70.8 %, sketchy 83.3 %, joined 54.2 %, fragments 75.0 %. The
+/// target is [`REQUIRED_CONDITION_RATE`].
+const CONDITION_FLOOR: [(Condition, f64); 8] = [
+    (Condition::Plain, 0.85),
+    (Condition::NearAxial, 0.50),
+    (Condition::SideOn, 0.70),
+    (Condition::Missing, 0.85),
+    (Condition::Overshoots, 0.65),
+    (Condition::Sketchy, 0.75),
+    (Condition::Joined, 0.45),
+    (Condition::Fragments, 0.70),
+];
+/// Today's floor per assembly kind (its parts; 23–39 per kind) in the floor test, as
+/// [`KIND_FLOOR`]: measured stack 78.3 %, table 57.9 %, ball+tubes 93.3 %, brick+studs
+/// 82.1 %, box+pipes 85.2 %. The target is [`REQUIRED_KIND_RATE`].
+const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
+    (AssemblyKind::Stack, 0.70),
+    (AssemblyKind::Table, 0.50),
+    (AssemblyKind::SphereTubes, 0.85),
+    (AssemblyKind::BrickStuds, 0.75),
+    (AssemblyKind::BoxPipes, 0.80),
+];
+/// Today's floor per condition among the assemblies' parts (18–23 per condition) in the
+/// floor test, as [`KIND_FLOOR`]: measured plain 94.7 %, near-axial 78.3 %, side-on
+/// 72.2 %, missing 80.0 %, overshoots 90.9 %, sketchy 94.4 %, joined 22.2 %, fragments
+/// 89.5 %. The target is [`REQUIRED_CONDITION_RATE`].
+const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
+    (Condition::Plain, 0.85),
+    (Condition::NearAxial, 0.70),
+    (Condition::SideOn, 0.65),
+    (Condition::Missing, 0.75),
+    (Condition::Overshoots, 0.85),
+    (Condition::Sketchy, 0.85),
+    (Condition::Joined, 0.15),
+    (Condition::Fragments, 0.80),
+];
+
+/// Drawings (`kind:condition:case`) on which today's snapper aborts the process: its
+/// explanation score ([`snap`] → `Scored::of`) asks for an allocation of about 18 GB.
+/// They are not run and count as failed (`abort`); `GEOSNAP_SYNTH_CONDITION_SHOW` runs
+/// one anyway. Remove them as the snapper is mended.
+const ABORTS: &[&str] = &["sgc:plain:32", "sgc:sketchy:20", "sgc:joined:34"];
+
+/// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
+/// the model's projected curve in the renderer check. Measured: SGCs up to 7.9 % in
+/// near-axial views (an end ring's one-sided slope, whose error the contour's shift
+/// along the axis magnifies by a_z²/ρ², see `synthetic_snap`'s renderer test), BGCs up to
+/// 3.8 %.
+const SMOOTH_TOL: f64 = 0.1;
+
+/// What a case drew: a single primitive, or an assembly whose parts are judged one by one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Subject {
+    /// A primitive of this kind alone.
+    Single(PrimitiveKind),
+    /// An assembly of this kind.
+    Assembly(AssemblyKind),
+}
+
+impl Subject {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Single(k) => k.name(),
+            Self::Assembly(k) => k.name(),
+        }
+    }
+
+    /// The subject named `name` (a kind's or an assembly kind's name).
+    fn from_name(name: &str) -> Option<Self> {
+        PrimitiveKind::from_name(name)
+            .map(Self::Single)
+            .or_else(|| {
+                AssemblyKind::ALL
+                    .into_iter()
+                    .find(|k| k.name() == name)
+                    .map(Self::Assembly)
+            })
+    }
+
+    /// Its position in the seed.
+    fn ordinal(self) -> u64 {
+        match self {
+            Self::Single(k) => PrimitiveKind::ALL.iter().position(|x| *x == k).unwrap_or(0) as u64,
+            Self::Assembly(k) => {
+                10 + AssemblyKind::ALL.iter().position(|x| *x == k).unwrap_or(0) as u64
+            }
+        }
+    }
+}
+
+/// One drawing to run: a subject under a condition, its index and whether it shows
+/// hidden lines (odd indices).
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    subject: Subject,
+    condition: Condition,
+    index: usize,
+}
+
+impl Job {
+    fn seed(self) -> u64 {
+        let c = Condition::ALL
+            .iter()
+            .position(|x| *x == self.condition)
+            .unwrap_or(0) as u64;
+        0xC0_0000_0000 + 1_000_000 * (self.subject.ordinal() + 1) + 10_000 * c + self.index as u64
+    }
+
+    fn hidden_lines(self) -> bool {
+        self.index % 2 == 1
+    }
+
+    fn name(self) -> String {
+        format!(
+            "{}:{}:{}",
+            self.subject.name(),
+            self.condition.name(),
+            self.index
+        )
+    }
+}
+
+/// The judgement of one snapped primitive (a single one or one part of an assembly).
+#[derive(Clone, Debug)]
+struct Outcome {
+    job: Job,
+    /// The part's index in its assembly.
+    part: Option<usize>,
+    /// The failed criteria (`"error"` when the snap returned an error).
+    failed: Vec<&'static str>,
+    /// The shape's class among its kind's ([`shape_class`]).
+    shape: Option<&'static str>,
+    /// For a failure: whether it persists when the snap starts from the truth.
+    at_truth: Option<bool>,
+    /// The part's strokes (or the scene's) that the classifier gave another class than
+    /// the renderer, and those compared (joined strokes are left out).
+    misclassified: (usize, usize),
+    elapsed: Duration,
+}
+
+impl Outcome {
+    fn ok(&self) -> bool {
+        self.failed.is_empty()
+    }
+}
+
+/// The extremes of the wider variety, reported apart: thin discs (length under 0.25 ×
+/// the radius) and rods (over 8 ×) among cylinders, flat boxes (a side under 1/4 of the
+/// largest: slabs and planks) among boxes, S and C spines among bent tubes.
+fn shape_class(truth: &Primitive) -> Option<&'static str> {
+    match truth {
+        Primitive::Cylinder(c) if c.length < 0.25 * c.radius => Some("thin discs"),
+        Primitive::Cylinder(c) if c.length > 8.0 * c.radius => Some("rods"),
+        Primitive::Cuboid(b) if b.size.min_element() < 0.25 * b.size.max_element() => {
+            Some("flat boxes")
+        }
+        Primitive::Bgc(b) => {
+            // The signed turns of the spine about its plane's normal: an S turns both ways.
+            let turns: Vec<f64> = b
+                .spine
+                .windows(3)
+                .map(|w| (w[1] - w[0]).cross(w[2] - w[1]).dot(b.plane_normal))
+                .collect();
+            let both = turns.iter().any(|t| *t > 0.0) && turns.iter().any(|t| *t < 0.0);
+            Some(if both { "S tubes" } else { "C tubes" })
+        }
+        _ => None,
+    }
+}
+
+/// The criteria `e` fails, as short keys.
+fn failed_criteria(e: &Errors) -> Vec<&'static str> {
+    let mut out = Vec::new();
+    for f in e.failures() {
+        for key in ["centre", "axis", "radius", "length"] {
+            if f.starts_with(key) {
+                out.push(key);
+            }
+        }
+    }
+    out
+}
+
+/// The strokes as a sketch without classes, as a drawing arrives in the app.
+fn sketch_of(strokes: &[SynthStroke]) -> Sketch {
+    Sketch {
+        strokes: strokes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| Stroke {
+                id: StrokeId(i as u32),
+                points: s.points.clone(),
+                closed: false,
+                class_override: None,
+            })
+            .collect(),
+        view_box: None,
+    }
+}
+
+/// Strokes among `which` whose class in `context` is not the renderer's, and those
+/// compared (joined strokes and strokes dropped by preprocessing are left out).
+fn misclassified(
+    context: &SnapContext,
+    strokes: &[SynthStroke],
+    which: &[usize],
+) -> (usize, usize) {
+    let (mut wrong, mut total) = (0, 0);
+    for &i in which {
+        let s = &strokes[i];
+        if s.label.starts_with("U:") || s.label.starts_with("L:") {
+            continue;
+        }
+        if let Some(c) = context.stroke(StrokeId(i as u32)) {
+            total += 1;
+            if c.class != s.class {
+                wrong += 1;
+            }
+        }
+    }
+    (wrong, total)
+}
+
+/// The class of every stroke as the renderer drew it and as the classifier saw it.
+fn class_lines(out: &mut String, context: &SnapContext, strokes: &[SynthStroke]) {
+    let name = |c: StrokeClass| match c {
+        StrokeClass::Feature => "feature",
+        StrokeClass::Silhouette => "silhouette",
+    };
+    for (i, s) in strokes.iter().enumerate() {
+        let seen = context
+            .stroke(StrokeId(i as u32))
+            .map_or("dropped", |c| name(c.class));
+        let mark = if seen == name(s.class) { "" } else { "  ≠" };
+        let _ = writeln!(
+            out,
+            "      {i:>3} {:<48} {:<10} → {seen}{mark}",
+            s.label,
+            name(s.class)
+        );
+    }
+}
+
+/// Snaps `truth` dropped off by the issue's perturbation and judges it; writes the
+/// analysis into `report` when the case fails or is `shown`, and its overlay into `png`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one case's inputs, passed straight on"
+)]
+fn judge_part(
+    job: Job,
+    part: Option<usize>,
+    truth: &Primitive,
+    context: &SnapContext,
+    strokes: &[SynthStroke],
+    own: &[usize],
+    shown: bool,
+    png: Option<&Path>,
+    report: &mut String,
+) -> Outcome {
+    let mut rng = Rng::new(job.seed() ^ 0xD80F_D80F ^ (part.unwrap_or(0) as u64) << 32);
+    let place = perturbed_placement(truth, &mut rng, Perturbation::ISSUE_16);
+    let dropped = Primitive::from_placement(truth.kind(), &place, truth.size());
+    let run = |start: &Primitive| -> (Result<SnapResult, String>, Option<Errors>) {
+        let result = snap(context, start, &SnapSettings::default()).map_err(|e| e.to_string());
+        let errors = result.as_ref().ok().map(|r| evaluate(truth, &r.primitive));
+        (result, errors)
+    };
+    let start = Instant::now();
+    let (result, errors) = run(&dropped);
+    let elapsed = start.elapsed();
+    let failed = errors
+        .as_ref()
+        .map_or_else(|| vec!["error"], failed_criteria);
+    let at_truth = (!failed.is_empty()).then(|| {
+        let (r, e) = run(truth);
+        r.is_err() || e.is_some_and(|e| !e.failures().is_empty())
+    });
+    let outcome = Outcome {
+        job,
+        part,
+        shape: shape_class(truth),
+        failed,
+        at_truth,
+        misclassified: misclassified(context, strokes, own),
+        elapsed,
+    };
+    if outcome.ok() && !shown {
+        return outcome;
+    }
+    let part_name = part.map_or_else(String::new, |p| {
+        format!(" part {p} ({})", truth.kind().name())
+    });
+    let verdict = match (&result, &errors) {
+        (Err(e), _) => format!("snap failed: {e}"),
+        (Ok(_), Some(e)) if !e.failures().is_empty() => e.failures().join(", "),
+        _ => "recovered".to_owned(),
+    };
+    let persists = match outcome.at_truth {
+        Some(true) => "; fails from the truth too",
+        Some(false) => "; recovered from the truth",
+        None => "",
+    };
+    let _ = writeln!(
+        report,
+        "  {}{part_name} (seed {:#x}{}): {verdict}{persists}; classes wrong {}/{}",
+        job.name(),
+        job.seed(),
+        if job.hidden_lines() {
+            ", hidden lines"
+        } else {
+            ""
+        },
+        outcome.misclassified.0,
+        outcome.misclassified.1
+    );
+    if shown {
+        let _ = writeln!(report, "    truth   {}", describe(truth));
+        let _ = writeln!(report, "    dropped {}", describe(&dropped));
+        if let Ok(r) = &result {
+            let _ = writeln!(
+                report,
+                "    snapped {} (rms {:.2} %S)",
+                describe(&r.primitive),
+                100.0 * r.rms / truth.size()
+            );
+        }
+    }
+    if let Some(folder) = png {
+        let suffix = part.map_or_else(String::new, |p| format!("_part{p}"));
+        let path = folder.join(format!(
+            "cond_{}_{}_{:03}{suffix}.png",
+            job.subject.name().replace('+', "_"),
+            job.condition.name(),
+            job.index
+        ));
+        let points: Vec<&[DVec2]> = strokes.iter().map(|s| s.points.as_slice()).collect();
+        let snapped = result.as_ref().ok().map(|r| &r.primitive);
+        match write_overlay(&path, &points, truth, &dropped, snapped) {
+            Ok(()) => {
+                let _ = writeln!(report, "    overlay: {}", path.display());
+            }
+            Err(e) => {
+                let _ = writeln!(report, "    overlay not written: {e}");
+            }
+        }
+    }
+    outcome
+}
+
+/// The outcome of a drawing in [`ABORTS`]: failed, not run.
+fn aborted(job: Job) -> Outcome {
+    Outcome {
+        job,
+        part: None,
+        failed: vec!["abort"],
+        shape: None,
+        at_truth: None,
+        misclassified: (0, 0),
+        elapsed: Duration::ZERO,
+    }
+}
+
+/// Runs one job: its outcomes (one per part of an assembly) and its report.
+fn run_job(job: Job, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) {
+    let mut report = String::new();
+    let hidden = job.hidden_lines();
+    match job.subject {
+        Subject::Single(kind) => {
+            let scene = scene_with(kind, job.seed(), job.condition, hidden, None);
+            let context = SnapContext::from_sketch(&sketch_of(&scene.strokes));
+            if shown {
+                let _ = writeln!(report, "  {} strokes (drawn as → classified):", job.name());
+                class_lines(&mut report, &context, &scene.strokes);
+            }
+            let all: Vec<usize> = (0..scene.strokes.len()).collect();
+            let outcome = judge_part(
+                job,
+                None,
+                &scene.truth,
+                &context,
+                &scene.strokes,
+                &all,
+                shown,
+                png,
+                &mut report,
+            );
+            (vec![outcome], report)
+        }
+        Subject::Assembly(kind) => {
+            let assembly = assembly_with(kind, job.seed(), job.condition, hidden);
+            let context = SnapContext::from_sketch(&sketch_of(&assembly.strokes));
+            if shown {
+                let _ = writeln!(report, "  {} strokes (drawn as → classified):", job.name());
+                class_lines(&mut report, &context, &assembly.strokes);
+            }
+            let outcomes = assembly
+                .parts
+                .iter()
+                .enumerate()
+                .map(|(i, truth)| {
+                    let own: Vec<usize> = (0..assembly.strokes.len())
+                        .filter(|k| assembly.part_of.get(*k) == Some(&i))
+                        .collect();
+                    judge_part(
+                        job,
+                        Some(i),
+                        truth,
+                        &context,
+                        &assembly.strokes,
+                        &own,
+                        shown,
+                        png,
+                        &mut report,
+                    )
+                })
+                .collect();
+            (outcomes, report)
+        }
+    }
+}
+
+/// The settings of a run.
+struct Run {
+    cases: usize,
+    assemblies: usize,
+    /// Where the overlays of failed cases go.
+    png: Option<PathBuf>,
+    /// Where the overlays of the shown case go.
+    show_png: PathBuf,
+    show: Option<(Subject, Condition, usize)>,
+    list: bool,
+    /// Print each job's name to stderr as it starts and ends.
+    progress: bool,
+    /// Only these subjects (none: all) …
+    only_subjects: Vec<Subject>,
+    /// … and these conditions (none: all).
+    only_conditions: Vec<Condition>,
+}
+
+impl Run {
+    /// A run of `cases` and `assemblies` per kind and condition, with the diagnostics
+    /// the environment asks for.
+    fn from_env(cases: usize, assemblies: usize) -> Self {
+        let show = std::env::var("GEOSNAP_SYNTH_CONDITION_SHOW")
+            .ok()
+            .and_then(|v| {
+                let mut parts = v.split(':');
+                let subject = Subject::from_name(parts.next()?.trim())?;
+                let condition = Condition::from_name(parts.next()?.trim())?;
+                let index = parts.next()?.trim().parse().ok()?;
+                Some((subject, condition, index))
+            });
+        let png = std::env::var_os("GEOSNAP_SYNTH_CONDITION_PNG").map(PathBuf::from);
+        let only: Vec<String> = std::env::var("GEOSNAP_SYNTH_CONDITION_ONLY")
+            .map(|v| v.split(',').map(|n| n.trim().to_owned()).collect())
+            .unwrap_or_default();
+        Self {
+            cases,
+            assemblies,
+            show_png: png.clone().unwrap_or_else(std::env::temp_dir),
+            png,
+            show,
+            list: std::env::var_os("GEOSNAP_SYNTH_CONDITION_LIST").is_some(),
+            progress: std::env::var_os("GEOSNAP_SYNTH_CONDITION_PROGRESS").is_some(),
+            only_subjects: only.iter().filter_map(|n| Subject::from_name(n)).collect(),
+            only_conditions: only
+                .iter()
+                .filter_map(|n| Condition::from_name(n))
+                .collect(),
+        }
+    }
+}
+
+/// Every outcome of a run, in a deterministic order, and the reports of its failures.
+fn run_all(run: &Run) -> (Vec<Outcome>, String) {
+    let mut jobs = Vec::new();
+    for kind in PrimitiveKind::ALL {
+        for condition in Condition::ALL {
+            for index in 0..run.cases {
+                jobs.push(Job {
+                    subject: Subject::Single(kind),
+                    condition,
+                    index,
+                });
+            }
+        }
+    }
+    for kind in AssemblyKind::ALL {
+        for condition in Condition::ALL {
+            for index in 0..run.assemblies {
+                jobs.push(Job {
+                    subject: Subject::Assembly(kind),
+                    condition,
+                    index,
+                });
+            }
+        }
+    }
+    jobs.retain(|j| {
+        (run.only_subjects.is_empty() || run.only_subjects.contains(&j.subject))
+            && (run.only_conditions.is_empty() || run.only_conditions.contains(&j.condition))
+    });
+    if let Some((subject, condition, index)) = run.show {
+        jobs = vec![Job {
+            subject,
+            condition,
+            index,
+        }];
+    }
+    let next = AtomicUsize::new(0);
+    let done: Mutex<Vec<(usize, Vec<Outcome>, String)>> = Mutex::new(Vec::new());
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get().min(4));
+    std::thread::scope(|scope| {
+        for t in 0..threads {
+            let (next, done, jobs) = (&next, &done, &jobs);
+            std::thread::Builder::new()
+                .name(format!("conditions-{t}"))
+                .spawn_scoped(scope, move || loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(job) = jobs.get(i) else { break };
+                    let shown = run
+                        .show
+                        .is_some_and(|s| s == (job.subject, job.condition, job.index));
+                    let png = if shown {
+                        Some(run.show_png.as_path())
+                    } else {
+                        run.png.as_deref()
+                    };
+                    if run.progress {
+                        eprintln!("start {}", job.name());
+                    }
+                    let (outcomes, report) = if ABORTS.contains(&job.name().as_str()) && !shown {
+                        (vec![aborted(*job)], String::new())
+                    } else {
+                        run_job(*job, shown, png)
+                    };
+                    if run.progress {
+                        eprintln!("end {}", job.name());
+                    }
+                    done.lock()
+                        .expect("no worker panicked")
+                        .push((i, outcomes, report));
+                })
+                .expect("a thread");
+        }
+    });
+    let mut done = done.into_inner().expect("no worker panicked");
+    done.sort_by_key(|d| d.0);
+    let mut outcomes = Vec::new();
+    let mut report = String::new();
+    for (i, o, r) in done {
+        let job = jobs[i];
+        let shown = run
+            .show
+            .is_some_and(|s| s == (job.subject, job.condition, job.index));
+        if run.list || shown {
+            report.push_str(&r);
+        }
+        outcomes.extend(o);
+    }
+    (outcomes, report)
+}
+
+/// Counts, rate and main failure reasons of a group of outcomes.
+struct Tally {
+    cases: usize,
+    ok: usize,
+    at_truth: usize,
+    wrong_classes: (usize, usize),
+    reasons: BTreeMap<&'static str, usize>,
+    slowest: Duration,
+}
+
+impl Tally {
+    fn of<'a>(outcomes: impl IntoIterator<Item = &'a Outcome>) -> Self {
+        let mut t = Self {
+            cases: 0,
+            ok: 0,
+            at_truth: 0,
+            wrong_classes: (0, 0),
+            reasons: BTreeMap::new(),
+            slowest: Duration::ZERO,
+        };
+        for o in outcomes {
+            t.cases += 1;
+            t.ok += usize::from(o.ok());
+            t.at_truth += usize::from(o.at_truth == Some(true));
+            t.wrong_classes.0 += o.misclassified.0;
+            t.wrong_classes.1 += o.misclassified.1;
+            for r in &o.failed {
+                *t.reasons.entry(r).or_default() += 1;
+            }
+            t.slowest = t.slowest.max(o.elapsed);
+        }
+        t
+    }
+
+    fn rate(&self) -> f64 {
+        self.ok as f64 / self.cases.max(1) as f64
+    }
+
+    fn row(&self, label: &str) -> String {
+        let mut reasons: Vec<(&str, usize)> = self.reasons.iter().map(|(k, v)| (*k, *v)).collect();
+        reasons.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        let reasons: Vec<String> = reasons.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        format!(
+            "{label:<16}{:>6}{:>6}{:>7.1}%{:>7}{:>8.1}%{:>8.2}s  {}",
+            self.cases,
+            self.ok,
+            100.0 * self.rate(),
+            self.at_truth,
+            100.0 * self.wrong_classes.0 as f64 / self.wrong_classes.1.max(1) as f64,
+            self.slowest.as_secs_f64(),
+            reasons.join(", ")
+        )
+    }
+}
+
+/// The rates of a run, per group.
+struct Rates {
+    kinds: Vec<(PrimitiveKind, f64)>,
+    conditions: Vec<(Condition, f64)>,
+    assemblies: Vec<(AssemblyKind, f64)>,
+    assembly_conditions: Vec<(Condition, f64)>,
+}
+
+/// Prints the tables of a run and returns its rates.
+fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Duration) -> Rates {
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "{title}: {} cases per kind and condition, {} assemblies per kind and condition, \
+         {:.1} s wall\n\
+         drops: centre ±10 % of the size, axis ±10°, sizes ±25 %; classes from the \
+         classifier; hidden lines in odd cases\n\
+         truth = failures that persist when the snap starts from the truth; cls = strokes \
+         the classifier gave another class\n\
+         (joined strokes left out); slowest = the slowest single snap; reasons = failed \
+         criteria (error = the snap returned an error)",
+        run.cases,
+        run.assemblies,
+        wall.as_secs_f64()
+    );
+    let header = format!(
+        "{:<16}{:>6}{:>6}{:>8}{:>7}{:>9}{:>9}  {}",
+        "", "cases", "ok", "rate", "truth", "cls", "slowest", "main failure reasons"
+    );
+    let mut rates = Rates {
+        kinds: Vec::new(),
+        conditions: Vec::new(),
+        assemblies: Vec::new(),
+        assembly_conditions: Vec::new(),
+    };
+    single_tables(&mut table, &header, outcomes, &mut rates);
+    if run.assemblies > 0 {
+        assembly_tables(&mut table, &header, outcomes, &mut rates);
+    }
+    let failures = if failures.is_empty() {
+        String::new()
+    } else {
+        format!("\ncases:\n{failures}")
+    };
+    println!("{table}{failures}");
+    rates
+}
+
+/// The single primitives' rows: per kind, per condition, with and without hidden lines,
+/// and the matrix of rates.
+fn single_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: &mut Rates) {
+    let single = |o: &&Outcome| matches!(o.job.subject, Subject::Single(_));
+    let _ = writeln!(table, "\nsingle primitives, per kind\n{header}");
+    for kind in PrimitiveKind::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(single)
+                .filter(|o| o.job.subject == Subject::Single(kind)),
+        );
+        if t.cases > 0 {
+            rates.kinds.push((kind, t.rate()));
+        }
+        let _ = writeln!(table, "{}", t.row(kind.name()));
+    }
+    for shape in ["thin discs", "rods", "flat boxes", "C tubes", "S tubes"] {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(single)
+                .filter(|o| o.shape == Some(shape)),
+        );
+        let _ = writeln!(table, "{}", t.row(&format!("  {shape}")));
+    }
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(single)).row("all")
+    );
+    let _ = writeln!(table, "\nsingle primitives, per condition\n{header}");
+    for condition in Condition::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(single)
+                .filter(|o| o.job.condition == condition),
+        );
+        if t.cases > 0 {
+            rates.conditions.push((condition, t.rate()));
+        }
+        let _ = writeln!(table, "{}", t.row(condition.name()));
+    }
+    for (hidden, name) in [(true, "hidden lines"), (false, "no hidden lines")] {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(single)
+                .filter(|o| o.job.hidden_lines() == hidden),
+        );
+        let _ = writeln!(table, "{}", t.row(name));
+    }
+    let _ = writeln!(
+        table,
+        "\nsingle primitives, rate per kind (rows) and condition (columns)"
+    );
+    let _ = write!(table, "{:<10}", "");
+    for condition in Condition::ALL {
+        let _ = write!(table, "{:>11}", condition.name());
+    }
+    let _ = writeln!(table);
+    for kind in PrimitiveKind::ALL {
+        let _ = write!(table, "{:<10}", kind.name());
+        for condition in Condition::ALL {
+            let t = Tally::of(outcomes.iter().filter(single).filter(|o| {
+                o.job.subject == Subject::Single(kind) && o.job.condition == condition
+            }));
+            let _ = write!(table, "{:>10.0}%", 100.0 * t.rate());
+        }
+        let _ = writeln!(table);
+    }
+}
+
+/// The assemblies' rows: per assembly kind (table tops and legs apart) and per
+/// condition.
+fn assembly_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates: &mut Rates) {
+    let part = |o: &&Outcome| matches!(o.job.subject, Subject::Assembly(_));
+    let _ = writeln!(
+        table,
+        "\nassemblies, every part, per assembly kind\n{header}"
+    );
+    for kind in AssemblyKind::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(part)
+                .filter(|o| o.job.subject == Subject::Assembly(kind)),
+        );
+        if t.cases > 0 {
+            rates.assemblies.push((kind, t.rate()));
+        }
+        let _ = writeln!(table, "{}", t.row(kind.name()));
+    }
+    let tables = |top: bool| {
+        move |o: &&Outcome| {
+            o.job.subject == Subject::Assembly(AssemblyKind::Table) && (o.part == Some(0)) == top
+        }
+    };
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(tables(true))).row("  table tops")
+    );
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(tables(false))).row("  table legs")
+    );
+    let _ = writeln!(
+        table,
+        "{}",
+        Tally::of(outcomes.iter().filter(part)).row("all")
+    );
+    let _ = writeln!(table, "\nassemblies, every part, per condition\n{header}");
+    for condition in Condition::ALL {
+        let t = Tally::of(
+            outcomes
+                .iter()
+                .filter(part)
+                .filter(|o| o.job.condition == condition),
+        );
+        if t.cases > 0 {
+            rates.assembly_conditions.push((condition, t.rate()));
+        }
+        let _ = writeln!(table, "{}", t.row(condition.name()));
+    }
+}
+
+/// The groups of `rates` below `floor(group)`, in words.
+fn below<T: Copy>(
+    rates: &[(T, f64)],
+    floor: impl Fn(T) -> f64,
+    name: impl Fn(T) -> String,
+) -> Vec<String> {
+    rates
+        .iter()
+        .filter(|(g, r)| *r < floor(*g))
+        .map(|(g, r)| {
+            format!(
+                "{} {:.1} % < {:.1} %",
+                name(*g),
+                100.0 * r,
+                100.0 * floor(*g)
+            )
+        })
+        .collect()
+}
+
+fn env_usize(name: &str) -> Option<usize> {
+    std::env::var(name).ok().and_then(|v| v.trim().parse().ok())
+}
+
+/// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
+#[test]
+#[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
+            assemblies per kind and condition (release): single primitives 73.4 % \
+            (cylinder 75.6, cone 83.1, sphere 99.1, box 78.8, SGC 78.1, BGC 25.6); \
+            conditions plain 85.4, near-axial 56.7, side-on 77.1, missing 85.0, overshoots \
+            73.3, sketchy 83.8, joined 53.8, fragments 72.1; assembly parts 79.8 % (stack \
+            80.9, table 61.0 with tops 34.4, ball+tubes 88.8, brick+studs 87.1, box+pipes \
+            85.0); assembly conditions from 44.3 (joined) to 94.7 (sketchy)"]
+fn conditions_meet_the_issue_targets() {
+    let run = Run::from_env(
+        env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
+        env_usize("GEOSNAP_SYNTH_CONDITION_ASSEMBLIES").unwrap_or(ACCEPTANCE_ASSEMBLIES),
+    );
+    let start = Instant::now();
+    let (outcomes, failures) = run_all(&run);
+    let rates = report(
+        "drawing conditions (acceptance)",
+        &run,
+        &outcomes,
+        &failures,
+        start.elapsed(),
+    );
+    if run.show.is_some() {
+        // One case shown for a diagnosis: no rates to judge.
+        return;
+    }
+    let mut missed = below(
+        &rates.kinds,
+        |_| REQUIRED_KIND_RATE,
+        |k| k.name().to_owned(),
+    );
+    missed.extend(below(
+        &rates.conditions,
+        |_| REQUIRED_CONDITION_RATE,
+        |c| c.name().to_owned(),
+    ));
+    missed.extend(below(
+        &rates.assemblies,
+        |_| REQUIRED_KIND_RATE,
+        |k| k.name().to_owned(),
+    ));
+    missed.extend(below(
+        &rates.assembly_conditions,
+        |_| REQUIRED_CONDITION_RATE,
+        |c| format!("assemblies {}", c.name()),
+    ));
+    assert!(
+        missed.is_empty(),
+        "below the issue's targets: {} (table above)",
+        missed.join(", ")
+    );
+}
+
+/// Today's rates, minus a few points, hold on a small fixed set of cases.
+#[test]
+fn conditions_stay_above_todays_floor() {
+    let run = Run::from_env(FLOOR_CASES, FLOOR_ASSEMBLIES);
+    let start = Instant::now();
+    let (outcomes, failures) = run_all(&run);
+    let rates = report(
+        "drawing conditions (floor)",
+        &run,
+        &outcomes,
+        &failures,
+        start.elapsed(),
+    );
+    if run.show.is_some() {
+        // One case shown for a diagnosis: no rates to judge.
+        return;
+    }
+    let lookup = |table: &[(PrimitiveKind, f64)], k: PrimitiveKind| {
+        table.iter().find(|(x, _)| *x == k).map_or(0.0, |(_, f)| *f)
+    };
+    let mut missed = below(
+        &rates.kinds,
+        |k| lookup(&KIND_FLOOR, k),
+        |k| k.name().to_owned(),
+    );
+    missed.extend(below(
+        &rates.conditions,
+        |c| {
+            CONDITION_FLOOR
+                .iter()
+                .find(|(x, _)| *x == c)
+                .map_or(0.0, |(_, f)| *f)
+        },
+        |c| c.name().to_owned(),
+    ));
+    missed.extend(below(
+        &rates.assemblies,
+        |k| {
+            ASSEMBLY_FLOOR
+                .iter()
+                .find(|(x, _)| *x == k)
+                .map_or(0.0, |(_, f)| *f)
+        },
+        |k| k.name().to_owned(),
+    ));
+    missed.extend(below(
+        &rates.assembly_conditions,
+        |c| {
+            ASSEMBLY_CONDITION_FLOOR
+                .iter()
+                .find(|(x, _)| *x == c)
+                .map_or(0.0, |(_, f)| *f)
+        },
+        |c| format!("assemblies {}", c.name()),
+    ));
+    assert!(
+        missed.is_empty(),
+        "below today's floor (a regression): {} (table above)",
+        missed.join(", ")
+    );
+}
+
+/// Drawn with a perfect hand in the plain, near-axial and side-on views, every stroke of
+/// the wider shapes lies on a visible projected curve of its truth, and every visible
+/// curve is drawn (for an SGC or a BGC, whose short outlines in steep views may lie
+/// nearer an end ellipse than their own contour, only the first): the conditioned
+/// renderer draws what the primitives project to.
+/// Cylinders, cones, spheres and boxes agree to 1e-5 of the size. An SGC's and a BGC's
+/// smooth surfaces are approximated by the model from eight samples: their strokes are
+/// allowed [`SMOOTH_TOL`] of the size (see `synthetic_snap`'s renderer test for where
+/// the approximation is worst: the outlines' ends).
+#[test]
+fn the_conditioned_renderer_draws_the_projected_curves() {
+    let perfect = support::synth::Style::perfect();
+    let mut worst: BTreeMap<&'static str, f64> = BTreeMap::new();
+    for kind in PrimitiveKind::ALL {
+        for condition in [Condition::Plain, Condition::NearAxial, Condition::SideOn] {
+            for index in 0..6 {
+                let job = Job {
+                    subject: Subject::Single(kind),
+                    condition,
+                    index,
+                };
+                let s = scene_with(kind, job.seed(), condition, false, Some(perfect));
+                let size = s.truth.size();
+                let smooth = matches!(kind, PrimitiveKind::Sgc | PrimitiveKind::Bgc);
+                let tol = if smooth { SMOOTH_TOL } else { 1e-5 };
+                let shape = s.truth.current_shape();
+                let mut drawn = vec![false; shape.curves.len()];
+                for stroke in &s.strokes {
+                    let points: Vec<DVec2> =
+                        stroke.points.iter().map(|p| view_from_sketch(*p)).collect();
+                    let best = shape
+                        .curves
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, c)| c.visible)
+                        .map(|(k, c)| {
+                            let off = points
+                                .iter()
+                                .step_by(3)
+                                .map(|p| distance_to(&c.curve, *p) / size)
+                                .fold(0.0, f64::max);
+                            (off, k)
+                        })
+                        .min_by(|a, b| a.0.total_cmp(&b.0));
+                    let Some((off, k)) = best else {
+                        panic!("{}: no curve for {}", job.name(), stroke.label)
+                    };
+                    let w = worst.entry(kind.name()).or_default();
+                    *w = w.max(off);
+                    assert!(
+                        off <= tol,
+                        "{}: stroke {} is {:.4} of the size off its curve {}",
+                        job.name(),
+                        stroke.label,
+                        off,
+                        shape.curves[k].name
+                    );
+                    drawn[k] = true;
+                }
+                for (curve, drawn) in shape.curves.iter().zip(&drawn) {
+                    // A smooth primitive's short outlines in steep views may lie nearer
+                    // its end ellipses than its own (approximate) contours.
+                    assert!(
+                        !curve.visible || *drawn || smooth,
+                        "{}: the visible curve {} is not drawn",
+                        job.name(),
+                        curve.name
+                    );
+                }
+            }
+        }
+    }
+    println!(
+        "conditioned renderer, worst stroke offset per kind (fraction of the size): {worst:?}"
+    );
+}
