@@ -399,6 +399,16 @@ fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
                 }
             }
             StepOutcome::Skipped(s) => println!("  step {index}: skipped: {}", s.reason),
+            StepOutcome::Refused {
+                snap, confidence, ..
+            } => {
+                println!(
+                    "  step {index}: {} refused (confidence {:.2}): {}",
+                    snap.primitive.kind().name(),
+                    confidence.value,
+                    confidence.reason.as_deref().unwrap_or("no evidence for it")
+                );
+            }
         }
     }
     (solve_ms, conflicts)

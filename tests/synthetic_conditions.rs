@@ -79,7 +79,7 @@ use std::time::{Duration, Instant};
 use geosnap::core::geom::projection::view_from_sketch;
 use geosnap::core::primitive::{Primitive, PrimitiveKind};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
-use geosnap::core::snap::{snap, SnapContext, SnapResult, SnapSettings};
+use geosnap::core::snap::{nobody, snap, SnapContext, SnapResult, SnapSettings, Verdict};
 use glam::DVec2;
 use support::assemblies::{assembly_with, perturbed_placement, AssemblyKind, Perturbation};
 use support::judge::{describe, distance_to, evaluate, Errors};
@@ -153,11 +153,12 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
     (Condition::Fragments, 0.80),
 ];
 
-/// Drawings (`kind:condition:case`) on which today's snapper aborts the process: its
-/// explanation score ([`snap`] → `Scored::of`) asks for an allocation of about 18 GB.
-/// They are not run and count as failed (`abort`); `GEOSNAP_SYNTH_CONDITION_SHOW` runs
-/// one anyway. Remove them as the snapper is mended.
-const ABORTS: &[&str] = &["sgc:plain:32", "sgc:sketchy:20", "sgc:joined:34"];
+/// The largest share of good parts whose snap may call itself doubtful or refused (the
+/// issue's target, met today: 19 of 1410 at 24 cases per kind and condition).
+const MAX_GOOD_FLAGGED: f64 = 0.05;
+/// Today's floor for the share of wrong parts whose snap calls itself doubtful or refused
+/// (77 of 378, 20 %, at 24 cases per kind and condition); the target is 90 %.
+const WRONG_FLAGGED_FLOOR: f64 = 0.12;
 
 /// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
 /// the model's projected curve in the renderer check. Measured: SGCs up to 7.9 % in
@@ -254,6 +255,10 @@ struct Outcome {
     /// the renderer, and those compared (joined strokes are left out).
     misclassified: (usize, usize),
     elapsed: Duration,
+    /// Whether the snap called itself doubtful or refused (a snap error counts as
+    /// refused), and its confidence's evidence in words.
+    flagged: bool,
+    evidence: String,
 }
 
 impl Outcome {
@@ -359,6 +364,29 @@ fn class_lines(out: &mut String, context: &SnapContext, strokes: &[SynthStroke])
     }
 }
 
+/// Whether a snap of `dropped` calls itself doubtful or refused (no snap: refused), and
+/// its confidence's evidence in words.
+fn judged_confidence(result: Option<&SnapResult>, dropped: &Primitive) -> (bool, String) {
+    let confidence = result.map(|r| r.confidence(dropped, &nobody, &SnapSettings::default()));
+    let flagged = confidence
+        .as_ref()
+        .is_none_or(|c| c.verdict != Verdict::Good);
+    let evidence = confidence.as_ref().map_or_else(String::new, |c| {
+        let e = &c.evidence;
+        format!(
+            "{} {:.2}: rms {:.2} %, drawn {:.0} %, moved {:.0} %, size ×{:.2}, margin {}",
+            c.verdict,
+            c.value,
+            100.0 * e.rms,
+            100.0 * e.support,
+            100.0 * e.moved,
+            e.resized,
+            e.margin.map_or("—".to_owned(), |m| format!("{m:.2}"))
+        )
+    });
+    (flagged, evidence)
+}
+
 /// Snaps `truth` dropped off by the issue's perturbation and judges it; writes the
 /// analysis into `report` when the case fails or is `shown`, and its overlay into `png`.
 #[expect(
@@ -394,7 +422,10 @@ fn judge_part(
         let (r, e) = run(truth);
         r.is_err() || e.is_some_and(|e| !e.failures().is_empty())
     });
+    let (flagged, evidence) = judged_confidence(result.as_ref().ok(), &dropped);
     let outcome = Outcome {
+        flagged,
+        evidence,
         job,
         part,
         shape: shape_class(truth),
@@ -464,19 +495,6 @@ fn judge_part(
         }
     }
     outcome
-}
-
-/// The outcome of a drawing in [`ABORTS`]: failed, not run.
-fn aborted(job: Job) -> Outcome {
-    Outcome {
-        job,
-        part: None,
-        failed: vec!["abort"],
-        shape: None,
-        at_truth: None,
-        misclassified: (0, 0),
-        elapsed: Duration::ZERO,
-    }
 }
 
 /// Runs one job: its outcomes (one per part of an assembly) and its report.
@@ -648,11 +666,7 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
                     if run.progress {
                         eprintln!("start {}", job.name());
                     }
-                    let (outcomes, report) = if ABORTS.contains(&job.name().as_str()) && !shown {
-                        (vec![aborted(*job)], String::new())
-                    } else {
-                        run_job(*job, shown, png)
-                    };
+                    let (outcomes, report) = run_job(*job, shown, png);
                     if run.progress {
                         eprintln!("end {}", job.name());
                     }
@@ -741,6 +755,8 @@ struct Rates {
     conditions: Vec<(Condition, f64)>,
     assemblies: Vec<(AssemblyKind, f64)>,
     assembly_conditions: Vec<(Condition, f64)>,
+    /// How the confidences sort good and wrong parts.
+    flags: Flags,
 }
 
 /// Prints the tables of a run and returns its rates.
@@ -769,10 +785,23 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
         conditions: Vec::new(),
         assemblies: Vec::new(),
         assembly_conditions: Vec::new(),
+        flags: Flags::default(),
     };
     single_tables(&mut table, &header, outcomes, &mut rates);
     if run.assemblies > 0 {
         assembly_tables(&mut table, &header, outcomes, &mut rates);
+    }
+    rates.flags = confidence_table(&mut table, outcomes);
+    if std::env::var_os("GEOSNAP_SYNTH_CONDITION_EVIDENCE").is_some() {
+        for o in outcomes {
+            let _ = writeln!(
+                table,
+                "evidence {} ok={} {}",
+                o.job.name(),
+                o.ok(),
+                o.evidence
+            );
+        }
     }
     let failures = if failures.is_empty() {
         String::new()
@@ -781,6 +810,50 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
     };
     println!("{table}{failures}");
     rates
+}
+
+/// How the snaps' confidences sort the parts, over everything run.
+#[derive(Clone, Copy, Debug, Default)]
+struct Flags {
+    good: usize,
+    good_flagged: usize,
+    wrong: usize,
+    wrong_flagged: usize,
+}
+
+/// The confidence rows: per group (single primitives, assemblies), good parts called
+/// doubtful or refused and wrong parts called so.
+fn confidence_table(table: &mut String, outcomes: &[Outcome]) -> Flags {
+    let _ = writeln!(
+        table,
+        "\nconfidence: flagged = called doubtful or refused (a snap error counts as refused)"
+    );
+    let mut all = Flags::default();
+    for (name, single) in [("single primitives", true), ("assembly parts", false)] {
+        let mut f = Flags::default();
+        for o in outcomes
+            .iter()
+            .filter(|o| matches!(o.job.subject, Subject::Single(_)) == single)
+        {
+            if o.ok() {
+                f.good += 1;
+                f.good_flagged += usize::from(o.flagged);
+            } else {
+                f.wrong += 1;
+                f.wrong_flagged += usize::from(o.flagged);
+            }
+        }
+        let _ = writeln!(
+            table,
+            "{name:<18} good flagged {:>4} of {:<5} wrong flagged {:>4} of {:<5}",
+            f.good_flagged, f.good, f.wrong_flagged, f.wrong
+        );
+        all.good += f.good;
+        all.good_flagged += f.good_flagged;
+        all.wrong += f.wrong;
+        all.wrong_flagged += f.wrong_flagged;
+    }
+    all
 }
 
 /// The single primitives' rows: per kind, per condition, with and without hidden lines,
@@ -939,12 +1012,13 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 73.4 % \
-            (cylinder 75.6, cone 83.1, sphere 99.1, box 78.8, SGC 78.1, BGC 25.6); \
-            conditions plain 85.4, near-axial 56.7, side-on 77.1, missing 85.0, overshoots \
-            73.3, sketchy 83.8, joined 53.8, fragments 72.1; assembly parts 79.8 % (stack \
-            80.9, table 61.0 with tops 34.4, ball+tubes 88.8, brick+studs 87.1, box+pipes \
-            85.0); assembly conditions from 44.3 (joined) to 94.7 (sketchy)"]
+            assemblies per kind and condition (release): single primitives 75.1 % \
+            (cylinder 77.2, cone 86.2, sphere 99.1, box 79.4, SGC 82.5, BGC 26.2); \
+            conditions plain 85.0, near-axial 57.1, side-on 77.1, missing 85.0, overshoots \
+            73.3, sketchy 84.2, joined 67.1, fragments 72.1; assembly parts 82.8 % (stack \
+            84.0, table 62.7 with tops 37.5, ball+tubes 91.2, brick+studs 90.0, box+pipes \
+            90.3); assembly conditions from 68.7 (near-axial) to 94.7 (sketchy); wrong parts \
+            called doubtful or refused 151 of 694 (22 %), good ones 31 of 2481 (1.2 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -983,11 +1057,35 @@ fn conditions_meet_the_issue_targets() {
         |_| REQUIRED_CONDITION_RATE,
         |c| format!("assemblies {}", c.name()),
     ));
+    missed.extend(confidence_misses(rates.flags, 0.90));
     assert!(
         missed.is_empty(),
         "below the issue's targets: {} (table above)",
         missed.join(", ")
     );
+}
+
+/// Where the confidences miss: more than [`MAX_GOOD_FLAGGED`] of the good parts called
+/// doubtful or refused, or less than `wrong_floor` of the wrong parts.
+fn confidence_misses(flags: Flags, wrong_floor: f64) -> Vec<String> {
+    let mut missed = Vec::new();
+    if flags.good_flagged as f64 > MAX_GOOD_FLAGGED * flags.good as f64 {
+        missed.push(format!(
+            "{} of {} good parts called doubtful or refused (at most {:.0} %)",
+            flags.good_flagged,
+            flags.good,
+            100.0 * MAX_GOOD_FLAGGED
+        ));
+    }
+    if (flags.wrong_flagged as f64) < wrong_floor * flags.wrong as f64 {
+        missed.push(format!(
+            "{} of {} wrong parts called doubtful or refused (at least {:.0} %)",
+            flags.wrong_flagged,
+            flags.wrong,
+            100.0 * wrong_floor
+        ));
+    }
+    missed
 }
 
 /// Today's rates, minus a few points, hold on a small fixed set of cases.
@@ -1045,6 +1143,7 @@ fn conditions_stay_above_todays_floor() {
         },
         |c| format!("assemblies {}", c.name()),
     ));
+    missed.extend(confidence_misses(rates.flags, WRONG_FLAGGED_FLOOR));
     assert!(
         missed.is_empty(),
         "below today's floor (a regression): {} (table above)",

@@ -328,7 +328,7 @@ fn run_case(kind: AssemblyKind, index: usize, show: bool) -> CaseResult {
                         .map(|c| format!("{tag}: {}", c.message)),
                 );
             }
-            StepOutcome::Skipped(s) => {
+            StepOutcome::Skipped(s) | StepOutcome::Refused { skipped: s, .. } => {
                 out.skipped += 1;
                 out.report
                     .push(format!("{tag}: step {i} skipped: {}", s.reason));
@@ -417,7 +417,7 @@ fn write_overlays(
             StepOutcome::Placed { snap, .. } => {
                 Some((snap.primitive.clone(), snap.assignment.stroke_ids()))
             }
-            StepOutcome::Skipped(_) => None,
+            StepOutcome::Skipped(_) | StepOutcome::Refused { .. } => None,
         })
         .collect();
     let finals: Vec<(Primitive, Vec<geosnap::core::sketch::StrokeId>)> = doc

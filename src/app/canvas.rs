@@ -763,6 +763,15 @@ impl GeosnapApp {
     }
 }
 
+/// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.
+pub(crate) fn verdict_color(verdict: Verdict) -> Color32 {
+    match verdict {
+        Verdict::Good => Color32::from_rgb(60, 170, 80),
+        Verdict::Doubtful => Color32::from_rgb(235, 160, 20),
+        Verdict::Refused => Color32::from_rgb(210, 60, 50),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use glam::DVec2;
@@ -839,14 +848,5 @@ mod tests {
             .fold(0.0, f64::max);
         assert!(jitter < 0.15, "smoothing damps the zig-zag: {jitter}");
         assert!((distance_to_polyline(DVec2::new(5.0, 3.0), &out) - 3.0).abs() < 0.2);
-    }
-}
-
-/// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.
-pub(crate) fn verdict_color(verdict: Verdict) -> Color32 {
-    match verdict {
-        Verdict::Good => Color32::from_rgb(60, 170, 80),
-        Verdict::Doubtful => Color32::from_rgb(235, 160, 20),
-        Verdict::Refused => Color32::from_rgb(210, 60, 50),
     }
 }

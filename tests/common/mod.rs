@@ -87,7 +87,7 @@ pub(crate) fn run_script_document(
                     ));
                 }
             }
-            StepOutcome::Skipped(s) => {
+            StepOutcome::Skipped(s) | StepOutcome::Refused { skipped: s, .. } => {
                 failures.push(format!("{name} step {i}: skipped: {}", s.reason));
             }
         }

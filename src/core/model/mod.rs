@@ -385,8 +385,19 @@ pub enum StepOutcome {
         /// The global solve that followed.
         solve: Box<GlobalOutcome>,
     },
-    /// The step was skipped.
+    /// The step was skipped (it could not be snapped, or it was not a valid step).
     Skipped(Skipped),
+    /// The primitive snapped, but its confidence refused the snap (see
+    /// [`crate::core::snap::judge`]): nothing was added, and the step is recorded in
+    /// [`Document::skipped`] with the reason.
+    Refused {
+        /// The refused snap.
+        snap: Box<SnapResult>,
+        /// Its confidence.
+        confidence: Box<Confidence>,
+        /// The step as [`Document::skipped`] records it.
+        skipped: Skipped,
+    },
 }
 
 /// Settings of a modelling session: snapping, inference and the global solve.
@@ -420,26 +431,37 @@ pub fn run_steps(
     let mut document = Document::new();
     let mut outcomes = Vec::with_capacity(steps.len());
     for (index, step) in steps.iter().enumerate() {
-        let outcome = match step {
+        let dropped = match step {
             Step::Invalid { reason } => Err(reason.clone()),
             Step::Place { kind, placement } => {
-                let dropped = Primitive::from_placement(*kind, placement, default_size);
-                snap(&context, &dropped, &settings.snap)
-                    .map_err(|e| e.to_string())
-                    .and_then(|result| {
-                        let confidence =
-                            result.confidence(&dropped, &document.owner(), &settings.snap);
-                        match confidence.verdict {
-                            Verdict::Refused => Err(format!(
-                                "the snap was refused: {}",
-                                confidence.reason.as_deref().unwrap_or("no evidence for it")
-                            )),
-                            _ => Ok((result, confidence)),
-                        }
-                    })
+                Ok(Primitive::from_placement(*kind, placement, default_size))
             }
         };
+        let outcome = dropped.and_then(|dropped| {
+            snap(&context, &dropped, &settings.snap)
+                .map_err(|e| e.to_string())
+                .map(|result| {
+                    let confidence = result.confidence(&dropped, &document.owner(), &settings.snap);
+                    (result, confidence)
+                })
+        });
+        let skip = |reason: String| Skipped {
+            step: index,
+            reason,
+        };
         outcomes.push(match outcome {
+            Ok((result, confidence)) if confidence.verdict == Verdict::Refused => {
+                let skipped = skip(format!(
+                    "the snap was refused: {}",
+                    confidence.reason.as_deref().unwrap_or("no evidence for it")
+                ));
+                document.skipped.push(skipped.clone());
+                StepOutcome::Refused {
+                    snap: Box::new(result),
+                    confidence: Box::new(confidence),
+                    skipped,
+                }
+            }
             Ok((result, confidence)) => {
                 let fit = Fit {
                     step: Some(index),
@@ -464,10 +486,7 @@ pub fn run_steps(
                 }
             }
             Err(reason) => {
-                let skipped = Skipped {
-                    step: index,
-                    reason,
-                };
+                let skipped = skip(reason);
                 document.skipped.push(skipped.clone());
                 StepOutcome::Skipped(skipped)
             }
