@@ -388,7 +388,7 @@ impl GeosnapApp {
                 format!(" (confidence {:.0} %)", 100.0 * c)
             });
             ui.label(
-                RichText::new(format!("● snap {verdict}{confidence}"))
+                RichText::new(format!("snap {verdict}{confidence}"))
                     .color(super::canvas::verdict_color(verdict)),
             );
             if let Some(reason) = &placed.fit.reason {

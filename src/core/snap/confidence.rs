@@ -132,7 +132,7 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
             Curve2::Ellipse { .. } => &points[..points.len() - 1],
             Curve2::Polyline(_) => &points[..],
         };
-        let points = densified(points, gate / 2.0);
+        let points = super::resampled(points, gate / 2.0);
         let near = points
             .iter()
             .filter(|p| {
@@ -161,17 +161,6 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
     } else {
         (0.0, 0.0)
     }
-}
-
-/// Points along a polyline no farther apart than `step`.
-fn densified(points: &[DVec2], step: f64) -> Vec<DVec2> {
-    let mut out = Vec::with_capacity(points.len());
-    for w in points.windows(2) {
-        let n = (w[0].distance(w[1]) / step).ceil().clamp(1.0, 64.0) as usize;
-        out.extend((0..n).map(|k| w[0].lerp(w[1], k as f64 / n as f64)));
-    }
-    out.extend(points.last().copied());
-    out
 }
 
 /// The fraction of the stroke length `result` takes that `owner` gives to another part,

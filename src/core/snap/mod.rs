@@ -142,8 +142,9 @@ impl SnapResult {
         )
     }
 
-    /// This snap with `alternative` chosen instead (the chosen one becomes its first
-    /// alternative): for cycling through the readings a snap found.
+    /// This snap with its alternative number `index` chosen instead (the snap it was
+    /// becomes the first alternative): for cycling through the readings a snap found.
+    /// `None` when there is no such alternative.
     pub fn with_alternative(&self, index: usize) -> Option<Self> {
         let alt = self.alternatives.get(index)?;
         let mut alternatives = self.alternatives.clone();
@@ -784,6 +785,34 @@ mod tests {
             length: 70.0,
             radius: 12.0,
         })
+    }
+
+    #[test]
+    fn choosing_an_alternative_swaps_it_with_the_snap() {
+        let context = outline();
+        let result =
+            super::snap(&context, &dragged(52.0), &SnapSettings::default()).expect("it snaps");
+        assert!(
+            result.with_alternative(0).is_none(),
+            "{:?}",
+            result.alternatives
+        );
+        let other = dragged(80.0);
+        let mut with = result.clone();
+        with.alternatives.push(super::Alternative {
+            primitive: other.clone(),
+            assignment: result.assignment.clone(),
+            rms: 3.0,
+            explained: 10.0,
+            distance: 0.4,
+        });
+        let swapped = with.with_alternative(0).expect("one alternative");
+        assert_eq!(swapped.primitive, other);
+        assert!((swapped.rms - 3.0).abs() < 1e-12);
+        assert_eq!(swapped.alternatives.len(), 1);
+        assert_eq!(swapped.alternatives[0].primitive, result.primitive);
+        let back = swapped.with_alternative(0).expect("and back");
+        assert_eq!(back.primitive, result.primitive);
     }
 
     #[test]
