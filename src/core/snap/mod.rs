@@ -100,8 +100,9 @@ pub struct SnapResult {
     pub termination: Termination,
     /// Solver iterations and evaluations over all rounds.
     pub evaluations: u64,
-    /// How much of the drawing it explains (see [`explanation`]), as a length in view
-    /// units; computed for cold snaps, which are compared with other readings.
+    /// How much of the drawing it explains, as a length in view units: the stroke length
+    /// it takes, weighted by closeness, less its visible outline where nothing is drawn.
+    /// Computed for cold snaps, which are compared with other readings.
     pub explained: Option<f64>,
     /// The other readings of the drawing a cold snap found (poses whose outline differs
     /// from this one's), best first; empty for a warm drag frame.
