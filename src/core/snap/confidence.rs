@@ -12,7 +12,8 @@
 //! - **ownership**: how much of the stroke length it takes already belongs to parts placed
 //!   before it (a part dropped on a modelled part, or one that reaches across it);
 //! - **the drop**: how far the snap moved from where it was dropped, and how much it
-//!   changed size (a rough drop lands near its part);
+//!   changed size (a rough drop lands near its part: a hand misses a part's centre by a
+//!   tenth of its size, so a snap that moved more than a third of it is doubted);
 //! - **ambiguity**: the margin over the best *other* reading the snap found (a pose
 //!   whose outline differs, explaining the drawing about as well).
 //!
@@ -293,7 +294,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
             },
         ),
         (
-            ramp(moved, 0.6, 1.5) * ramp(resized, 2.5, 4.5),
+            ramp(moved, 0.35, 1.0) * ramp(resized, 2.5, 4.5),
             format!(
                 "it landed far from the drop (moved {:.0} % of the dropped size, size ×{:.1})",
                 100.0 * moved,

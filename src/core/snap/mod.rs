@@ -128,19 +128,18 @@ pub struct Alternative {
 
 impl SnapResult {
     /// The snap's confidence (see [`judge`]), with `owner` telling which part placed
-    /// before owns a stroke, if any, and the drop it was snapped from.
+    /// before owns a stroke, if any, and the drop it was snapped from. A stroke supports
+    /// a curve within the tight gate of the smaller of the snapped and dropped sizes.
     pub fn confidence(
         &self,
         dropped: &Primitive,
         owner: &Owner<'_>,
         settings: &SnapSettings,
     ) -> Confidence {
-        judge(
-            self,
-            dropped,
-            owner,
-            settings.tight_gate * self.primitive.size(),
-        )
+        // A snap that grew is held to the scale it was dropped at: its own size would
+        // widen the gate within which strokes count as drawing its outline.
+        let scale = self.primitive.size().min(dropped.size());
+        judge(self, dropped, owner, settings.tight_gate * scale)
     }
 
     /// This snap with its alternative number `index` chosen instead (the snap it was
