@@ -216,20 +216,6 @@ struct Judged {
     evidence: String,
 }
 
-/// The sketch folder, or `None` (with a note) when the suite is not asked for.
-fn shared_dir() -> Option<PathBuf> {
-    let Some(dir) = std::env::var_os("GEOSNAP_SHARED_SKETCHES").map(PathBuf::from) else {
-        eprintln!("GEOSNAP_SHARED_SKETCHES is not set: the shared-sketch suite was skipped");
-        return None;
-    };
-    assert!(
-        dir.is_dir(),
-        "GEOSNAP_SHARED_SKETCHES is set but {} is not a folder",
-        dir.display()
-    );
-    Some(dir)
-}
-
 /// The folder of the per-part scripts and references.
 fn parts_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shared_scripts/parts")
@@ -792,7 +778,7 @@ fn stability(dir: &Path) -> (usize, usize) {
 
 #[test]
 fn every_shared_part_has_a_script_and_a_reference() {
-    let Some(dir) = shared_dir() else {
+    let Some(dir) = common::shared_dir() else {
         return;
     };
     let mut shared: Vec<String> = std::fs::read_dir(&dir)
@@ -838,7 +824,7 @@ fn every_shared_part_has_a_script_and_a_reference() {
     reason = "a floor of 0 is today's figure for bent tubes; the check bites once it is raised"
 )]
 fn shared_parts_match_their_references_at_least_as_often_as_today() {
-    let Some(dir) = shared_dir() else {
+    let Some(dir) = common::shared_dir() else {
         return;
     };
     let judged = judge_all(&dir);
@@ -866,7 +852,7 @@ fn shared_parts_match_their_references_at_least_as_often_as_today() {
 
 #[test]
 fn shared_part_drops_are_stable_at_least_as_often_as_today() {
-    let Some(dir) = shared_dir() else {
+    let Some(dir) = common::shared_dir() else {
         return;
     };
     let (stable, total) = stability(&dir);
@@ -879,7 +865,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 #[test]
 #[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 39 of 62 parts good (63 %), 0 of 7 bent tubes, 39 of 62 stable (63 %), 7 of 23 wrong parts and 0 of 39 good ones called doubtful or refused"]
 fn shared_parts_meet_the_targets() {
-    let Some(dir) = shared_dir() else {
+    let Some(dir) = common::shared_dir() else {
         return;
     };
     let judged = judge_all(&dir);

@@ -7,25 +7,11 @@
 mod common;
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use geosnap::core::model::{Document, PrimitiveId};
 use geosnap::core::primitive::PrimitiveKind;
 use geosnap::core::relation::{Mode, RelationKind};
-
-/// The sketch folder, or `None` (with a note) when the suite is not asked for.
-fn shared_dir() -> Option<PathBuf> {
-    let Some(dir) = std::env::var_os("GEOSNAP_SHARED_SKETCHES").map(PathBuf::from) else {
-        eprintln!("GEOSNAP_SHARED_SKETCHES is not set: the shared-sketch suite was skipped");
-        return None;
-    };
-    assert!(
-        dir.is_dir(),
-        "GEOSNAP_SHARED_SKETCHES is set but {} is not a folder",
-        dir.display()
-    );
-    Some(dir)
-}
 
 /// Runs one of our scripts over its shared sketch.
 fn run(name: &str, dir: &Path) -> Document {
@@ -104,7 +90,9 @@ fn fits(document: &Document, name: &str) {
 
 #[test]
 fn the_tables_legs_are_parallel_equal_and_meet_the_top() {
-    let Some(dir) = shared_dir() else { return };
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
     let doc = run("table_plain", &dir);
     fits(&doc, "table_plain");
     let parts: Vec<PrimitiveId> = doc.primitives().map(|(id, _)| id).collect();
@@ -132,7 +120,9 @@ fn the_tables_legs_are_parallel_equal_and_meet_the_top() {
 
 #[test]
 fn the_stacked_cylinders_share_one_axis() {
-    let Some(dir) = shared_dir() else { return };
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
     let doc = run("stacked_cylinders", &dir);
     fits(&doc, "stacked_cylinders");
     let parts: Vec<PrimitiveId> = doc.primitives().map(|(id, _)| id).collect();
@@ -142,7 +132,9 @@ fn the_stacked_cylinders_share_one_axis() {
 
 #[test]
 fn the_tubes_sit_on_the_sphere() {
-    let Some(dir) = shared_dir() else { return };
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
     let doc = run("sphere-tubes", &dir);
     let sphere = of_kind(&doc, PrimitiveKind::Sphere);
     assert_eq!(sphere.len(), 1);

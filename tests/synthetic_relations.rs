@@ -207,19 +207,8 @@ fn part_errors(truth: &Primitive, fit: &Primitive) -> PartErrors {
         centre,
         ..PartErrors::default()
     };
-    let axis = |t: DVec3, f: DVec3| {
-        // (angle, reversed) over the mirror and the two senses.
-        let mut best = (f64::INFINITY, false);
-        for f in [f, mirror(f)] {
-            for (sign, reversed) in [(1.0, false), (-1.0, true)] {
-                let angle = t.angle_between(f * sign).to_degrees();
-                if angle < best.0 {
-                    best = (angle, reversed);
-                }
-            }
-        }
-        best
-    };
+    // (angle, reversed) over the mirror and the two senses.
+    let axis = support::judge::axis_error;
     match (truth, fit) {
         (Primitive::Cylinder(t), Primitive::Cylinder(f)) => {
             e.axis = Some(axis(t.axis, f.axis).0);

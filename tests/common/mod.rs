@@ -99,3 +99,18 @@ pub(crate) fn run_script_document(
     }
     (lines, failures, document)
 }
+
+/// The sketch folder, or `None` (with a note) when the suite is not asked for.
+#[allow(dead_code, reason = "not every test binary uses every helper")]
+pub(crate) fn shared_dir() -> Option<PathBuf> {
+    let Some(dir) = std::env::var_os("GEOSNAP_SHARED_SKETCHES").map(PathBuf::from) else {
+        eprintln!("GEOSNAP_SHARED_SKETCHES is not set: the shared-sketch suite was skipped");
+        return None;
+    };
+    assert!(
+        dir.is_dir(),
+        "GEOSNAP_SHARED_SKETCHES is set but {} is not a folder",
+        dir.display()
+    );
+    Some(dir)
+}
