@@ -169,10 +169,16 @@ fn parse_fit(p: &Value) -> Result<Fit, String> {
             .unwrap_or_default(),
         rms: f.get("rms").and_then(Value::as_f64).unwrap_or(0.0),
         verdict,
-        confidence: f
-            .get("confidence")
-            .and_then(Value::as_f64)
-            .filter(|c| (0.0..=1.0).contains(c)),
+        confidence: match f.get("confidence") {
+            None => None,
+            Some(c) => Some(
+                c.as_f64()
+                    .filter(|c| (0.0..=1.0).contains(c))
+                    .ok_or_else(|| {
+                        format!("`fit.confidence` must be a number in [0, 1], not {c}")
+                    })?,
+            ),
+        },
         reason: f.get("reason").and_then(Value::as_str).map(str::to_owned),
         step,
     })
@@ -587,6 +593,29 @@ mod tests {
                 error.contains("relation 0") && error.contains(says),
                 "{error}"
             );
+        }
+    }
+
+    #[test]
+    fn a_fit_with_an_unknown_verdict_or_a_confidence_out_of_range_is_refused() {
+        let model = |fit: &str| {
+            format!(
+                r#"{{"format":"geosnap-model","version":1,"sketch":"a.svg","primitives":[{{"id":0,"kind":"sphere","center":[0,0,0],"radius":5,"fit":{fit}}}],"relations":[]}}"#
+            )
+        };
+        let ok = model(
+            r#"{"strokes":[1],"rms":0.1,"verdict":"doubtful","confidence":0.3,"reason":"why"}"#,
+        );
+        assert!(parse_model(ok.as_bytes()).is_ok());
+        for fit in [
+            r#"{"strokes":[1],"rms":0.1,"verdict":"great"}"#,
+            r#"{"strokes":[1],"rms":0.1,"verdict":"good","confidence":7}"#,
+            r#"{"strokes":[1],"rms":0.1,"confidence":"high"}"#,
+        ] {
+            let err = parse_model(model(fit).as_bytes())
+                .expect_err(fit)
+                .to_string();
+            assert!(err.contains("fit."), "{fit}: {err}");
         }
     }
 

@@ -141,10 +141,6 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
                     .iter()
                     .flat_map(|s| s.samples.windows(2))
                     .any(|w| crate::core::geom::segment_distance(w[0], w[1], **p) <= gate)
-                    || strokes
-                        .iter()
-                        .flat_map(|s| &s.samples)
-                        .any(|q| q.distance_squared(**p) <= gate * gate)
             })
             .count();
         // An end is drawn whole when it faces the viewer and as its front half when it
