@@ -374,14 +374,15 @@ fn judged_confidence(result: Option<&SnapResult>, dropped: &Primitive) -> (bool,
     let evidence = confidence.as_ref().map_or_else(String::new, |c| {
         let e = &c.evidence;
         format!(
-            "{} {:.2}: rms {:.2} %, drawn {:.0} %, moved {:.0} %, size ×{:.2}, margin {}",
+            "{} {:.2}: rms {:.2} %, drawn {:.0} %, moved {:.0} %, size ×{:.2}, margin {}, depth {:.1} %",
             c.verdict,
             c.value,
             100.0 * e.rms,
             100.0 * e.support,
             100.0 * e.moved,
             e.resized,
-            e.margin.map_or("—".to_owned(), |m| format!("{m:.2}"))
+            e.margin.map_or("—".to_owned(), |m| format!("{m:.2}")),
+            100.0 * e.depth
         )
     });
     (flagged, evidence)

@@ -3,7 +3,7 @@
 //!
 //! A snap can fit its strokes closely and still be wrong: a tube laid on the wrong pair of
 //! strokes fits them at 1 % RMS. What tells a wrong part from a right one is what the
-//! rest of the drawing says about it. [`judge`] weighs five pieces of evidence, each
+//! rest of the drawing says about it. [`judge`] weighs six pieces of evidence, each
 //! turned into a factor in [0, 1] (1: no doubt):
 //!
 //! - **fit**: the RMS distance of its strokes to its curves, relative to its size;
@@ -15,14 +15,17 @@
 //!   changed size (a rough drop lands near its part: a hand misses a part's centre by a
 //!   tenth of its size, so a snap that moved more than a third of it is doubted);
 //! - **ambiguity**: the margin over the best *other* reading the snap found (a pose
-//!   whose outline differs, explaining the drawing about as well).
+//!   whose outline differs, explaining the drawing about as well);
+//! - **depth**: how well the drawing shows the part's length at all ([`depth`]): a part
+//!   seen almost along its axis shows its length only through the flatness of its end
+//!   ellipses, and the strokes' own noise leaves it loose.
 //!
 //! The confidence is the product of the factors; the weakest factor names the reason.
 //! A snap is *good* at a confidence of at least 0.5, *refused* below 0.1 and *doubtful*
 //! in between. Every ramp is relative to the part's size or to its own curves,
 //! never to a number of pixels, so the verdict means the same at any scale.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::assign::{curve_distance, curve_length};
@@ -87,11 +90,15 @@ pub struct Evidence {
     /// Projected distance of the snapped centre from the dropped one, over the dropped
     /// size.
     pub moved: f64,
-    /// How much the size changed, as a factor ≥ 1 either way.
+    /// How much its size in the view changed, as a factor ≥ 1 either way.
     pub resized: f64,
     /// How much more of the drawing the snap explains than its best other reading, over
     /// the length of its visible curves; `None` when it found no other reading.
     pub margin: Option<f64>,
+    /// How loosely the drawing pins the part's extent in depth: the relative error of its
+    /// length along the axis nearest the view direction that the strokes' own noise
+    /// leaves (see [`depth`]); 0 for a sphere and for parts seen from the side.
+    pub depth: f64,
 }
 
 /// A snap's confidence: the verdict, its value in [0, 1] and, when not good, why.
@@ -226,6 +233,76 @@ pub(crate) fn outline_distance(a: &Primitive, b: &Primitive) -> f64 {
     one_way(&ca, &cb).max(one_way(&cb, &ca)) / a.size().max(b.size()).max(f64::MIN_POSITIVE)
 }
 
+/// The size of `primitive`'s image: twice the farthest any point of its projected
+/// curves lies from their centroid.
+fn image_size(primitive: &Primitive) -> f64 {
+    let shape = primitive.current_shape();
+    let points: Vec<DVec2> = shape
+        .curves
+        .iter()
+        .flat_map(|c| c.curve.points(24))
+        .collect();
+    if points.is_empty() {
+        return primitive.size();
+    }
+    let centroid = points.iter().copied().sum::<DVec2>() / points.len() as f64;
+    2.0 * points
+        .iter()
+        .map(|p| p.distance(centroid))
+        .fold(0.0, f64::max)
+}
+
+/// The least error of a drawn cross-section's aspect ratio (minor over major axis of an
+/// end ellipse, or a face's foreshortening), whatever the fit RMS says: a hand that
+/// draws a circle in perspective misjudges its flatness by a percent or more, and the fit
+/// follows the ellipse drawn, so its RMS does not show it.
+const HAND_ASPECT: f64 = 0.01;
+
+/// How loosely a drawing pins `primitive`'s lengths in depth, as a relative error, given
+/// the fit RMS `rms` (view units).
+///
+/// A drawing shows a length L along a unit axis a as its projection ℓ = L·√(1 − a_z²),
+/// and it shows a_z only through the flatness of a cross-section at right angles to the
+/// axis: an end circle's image has minor/major = |a_z|, a face's image is foreshortened
+/// by |a_z|. An error σ of that ratio gives L an error dL/L = |a_z|·σ / (1 − a_z²):
+/// nothing for a part seen from the side, a few percent at 45°, and without bound as the
+/// axis turns towards the viewer, where the drawing shows the length of nothing. σ is the
+/// strokes' RMS over the cross-section's radius, at least [`HAND_ASPECT`]. The drawn
+/// length ℓ itself is known only to the strokes' RMS: a thin disc whose two ellipses lie
+/// a hand's wobble apart shows its thickness barely at all (rms/ℓ). The two errors add in
+/// quadrature. A box has a
+/// length along each of its axes (its cross-section is the face across it); the largest
+/// error counts. A sphere has no axis, and a bent tube's depth is read from its end
+/// ellipses and its plane together: 0 for both.
+pub(crate) fn depth(primitive: &Primitive, rms: f64) -> f64 {
+    let along = |axis: DVec3, length: f64, radius: f64| {
+        let az = axis.z.abs().min(1.0);
+        let sin2 = (1.0 - az * az).max(1e-12);
+        let sigma = (rms / radius.max(f64::MIN_POSITIVE)).max(HAND_ASPECT);
+        let tilt = az * sigma / sin2;
+        let drawn = rms / (length * sin2.sqrt()).max(f64::MIN_POSITIVE);
+        tilt.hypot(drawn)
+    };
+    match primitive {
+        Primitive::Cylinder(c) => along(c.axis, c.length, c.radius),
+        Primitive::Cone(c) => along(c.axis, c.length, c.radius_bottom.max(c.radius_top)),
+        Primitive::Sgc(s) => along(
+            s.axis,
+            s.length,
+            s.radii.iter().copied().fold(0.0, f64::max),
+        ),
+        Primitive::Cuboid(b) => {
+            let s = b.size;
+            let axes = b.axes();
+            [(0, s.y + s.z), (1, s.x + s.z), (2, s.x + s.y)]
+                .into_iter()
+                .map(|(i, across)| along(axes[i], s[i], across / 4.0))
+                .fold(0.0, f64::max)
+        }
+        Primitive::Sphere(_) | Primitive::Bgc(_) => 0.0,
+    }
+}
+
 /// Two readings whose outlines are farther apart than this (relative to the size) are
 /// different readings of the drawing.
 pub(crate) const DISTINCT: f64 = 0.04;
@@ -249,12 +326,15 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
     let (owned, owner_id) = owned(result, owner);
     let moved = (primitive.center().truncate() - dropped.center().truncate()).length()
         / dropped.size().max(f64::MIN_POSITIVE);
-    let factor = size / dropped.size().max(f64::MIN_POSITIVE);
+    // Sizes as drawn: a drop lies in the view plane at its drawn length, and a part seen
+    // along its axis rightly snaps far longer in 3D than it was dropped.
+    let factor = image_size(primitive) / image_size(dropped).max(f64::MIN_POSITIVE);
     let resized = factor.max(1.0 / factor);
     let rival: Option<&Alternative> = result.alternatives.first();
     let margin = rival.map(|alt| {
         (result.explained.unwrap_or(0.0) - alt.explained) / visible_length.max(f64::MIN_POSITIVE)
     });
+    let depth = depth(primitive, result.rms);
     let evidence = Evidence {
         rms,
         support,
@@ -263,8 +343,51 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         moved,
         resized,
         margin,
+        depth,
     };
-    let factors: [(f64, String); 5] = [
+    let factors = weigh(&evidence, factor, rival);
+    let value = factors.iter().map(|(f, _)| f).product::<f64>();
+    let value = if value.is_finite() {
+        value.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let verdict = if value >= GOOD {
+        Verdict::Good
+    } else if value >= REFUSED {
+        Verdict::Doubtful
+    } else {
+        Verdict::Refused
+    };
+    let reason = (verdict != Verdict::Good).then(|| {
+        factors
+            .iter()
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, why)| why.clone())
+            .unwrap_or_default()
+    });
+    Confidence {
+        verdict,
+        value,
+        reason,
+        evidence,
+    }
+}
+
+/// The evidence as factors in [0, 1], each with what it says against the snap in words;
+/// `factor` is the image's size over the drop's, `rival` the best other reading.
+fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64, String); 6] {
+    let Evidence {
+        rms,
+        support,
+        owned,
+        owner: owner_id,
+        moved,
+        resized,
+        margin,
+        depth,
+    } = *evidence;
+    [
         (
             ramp(rms, 0.02, 0.08),
             format!(
@@ -308,40 +431,22 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
                 None => String::new(),
             },
         ),
-    ];
-    let value = factors.iter().map(|(f, _)| f).product::<f64>();
-    let value = if value.is_finite() {
-        value.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let verdict = if value >= GOOD {
-        Verdict::Good
-    } else if value >= REFUSED {
-        Verdict::Doubtful
-    } else {
-        Verdict::Refused
-    };
-    let reason = (verdict != Verdict::Good).then(|| {
-        factors
-            .iter()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, why)| why.clone())
-            .unwrap_or_default()
-    });
-    Confidence {
-        verdict,
-        value,
-        reason,
-        evidence,
-    }
+        (
+            ramp(depth, 0.12, 0.4).max(0.3),
+            format!(
+                "it is seen almost along its axis, so the drawing barely shows its length \
+                 (about ±{:.0} %)",
+                100.0 * depth
+            ),
+        ),
+    ]
 }
 
 #[cfg(test)]
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::{nobody, Verdict};
+    use super::{depth, nobody, Verdict};
     use crate::core::model::Document;
     use crate::core::primitive::{Cuboid, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
@@ -436,6 +541,62 @@ mod tests {
         assert!(confidence.evidence.support < 0.5, "{confidence:?}");
         let reason = confidence.reason.unwrap_or_default();
         assert!(reason.contains("visible outline is drawn"), "{reason}");
+    }
+
+    fn cylinder(axis: DVec3, length: f64, radius: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: axis.normalize(),
+            length,
+            radius,
+        })
+    }
+
+    #[test]
+    fn the_length_is_loose_only_when_seen_along_the_axis() {
+        let rms = 0.5;
+        let at = |z: f64| depth(&cylinder(DVec3::new(1.0, 0.0, z), 100.0, 20.0), rms);
+        // From the side the drawing shows the length as drawn; at 45° a few percent;
+        // towards the view axis it grows without bound.
+        assert!(at(0.0) < 0.01, "{}", at(0.0));
+        assert!(at(1.0) < 0.05, "{}", at(1.0));
+        assert!(at(6.0) > 0.1, "{}", at(6.0));
+        let mut last = 0.0;
+        for z in [0.0, 0.5, 1.0, 2.0, 4.0, 8.0] {
+            assert!(at(z) >= last, "not monotonic at {z}");
+            last = at(z);
+        }
+        // The same pose drawn more roughly pins it less.
+        let rough = depth(&cylinder(DVec3::new(1.0, 0.0, 2.0), 100.0, 20.0), 3.0);
+        assert!(rough > at(2.0), "{rough} vs {}", at(2.0));
+    }
+
+    #[test]
+    fn a_disc_whose_ellipses_lie_a_wobble_apart_has_a_loose_thickness() {
+        // A disc of radius 100 and thickness 10 seen at 60° from its axis: its two
+        // ellipses lie under 9 units apart, and a hand that wobbles by 3 hardly shows it.
+        let disc = cylinder(DVec3::new(0.0, 1.0, 0.5), 10.0, 100.0);
+        assert!(depth(&disc, 3.0) > 0.3, "{}", depth(&disc, 3.0));
+        // The same drawn cleanly, or a rod at the same angle, shows its length well.
+        let rod = cylinder(DVec3::new(0.0, 1.0, 0.5), 200.0, 10.0);
+        assert!(depth(&disc, 0.1) < 0.05, "{}", depth(&disc, 0.1));
+        assert!(depth(&rod, 1.0) < 0.1, "{}", depth(&rod, 1.0));
+    }
+
+    #[test]
+    fn a_box_seen_face_on_has_a_loose_depth_and_a_sphere_none() {
+        let face_on = Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: glam::DQuat::from_rotation_x(0.1),
+            size: DVec3::new(100.0, 80.0, 60.0),
+        });
+        assert!(depth(&face_on, 1.0) > 0.1, "{}", depth(&face_on, 1.0));
+        assert!(depth(&Primitive::Cuboid(turned_box()), 1.0) < 0.1);
+        let sphere = Primitive::Sphere(crate::core::primitive::Sphere {
+            center: DVec3::ZERO,
+            radius: 10.0,
+        });
+        assert!(depth(&sphere, 5.0).abs() < f64::EPSILON);
     }
 
     #[test]
