@@ -97,7 +97,7 @@ pub struct Evidence {
     pub margin: Option<f64>,
     /// How loosely the drawing pins the part's extent in depth: the relative error of its
     /// length along the axis nearest the view direction that the strokes' own noise
-    /// leaves (see [`depth`]); 0 for a sphere and for parts seen from the side.
+    /// leaves (the module docs say how); 0 for a sphere and for parts seen from the side.
     pub depth: f64,
 }
 
