@@ -5,15 +5,30 @@
 //! - solids of revolution, from their end ellipses (below);
 //! - boxes, from the directions of their drawn edges ([`box_poses`]).
 //!
-//! A primitive is dropped in the view plane with a fixed tilt, but the drawing says how
-//! much it really tilts: an end circle seen at elevation φ projects to an ellipse with
-//! minor/major = |sin φ| (the axis' z component). Each feature stroke near an end of the
-//! dropped primitive is fitted with an ellipse (Halíř–Flusser, refined); among those it
-//! fits well (RMS within 8 % of the ellipse) over a quarter of a turn or more, the one
-//! whose centre lies closest to that end, and whose major semi-axis is within a factor 2
-//! of the end's radius, is that end's ellipse. The tilt, radii, and (with both ends) the image
-//! axis, centre and length are then taken from the ellipses. The mirror sign of the tilt
-//! does not change the projection, so the positive one is used.
+//! # End ellipses
+//!
+//! An end circle of a solid of revolution seen at elevation φ projects (orthographically)
+//! to an ellipse with minor/major = |sin φ| (the axis' z component) whose minor axis runs
+//! along the projected axis, whatever the part's proportions. Every stroke near the drop
+//! is fitted with an ellipse (Halíř–Flusser, refined); one it fits well (RMS within 8 % of
+//! the ellipse) over a quarter of a turn or more (an arc the classifier took for an
+//! outline must cover more: 2.5 rad), whose centre lies near an end of the dropped
+//! primitive and whose major semi-axis is within a factor 2 of the dropped radii, may
+//! draw an end.
+//!
+//! Two such ellipses draw the two ends when they agree as a solid's ends must: about the
+//! same minor/major and orientation, their centres offset along their minor axes. Of the
+//! pairs that agree, the one nearest the dropped ends (in place and radius) is taken; the
+//! tilt, the image axis (the minor axes, signed by the offset), the centre (midway), the
+//! length (the offset along the axis) and the radii then all come from the drawing. This
+//! holds for a rod as for a thin disc, whose two large concentric ellipses a tenth of a
+//! radius apart say its tilt and thickness although its outlines are too short to.
+//! Without a pair, the single ellipse nearest a dropped end gives the tilt, the image
+//! axis (its minor axis), the radius and, with the dropped projected length, the centre
+//! on the side of the drop.
+//!
+//! The mirror sign of the tilt does not change the projection, so the positive one is
+//! used.
 
 use glam::{DMat3, DQuat, DVec2, DVec3};
 
@@ -37,49 +52,242 @@ pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Ve
     }
 }
 
-/// The ellipse drawn for an end: centre within `gate` of `center` and major semi-axis
-/// within a factor 2 of `radius`; the closest one.
-fn end_ellipse(context: &SnapContext, center: DVec2, radius: f64, gate: f64) -> Option<Ellipse2> {
-    let mut best: Option<(f64, Ellipse2)> = None;
+/// An ellipse fitted to a stroke, with its major axis the larger (`semi_major ≥
+/// semi_minor`).
+fn normalised(e: Ellipse2) -> Ellipse2 {
+    if e.semi_minor.abs() > e.semi_major.abs() {
+        Ellipse2 {
+            center: e.center,
+            semi_major: e.semi_minor.abs(),
+            semi_minor: e.semi_major.abs(),
+            angle: e.angle + std::f64::consts::FRAC_PI_2,
+        }
+    } else {
+        Ellipse2 {
+            semi_major: e.semi_major.abs(),
+            semi_minor: e.semi_minor.abs(),
+            ..e
+        }
+    }
+}
+
+/// An ellipse a stroke draws (see [`drawn_ellipses`]).
+struct Drawn<'a> {
+    /// The fitted ellipse.
+    ellipse: Ellipse2,
+    /// The stroke.
+    stroke: &'a SnapStroke,
+    /// The stroke's RMS distance to it.
+    rms: f64,
+}
+
+/// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
+/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed).
+fn drawn_ellipses<'a>(
+    context: &'a SnapContext,
+    near: DVec2,
+    reach: f64,
+    radii: (f64, f64),
+) -> Vec<Drawn<'a>> {
+    let mut out = Vec::new();
     for stroke in &context.strokes {
-        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+        if stroke.points.len() < 5 {
             continue;
         }
         let (lo, hi) = stroke.bounds;
-        let near = DVec2::new(center.x.clamp(lo.x, hi.x), center.y.clamp(lo.y, hi.y));
-        if near.distance(center) > gate + 2.0 * radius {
+        let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
+        if closest.distance(near) > reach + 2.0 * radii.1 {
             continue;
         }
         let Some(fit) = fit_ellipse(&stroke.points) else {
             continue;
         };
-        let fit = refine_ellipse(&fit, &stroke.points);
-        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
-        // covers a good part of it (a quarter of the turn) tells the tilt.
-        let rms = (stroke
-            .points
-            .iter()
-            .map(|p| fit.distance(*p).powi(2))
-            .sum::<f64>()
-            / stroke.points.len() as f64)
-            .sqrt();
-        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
-        if !(rms <= 0.08 * fit.semi_major) || covered < 1.5 {
+        let fit = normalised(refine_ellipse(&fit, &stroke.points));
+        if fit.center.distance(near) > reach || !(radii.0..=radii.1).contains(&fit.semi_major) {
             continue;
         }
-        let d = fit.center.distance(center);
-        let ratio = fit.semi_major / radius;
-        if d <= gate && (0.5..=2.0).contains(&ratio) && best.as_ref().is_none_or(|(b, _)| d < *b) {
-            best = Some((d, fit));
+        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
+        // covers a good part of it tells the tilt; an arc classified as an outline must
+        // cover more of the turn, as an outline bent by the hand may fit a short arc.
+        let min_sweep = if stroke.class == StrokeClass::Feature {
+            1.5
+        } else {
+            2.5
+        };
+        let rms = fit.rms_distance(&stroke.points);
+        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
+        if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
+            out.push(Drawn {
+                ellipse: fit,
+                stroke,
+                rms,
+            });
         }
     }
-    best.map(|(_, e)| e)
+    out
+}
+
+/// Whether two strokes draw one ellipse between them (pieces of one end, or one end
+/// drawn twice) rather than two: one ellipse fits both about as well (RMS within 1.5 ×
+/// the worse of their own) as each fits its own.
+fn one_ellipse(a: &Drawn<'_>, b: &Drawn<'_>) -> bool {
+    let points: Vec<DVec2> = a
+        .stroke
+        .points
+        .iter()
+        .chain(&b.stroke.points)
+        .copied()
+        .collect();
+    fit_ellipse(&points).is_some_and(|e| {
+        let e = refine_ellipse(&e, &points);
+        e.rms_distance(&points) <= 1.5 * a.rms.max(b.rms)
+    })
 }
 
 /// The axis with image direction `dir` and out-of-plane component `z` (|z| < 1).
 fn tilted(dir: DVec2, z: f64) -> DVec3 {
     let xy = dir.normalize_or(DVec2::Y) * (1.0 - z * z).max(0.0).sqrt();
     DVec3::new(xy.x, xy.y, z)
+}
+
+/// Minor over major of an ellipse, clamped below 0.95 (a rounder end says little of the
+/// image axis, and a tilt of 1 none of its length).
+fn roundness(e: &Ellipse2) -> f64 {
+    (e.semi_minor / e.semi_major.max(f64::MIN_POSITIVE)).clamp(0.0, 0.95)
+}
+
+/// Ellipses rounder than this do not tell the image axis by their minor axes.
+const ROUND: f64 = 0.9;
+
+/// Whether ellipses `b` and `t` can draw the two ends of one solid of revolution (module
+/// docs): the same roundness within 0.2, major axes within 20° (unless both are nearly
+/// round), and centres offset along the minor axes (across them by at most a quarter of
+/// the major semi-axis).
+fn ends_agree(b: &Ellipse2, t: &Ellipse2) -> bool {
+    let (rb, rt) = (roundness(b), roundness(t));
+    if (rb - rt).abs() > 0.2 {
+        return false;
+    }
+    let round = rb.min(rt) >= ROUND;
+    if !round && b.major_axis().perp_dot(t.major_axis()).abs() > 20f64.to_radians().sin() {
+        return false;
+    }
+    let across = (t.center - b.center).dot(b.major_axis()).abs();
+    round || across <= 0.25 * b.semi_major.max(t.semi_major)
+}
+
+/// What the drawn ends say of a solid of revolution: its image axis (unit, signed
+/// bottom to top), tilt, image centre, projected length and end radii.
+struct Reading {
+    dir: DVec2,
+    z: f64,
+    center: DVec2,
+    projected: f64,
+    radii: (f64, f64),
+}
+
+/// The drawn ends' reading (module docs), or `None` when no ellipse near the drop
+/// draws an end. `ends` are the dropped ends' image centres (bottom, top), `radii` their
+/// radii, `image_dir` the dropped image axis and `projected` its projected length.
+fn read_ends(
+    context: &SnapContext,
+    ends: (DVec2, DVec2),
+    radii: (f64, f64),
+    image_dir: DVec2,
+    projected: f64,
+    gate: f64,
+) -> Option<Reading> {
+    let mid = ends.0.midpoint(ends.1);
+    let reach = gate + ends.0.distance(ends.1) / 2.0;
+    let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
+    let drawn = drawn_ellipses(context, mid, reach, allowed);
+    let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
+    // How far an ellipse is from drawing an end: its centre's distance in gates, its
+    // radius' in log ratio; beyond a gate it does not draw that end.
+    let cost = |e: &Ellipse2, at: DVec2, r: f64| {
+        let d = e.center.distance(at) / gate;
+        (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
+    };
+    let mut pair: Option<(f64, usize, usize)> = None;
+    for (i, b) in ellipses.iter().enumerate() {
+        for (j, t) in ellipses.iter().enumerate() {
+            if i == j || !ends_agree(b, t) {
+                continue;
+            }
+            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1))
+            else {
+                continue;
+            };
+            if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
+                pair = Some((cb + ct, i, j));
+            }
+        }
+    }
+    if let Some((_, i, j)) = pair {
+        let (b, t) = (ellipses[i], ellipses[j]);
+        let z = roundness(b).max(roundness(t));
+        let offset = t.center - b.center;
+        // The image axis: the minor axes (sign-aligned), unless the ends are too round to
+        // tell, then the offset, then the drop's.
+        let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
+        let reference = if offset.length() > 1e-9 * gate {
+            offset
+        } else {
+            image_dir
+        };
+        let dir = if z < ROUND {
+            (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
+                .normalize_or(image_dir)
+        } else {
+            reference.normalize_or(image_dir)
+        };
+        return Some(Reading {
+            dir,
+            z,
+            center: b.center.midpoint(t.center),
+            projected: offset.dot(dir).abs(),
+            radii: (b.semi_major, t.semi_major),
+        });
+    }
+    // One end drawn: the nearest ellipse to either dropped end.
+    let (e, top) = ellipses
+        .iter()
+        .flat_map(|e| {
+            [
+                cost(e, ends.0, radii.0).map(|c| (c, e, false)),
+                cost(e, ends.1, radii.1).map(|c| (c, e, true)),
+            ]
+        })
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, e, top)| (e, top))?;
+    let z = roundness(e);
+    let dir = if z < ROUND {
+        let m = e.minor_axis();
+        if m.dot(image_dir) < 0.0 {
+            -m
+        } else {
+            m
+        }
+    } else {
+        image_dir.normalize_or(DVec2::Y)
+    };
+    // The drop's projected length at the drawn tilt; the centre on the drop's side of
+    // the end.
+    let drop_centre = ends.0.midpoint(ends.1);
+    let side = if (drop_centre - e.center).dot(dir) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let scale = e.semi_major / if top { radii.1 } else { radii.0 };
+    Some(Reading {
+        dir,
+        z,
+        center: e.center + dir * (side * projected / 2.0),
+        projected,
+        radii: (radii.0 * scale, radii.1 * scale),
+    })
 }
 
 /// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
@@ -102,36 +310,20 @@ pub(crate) fn repose_from_ellipses(
     };
     let gate = 0.3 * primitive.size();
     let half = axis * (length / 2.0);
-    let bottom_at = (center - half).truncate();
-    let top_at = (center + half).truncate();
-    let bottom = end_ellipse(context, bottom_at, r_bottom, gate);
-    let top = end_ellipse(context, top_at, r_top, gate);
-    let ellipses: Vec<&Ellipse2> = bottom.iter().chain(top.iter()).collect();
-    if ellipses.is_empty() {
-        return None;
-    }
-    // The tilt: minor/major of the ellipses, the rounder being the better conditioned.
-    let z = ellipses
-        .iter()
-        .map(|e| (e.semi_minor / e.semi_major).clamp(0.0, 0.95))
-        .fold(0.0f64, f64::max);
-
+    let ends = ((center - half).truncate(), (center + half).truncate());
     let image_dir = axis.truncate();
-    let (new_center, dir, projected) = match (&bottom, &top) {
-        (Some(b), Some(t)) if b.center.distance(t.center) > 1e-9 * primitive.size() => {
-            let mid = (b.center + t.center) / 2.0;
-            let d = t.center - b.center;
-            // Keep the axis pointing the way it was dropped (bottom to top).
-            let d = if d.dot(image_dir) < 0.0 { -d } else { d };
-            (DVec3::new(mid.x, mid.y, center.z), d, d.length())
-        }
-        _ => (center, image_dir, length * image_dir.length()),
-    };
-    let new_axis = tilted(dir, z);
-    let new_length = projected / (1.0 - z * z).max(1e-6).sqrt();
-    let radius =
-        |e: &Option<Ellipse2>, fallback: f64| e.as_ref().map_or(fallback, |e| e.semi_major);
-    let (rb, rt) = (radius(&bottom, r_bottom), radius(&top, r_top));
+    let reading = read_ends(
+        context,
+        ends,
+        (r_bottom, r_top),
+        image_dir,
+        length * image_dir.length(),
+        gate,
+    )?;
+    let new_center = DVec3::new(reading.center.x, reading.center.y, center.z);
+    let new_axis = tilted(reading.dir, reading.z);
+    let new_length = reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt();
+    let (rb, rt) = reading.radii;
     Some(match primitive {
         Primitive::Cylinder(c) => {
             let mut c = c.clone();
