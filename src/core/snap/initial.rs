@@ -83,12 +83,12 @@ struct Drawn<'a> {
 
 /// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
 /// of `near`, a major semi-axis in `radii` (the smallest and largest allowed).
-fn drawn_ellipses<'a>(
-    context: &'a SnapContext,
+fn drawn_ellipses(
+    context: &SnapContext,
     near: DVec2,
     reach: f64,
     radii: (f64, f64),
-) -> Vec<Drawn<'a>> {
+) -> Vec<Drawn<'_>> {
     let mut out = Vec::new();
     for stroke in &context.strokes {
         if stroke.points.len() < 5 {
@@ -214,8 +214,7 @@ fn read_ends(
             if i == j || !ends_agree(b, t) {
                 continue;
             }
-            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1))
-            else {
+            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1)) else {
                 continue;
             };
             if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
@@ -362,9 +361,17 @@ pub(crate) fn repose_from_ellipses(
 /// Strokes closer in direction than this (radians) belong to one edge direction.
 const SAME_DIRECTION: f64 = 0.14;
 
+/// A straight stroke of one edge direction: its extent along its direction (not its
+/// length: a hand's jitter makes a polyline longer than the edge it draws) and bounds.
+#[derive(Clone, Copy)]
+struct Edge {
+    extent: f64,
+    bounds: (DVec2, DVec2),
+}
+
 /// The three edge directions of a drawn box: groups of straight strokes by direction
-/// (mod π), strongest (longest in total) first; each is (unit direction, longest stroke).
-fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, f64); 3]> {
+/// (mod π), strongest (longest in total) first; each is (unit direction, its strokes).
+fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
     // Directions as doubled angles, so that d and −d agree.
     let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
     let gap = |a: f64, b: f64| {
@@ -393,20 +400,23 @@ fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, f64); 3]> {
             acc + DVec2::new(a.cos(), a.sin()) * s.length
         });
         let a = doubled.y.atan2(doubled.x) / 2.0;
-        // A stroke's extent along its direction, not its length: a hand's jitter makes a
-        // polyline longer than the edge it draws.
-        let extent = |s: &SnapStroke| {
-            let (lo, hi) =
-                s.points
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                        let t = p.dot(s.direction);
-                        (lo.min(t), hi.max(t))
-                    });
-            hi - lo
-        };
-        let longest = members.iter().map(|s| extent(s)).fold(0.0, f64::max);
-        groups.push((DVec2::new(a.cos(), a.sin()), longest));
+        let edges = members
+            .iter()
+            .map(|s| {
+                let (lo, hi) =
+                    s.points
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                            let t = p.dot(s.direction);
+                            (lo.min(t), hi.max(t))
+                        });
+                Edge {
+                    extent: hi - lo,
+                    bounds: s.bounds,
+                }
+            })
+            .collect();
+        groups.push((DVec2::new(a.cos(), a.sin()), edges));
         left = rest;
     }
     groups.try_into().ok()
@@ -435,10 +445,52 @@ fn box_axes(d: [DVec2; 3]) -> Option<[[DVec3; 3]; 2]> {
     Some([axes(1.0), axes(-1.0)])
 }
 
+/// The sizes of a box with `axes` (labelled as the dropped box's by `perm`: its axis `j`
+/// draws as edge direction `perm[j]`) and its image centre, read off the edges of each
+/// direction: the longest stroke of a direction gives the size along that axis, and the
+/// middle of the strokes' bounds the centre (a box's outline is symmetric about its
+/// centre). A stroke more than twice as long as the dropped box's edge of that direction
+/// draws something else that runs the same way (a table's leg under a thin top runs
+/// along the top's thickness) and does not count, unless no stroke of the direction is
+/// that short (then all count). `None` when no stroke counts.
+fn sizes_and_centre(
+    groups: &[(DVec2, Vec<Edge>); 3],
+    axes: &[DVec3; 3],
+    perm: [usize; 3],
+    dropped: &Cuboid,
+) -> Option<(DVec3, DVec2)> {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let size = [0, 1, 2].map(|j| {
+        let shrink = axes[perm[j]].truncate().length().max(1e-3);
+        let expected = dropped.size[j] * shrink;
+        let edges = &groups[perm[j]].1;
+        let counted: Vec<&Edge> = edges
+            .iter()
+            .filter(|e| e.extent <= 2.0 * expected)
+            .collect();
+        // Without a stroke as short, the drop's labels did not match (its edge of that
+        // direction is another one): all count.
+        let counted = if counted.is_empty() {
+            edges.iter().collect()
+        } else {
+            counted
+        };
+        let mut longest: f64 = 0.0;
+        for edge in counted {
+            longest = longest.max(edge.extent);
+            lo = lo.min(edge.bounds.0);
+            hi = hi.max(edge.bounds.1);
+        }
+        longest / shrink
+    });
+    lo.cmple(hi)
+        .all()
+        .then(|| (DVec3::from_array(size), (lo + hi) / 2.0))
+}
+
 /// Starting poses of a dropped box from the straight strokes around it: the three edge
-/// directions give its orientation up to the mirror of the view (both are returned), the
-/// longest stroke of each direction its size along that axis, and the middle of the
-/// strokes' bounds its centre (a box's outline is symmetric about its centre). The axes
+/// directions give its orientation up to the mirror of the view (both are returned), and
+/// the strokes of each direction its sizes and centre (see `sizes_and_centre`). The axes
 /// are labelled and signed as the dropped box's nearest ones, so its width stays its
 /// width.
 pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> {
@@ -460,15 +512,9 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
     let Some(groups) = edge_directions(&strokes) else {
         return Vec::new();
     };
-    let Some(orientations) = box_axes(groups.map(|(d, _)| d)) else {
+    let Some(orientations) = box_axes([0, 1, 2].map(|i| groups[i].0)) else {
         return Vec::new();
     };
-    let (mut slo, mut shi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for s in &strokes {
-        slo = slo.min(s.bounds.0);
-        shi = shi.max(s.bounds.1);
-    }
-    let centre = (slo + shi) / 2.0;
     let dropped_axes = dropped.axes();
     orientations
         .iter()
@@ -505,11 +551,7 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
                 })?;
                 new_axes[worst] = -new_axes[worst];
             }
-            let size = DVec3::from_array([0, 1, 2].map(|j| {
-                let (_, longest) = groups[perm[j]];
-                let a = axes[perm[j]];
-                longest / a.truncate().length().max(1e-3)
-            }));
+            let (size, centre) = sizes_and_centre(&groups, axes, perm, dropped)?;
             Some(Cuboid {
                 center: DVec3::new(centre.x, centre.y, dropped.center.z),
                 rotation: DQuat::from_mat3(&DMat3::from_cols(
@@ -528,8 +570,8 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
 pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::box_poses;
-    use crate::core::primitive::{Cuboid, Curve2, Primitive};
+    use super::{box_poses, repose_from_ellipses};
+    use crate::core::primitive::{Cuboid, Curve2, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
     use crate::core::snap::SnapContext;
 
@@ -628,5 +670,153 @@ pub(super) mod tests {
             size: DVec3::new(100.0, 50.0, 50.0),
         };
         assert!(box_poses(&context, &dropped).is_empty());
+    }
+
+    /// A circle of `radius` about `centre` square to `axis`, from angle `from` to `to`
+    /// (radians), as a stroke in sketch space (y down).
+    fn rim(centre: DVec3, axis: DVec3, radius: f64, from: f64, to: f64) -> Vec<DVec2> {
+        let u = axis.any_orthonormal_vector();
+        let v = axis.cross(u);
+        (0..=48)
+            .map(|i| {
+                let t = from + (to - from) * f64::from(i) / 48.0;
+                let p = centre + radius * (t.cos() * u + t.sin() * v);
+                DVec2::new(p.x, -p.y)
+            })
+            .collect()
+    }
+
+    fn feature_strokes(strokes: &[Vec<DVec2>]) -> SnapContext {
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Feature)),
+        )
+    }
+
+    /// A table top: radius 200, a tenth as thick, tilted 37° out of the view plane.
+    fn disc() -> Cylinder {
+        Cylinder {
+            center: DVec3::new(500.0, -400.0, 0.0),
+            axis: DVec3::new(0.48, 0.64, 0.6),
+            length: 20.0,
+            radius: 200.0,
+        }
+    }
+
+    /// The disc dropped as a hand would: in the palette's tilt, turned, smaller, off.
+    fn dropped_disc() -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::new(515.0, -390.0, 0.0),
+            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
+            length: 30.0,
+            radius: 160.0,
+        })
+    }
+
+    #[test]
+    fn two_concentric_large_ellipses_make_a_disc() {
+        let truth = disc();
+        let half = truth.axis * (truth.length / 2.0);
+        let tau = std::f64::consts::TAU;
+        let context = feature_strokes(&[
+            rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
+            rim(
+                truth.center - half,
+                truth.axis,
+                truth.radius,
+                0.0,
+                tau / 2.0,
+            ),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        let mirror = DVec3::new(c.axis.x, c.axis.y, -c.axis.z);
+        let angle = c
+            .axis
+            .dot(truth.axis)
+            .abs()
+            .max(mirror.dot(truth.axis).abs())
+            .min(1.0)
+            .acos();
+        assert!(angle.to_degrees() < 0.5, "{c:?}");
+        assert!(
+            (c.length - truth.length).abs() < 0.02 * truth.length,
+            "{c:?}"
+        );
+        assert!(
+            (c.radius - truth.radius).abs() < 0.01 * truth.radius,
+            "{c:?}"
+        );
+        assert!(c.center.truncate().distance(truth.center.truncate()) < 0.5);
+    }
+
+    #[test]
+    fn two_halves_of_one_ellipse_are_one_end() {
+        // Only the near end is drawn, in two strokes: they are not the disc's two ends
+        // (which would make it a disc of no thickness).
+        let truth = disc();
+        let near = truth.center + truth.axis * (truth.length / 2.0);
+        let pi = std::f64::consts::PI;
+        let context = feature_strokes(&[
+            rim(near, truth.axis, truth.radius, 0.0, pi),
+            rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        // The tilt and image axis are the drawn end's; the length is the drop's.
+        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.01, "{c:?}");
+        let dir = c.axis.truncate().normalize();
+        assert!(
+            dir.dot(truth.axis.truncate().normalize()).abs() > 0.9999,
+            "{c:?}"
+        );
+        assert!(c.length > 20.0, "{c:?}");
+    }
+
+    #[test]
+    fn a_long_stroke_along_a_slabs_thin_edges_is_not_its_thickness() {
+        let mut truth = turned_box();
+        truth.size = DVec3::new(200.0, 16.0, 150.0);
+        let mut context = drawn(&truth);
+        // Two table legs under the slab, along its thin axis, five times as long as it is
+        // thick.
+        let [x, y, z] = truth.axes();
+        let legs: Vec<Vec<DVec2>> = [-1.0, 1.0]
+            .iter()
+            .map(|side| {
+                let top = truth.center + x * (side * 60.0) - y * 8.0 + z * 40.0;
+                (0..=20)
+                    .map(|i| {
+                        let p = top - y * (80.0 * f64::from(i) / 20.0);
+                        DVec2::new(p.x, -p.y)
+                    })
+                    .collect()
+            })
+            .collect();
+        let extra = SnapContext::new(legs.iter().enumerate().map(|(i, s)| {
+            (
+                StrokeId(100 + i as u32),
+                s.as_slice(),
+                StrokeClass::Silhouette,
+            )
+        }));
+        context.strokes.extend(extra.strokes);
+        let dropped = Cuboid {
+            center: truth.center + DVec3::new(10.0, -8.0, 0.0),
+            size: DVec3::new(230.0, 20.0, 120.0),
+            ..truth.clone()
+        };
+        let poses = box_poses(&context, &dropped);
+        assert!(!poses.is_empty());
+        for pose in &poses {
+            assert!(
+                (pose.size.y - truth.size.y).abs() < 0.05 * truth.size.y,
+                "{pose:?}"
+            );
+        }
     }
 }

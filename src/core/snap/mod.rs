@@ -184,8 +184,11 @@ struct Scored {
 }
 
 impl Scored {
-    fn of(mut result: SnapResult, settings: &SnapSettings) -> Self {
-        let gate = settings.tight_gate * result.primitive.size();
+    /// `result` scored at the smaller of its size and the `dropped` size: a snap that
+    /// grew must not widen the gate within which strokes count for it (as its confidence
+    /// is judged, see [`SnapResult::confidence`]).
+    fn of(mut result: SnapResult, dropped: f64, settings: &SnapSettings) -> Self {
+        let gate = settings.tight_gate * result.primitive.size().min(dropped);
         let explained = explanation(&result.primitive, &result.assignment, gate);
         result.explained = Some(explained);
         Self { result, explained }
@@ -414,7 +417,7 @@ fn snap_from(
         match snap_rounds(context, start, settings, None, cancel, clock) {
             Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
             Ok(r) => {
-                candidates.push(Scored::of(r, settings));
+                candidates.push(Scored::of(r, primitive.size(), settings));
                 Ok(())
             }
             Err(e) => {
