@@ -5,15 +5,30 @@
 //! - solids of revolution, from their end ellipses (below);
 //! - boxes, from the directions of their drawn edges ([`box_poses`]).
 //!
-//! A primitive is dropped in the view plane with a fixed tilt, but the drawing says how
-//! much it really tilts: an end circle seen at elevation φ projects to an ellipse with
-//! minor/major = |sin φ| (the axis' z component). Each feature stroke near an end of the
-//! dropped primitive is fitted with an ellipse (Halíř–Flusser, refined); among those it
-//! fits well (RMS within 8 % of the ellipse) over a quarter of a turn or more, the one
-//! whose centre lies closest to that end, and whose major semi-axis is within a factor 2
-//! of the end's radius, is that end's ellipse. The tilt, radii, and (with both ends) the image
-//! axis, centre and length are then taken from the ellipses. The mirror sign of the tilt
-//! does not change the projection, so the positive one is used.
+//! # End ellipses
+//!
+//! An end circle of a solid of revolution seen at elevation φ projects (orthographically)
+//! to an ellipse with minor/major = |sin φ| (the axis' z component) whose minor axis runs
+//! along the projected axis, whatever the part's proportions. Every stroke near the drop
+//! is fitted with an ellipse (Halíř–Flusser, refined); one it fits well (RMS within 8 % of
+//! the ellipse) over a quarter of a turn or more (an arc the classifier took for an
+//! outline must cover more: 2.5 rad), whose centre lies near an end of the dropped
+//! primitive and whose major semi-axis is within a factor 2 of the dropped radii, may
+//! draw an end.
+//!
+//! Two such ellipses draw the two ends when they agree as a solid's ends must: about the
+//! same minor/major and orientation, their centres offset along their minor axes. Of the
+//! pairs that agree, the one nearest the dropped ends (in place and radius) is taken; the
+//! tilt, the image axis (the minor axes, signed by the offset), the centre (midway), the
+//! length (the offset along the axis) and the radii then all come from the drawing. This
+//! holds for a rod as for a thin disc, whose two large concentric ellipses a tenth of a
+//! radius apart say its tilt and thickness although its outlines are too short to.
+//! Without a pair, the single ellipse nearest a dropped end gives the tilt, the image
+//! axis (its minor axis), the radius and, with the dropped projected length, the centre
+//! on the side of the drop.
+//!
+//! The mirror sign of the tilt does not change the projection, so the positive one is
+//! used.
 
 use glam::{DMat3, DQuat, DVec2, DVec3};
 
@@ -37,49 +52,241 @@ pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Ve
     }
 }
 
-/// The ellipse drawn for an end: centre within `gate` of `center` and major semi-axis
-/// within a factor 2 of `radius`; the closest one.
-fn end_ellipse(context: &SnapContext, center: DVec2, radius: f64, gate: f64) -> Option<Ellipse2> {
-    let mut best: Option<(f64, Ellipse2)> = None;
+/// An ellipse fitted to a stroke, with its major axis the larger (`semi_major ≥
+/// semi_minor`).
+fn normalised(e: Ellipse2) -> Ellipse2 {
+    if e.semi_minor.abs() > e.semi_major.abs() {
+        Ellipse2 {
+            center: e.center,
+            semi_major: e.semi_minor.abs(),
+            semi_minor: e.semi_major.abs(),
+            angle: e.angle + std::f64::consts::FRAC_PI_2,
+        }
+    } else {
+        Ellipse2 {
+            semi_major: e.semi_major.abs(),
+            semi_minor: e.semi_minor.abs(),
+            ..e
+        }
+    }
+}
+
+/// An ellipse a stroke draws (see [`drawn_ellipses`]).
+struct Drawn<'a> {
+    /// The fitted ellipse.
+    ellipse: Ellipse2,
+    /// The stroke.
+    stroke: &'a SnapStroke,
+    /// The stroke's RMS distance to it.
+    rms: f64,
+}
+
+/// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
+/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed).
+fn drawn_ellipses(
+    context: &SnapContext,
+    near: DVec2,
+    reach: f64,
+    radii: (f64, f64),
+) -> Vec<Drawn<'_>> {
+    let mut out = Vec::new();
     for stroke in &context.strokes {
-        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+        if stroke.points.len() < 5 {
             continue;
         }
         let (lo, hi) = stroke.bounds;
-        let near = DVec2::new(center.x.clamp(lo.x, hi.x), center.y.clamp(lo.y, hi.y));
-        if near.distance(center) > gate + 2.0 * radius {
+        let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
+        if closest.distance(near) > reach + 2.0 * radii.1 {
             continue;
         }
         let Some(fit) = fit_ellipse(&stroke.points) else {
             continue;
         };
-        let fit = refine_ellipse(&fit, &stroke.points);
-        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
-        // covers a good part of it (a quarter of the turn) tells the tilt.
-        let rms = (stroke
-            .points
-            .iter()
-            .map(|p| fit.distance(*p).powi(2))
-            .sum::<f64>()
-            / stroke.points.len() as f64)
-            .sqrt();
-        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
-        if !(rms <= 0.08 * fit.semi_major) || covered < 1.5 {
+        let fit = normalised(refine_ellipse(&fit, &stroke.points));
+        if fit.center.distance(near) > reach || !(radii.0..=radii.1).contains(&fit.semi_major) {
             continue;
         }
-        let d = fit.center.distance(center);
-        let ratio = fit.semi_major / radius;
-        if d <= gate && (0.5..=2.0).contains(&ratio) && best.as_ref().is_none_or(|(b, _)| d < *b) {
-            best = Some((d, fit));
+        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
+        // covers a good part of it tells the tilt; an arc classified as an outline must
+        // cover more of the turn, as an outline bent by the hand may fit a short arc.
+        let min_sweep = if stroke.class == StrokeClass::Feature {
+            1.5
+        } else {
+            2.5
+        };
+        let rms = fit.rms_distance(&stroke.points);
+        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
+        if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
+            out.push(Drawn {
+                ellipse: fit,
+                stroke,
+                rms,
+            });
         }
     }
-    best.map(|(_, e)| e)
+    out
+}
+
+/// Whether two strokes draw one ellipse between them (pieces of one end, or one end
+/// drawn twice) rather than two: one ellipse fits both about as well (RMS within 1.5 ×
+/// the worse of their own) as each fits its own.
+fn one_ellipse(a: &Drawn<'_>, b: &Drawn<'_>) -> bool {
+    let points: Vec<DVec2> = a
+        .stroke
+        .points
+        .iter()
+        .chain(&b.stroke.points)
+        .copied()
+        .collect();
+    fit_ellipse(&points).is_some_and(|e| {
+        let e = refine_ellipse(&e, &points);
+        e.rms_distance(&points) <= 1.5 * a.rms.max(b.rms)
+    })
 }
 
 /// The axis with image direction `dir` and out-of-plane component `z` (|z| < 1).
 fn tilted(dir: DVec2, z: f64) -> DVec3 {
     let xy = dir.normalize_or(DVec2::Y) * (1.0 - z * z).max(0.0).sqrt();
     DVec3::new(xy.x, xy.y, z)
+}
+
+/// Minor over major of an ellipse, clamped below 0.95 (a rounder end says little of the
+/// image axis, and a tilt of 1 none of its length).
+fn roundness(e: &Ellipse2) -> f64 {
+    (e.semi_minor / e.semi_major.max(f64::MIN_POSITIVE)).clamp(0.0, 0.95)
+}
+
+/// Ellipses rounder than this do not tell the image axis by their minor axes.
+const ROUND: f64 = 0.9;
+
+/// Whether ellipses `b` and `t` can draw the two ends of one solid of revolution (module
+/// docs): the same roundness within 0.2, major axes within 20° (unless both are nearly
+/// round), and centres offset along the minor axes (across them by at most a quarter of
+/// the major semi-axis).
+fn ends_agree(b: &Ellipse2, t: &Ellipse2) -> bool {
+    let (rb, rt) = (roundness(b), roundness(t));
+    if (rb - rt).abs() > 0.2 {
+        return false;
+    }
+    let round = rb.min(rt) >= ROUND;
+    if !round && b.major_axis().perp_dot(t.major_axis()).abs() > 20f64.to_radians().sin() {
+        return false;
+    }
+    let across = (t.center - b.center).dot(b.major_axis()).abs();
+    round || across <= 0.25 * b.semi_major.max(t.semi_major)
+}
+
+/// What the drawn ends say of a solid of revolution: its image axis (unit, signed
+/// bottom to top), tilt, image centre, projected length and end radii.
+struct Reading {
+    dir: DVec2,
+    z: f64,
+    center: DVec2,
+    projected: f64,
+    radii: (f64, f64),
+}
+
+/// The drawn ends' reading (module docs), or `None` when no ellipse near the drop
+/// draws an end. `ends` are the dropped ends' image centres (bottom, top), `radii` their
+/// radii, `image_dir` the dropped image axis and `projected` its projected length.
+fn read_ends(
+    context: &SnapContext,
+    ends: (DVec2, DVec2),
+    radii: (f64, f64),
+    image_dir: DVec2,
+    projected: f64,
+    gate: f64,
+) -> Option<Reading> {
+    let mid = ends.0.midpoint(ends.1);
+    let reach = gate + ends.0.distance(ends.1) / 2.0;
+    let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
+    let drawn = drawn_ellipses(context, mid, reach, allowed);
+    let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
+    // How far an ellipse is from drawing an end: its centre's distance in gates, its
+    // radius' in log ratio; beyond a gate it does not draw that end.
+    let cost = |e: &Ellipse2, at: DVec2, r: f64| {
+        let d = e.center.distance(at) / gate;
+        (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
+    };
+    let mut pair: Option<(f64, usize, usize)> = None;
+    for (i, b) in ellipses.iter().enumerate() {
+        for (j, t) in ellipses.iter().enumerate() {
+            if i == j || !ends_agree(b, t) {
+                continue;
+            }
+            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1)) else {
+                continue;
+            };
+            if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
+                pair = Some((cb + ct, i, j));
+            }
+        }
+    }
+    if let Some((_, i, j)) = pair {
+        let (b, t) = (ellipses[i], ellipses[j]);
+        let z = roundness(b).max(roundness(t));
+        let offset = t.center - b.center;
+        // The image axis: the minor axes (sign-aligned), unless the ends are too round to
+        // tell, then the offset, then the drop's.
+        let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
+        let reference = if offset.length() > 1e-9 * gate {
+            offset
+        } else {
+            image_dir
+        };
+        let dir = if z < ROUND {
+            (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
+                .normalize_or(image_dir)
+        } else {
+            reference.normalize_or(image_dir)
+        };
+        return Some(Reading {
+            dir,
+            z,
+            center: b.center.midpoint(t.center),
+            projected: offset.dot(dir).abs(),
+            radii: (b.semi_major, t.semi_major),
+        });
+    }
+    // One end drawn: the nearest ellipse to either dropped end.
+    let (e, top) = ellipses
+        .iter()
+        .flat_map(|e| {
+            [
+                cost(e, ends.0, radii.0).map(|c| (c, e, false)),
+                cost(e, ends.1, radii.1).map(|c| (c, e, true)),
+            ]
+        })
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, e, top)| (e, top))?;
+    let z = roundness(e);
+    let dir = if z < ROUND {
+        let m = e.minor_axis();
+        if m.dot(image_dir) < 0.0 {
+            -m
+        } else {
+            m
+        }
+    } else {
+        image_dir.normalize_or(DVec2::Y)
+    };
+    // The drop's projected length at the drawn tilt; the centre on the drop's side of
+    // the end.
+    let drop_centre = ends.0.midpoint(ends.1);
+    let side = if (drop_centre - e.center).dot(dir) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let scale = e.semi_major / if top { radii.1 } else { radii.0 };
+    Some(Reading {
+        dir,
+        z,
+        center: e.center + dir * (side * projected / 2.0),
+        projected,
+        radii: (radii.0 * scale, radii.1 * scale),
+    })
 }
 
 /// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
@@ -102,36 +309,20 @@ pub(crate) fn repose_from_ellipses(
     };
     let gate = 0.3 * primitive.size();
     let half = axis * (length / 2.0);
-    let bottom_at = (center - half).truncate();
-    let top_at = (center + half).truncate();
-    let bottom = end_ellipse(context, bottom_at, r_bottom, gate);
-    let top = end_ellipse(context, top_at, r_top, gate);
-    let ellipses: Vec<&Ellipse2> = bottom.iter().chain(top.iter()).collect();
-    if ellipses.is_empty() {
-        return None;
-    }
-    // The tilt: minor/major of the ellipses, the rounder being the better conditioned.
-    let z = ellipses
-        .iter()
-        .map(|e| (e.semi_minor / e.semi_major).clamp(0.0, 0.95))
-        .fold(0.0f64, f64::max);
-
+    let ends = ((center - half).truncate(), (center + half).truncate());
     let image_dir = axis.truncate();
-    let (new_center, dir, projected) = match (&bottom, &top) {
-        (Some(b), Some(t)) if b.center.distance(t.center) > 1e-9 * primitive.size() => {
-            let mid = (b.center + t.center) / 2.0;
-            let d = t.center - b.center;
-            // Keep the axis pointing the way it was dropped (bottom to top).
-            let d = if d.dot(image_dir) < 0.0 { -d } else { d };
-            (DVec3::new(mid.x, mid.y, center.z), d, d.length())
-        }
-        _ => (center, image_dir, length * image_dir.length()),
-    };
-    let new_axis = tilted(dir, z);
-    let new_length = projected / (1.0 - z * z).max(1e-6).sqrt();
-    let radius =
-        |e: &Option<Ellipse2>, fallback: f64| e.as_ref().map_or(fallback, |e| e.semi_major);
-    let (rb, rt) = (radius(&bottom, r_bottom), radius(&top, r_top));
+    let reading = read_ends(
+        context,
+        ends,
+        (r_bottom, r_top),
+        image_dir,
+        length * image_dir.length(),
+        gate,
+    )?;
+    let new_center = DVec3::new(reading.center.x, reading.center.y, center.z);
+    let new_axis = tilted(reading.dir, reading.z);
+    let new_length = reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt();
+    let (rb, rt) = reading.radii;
     Some(match primitive {
         Primitive::Cylinder(c) => {
             let mut c = c.clone();
@@ -170,9 +361,17 @@ pub(crate) fn repose_from_ellipses(
 /// Strokes closer in direction than this (radians) belong to one edge direction.
 const SAME_DIRECTION: f64 = 0.14;
 
+/// A straight stroke of one edge direction: its extent along its direction (not its
+/// length: a hand's jitter makes a polyline longer than the edge it draws) and bounds.
+#[derive(Clone, Copy)]
+struct Edge {
+    extent: f64,
+    bounds: (DVec2, DVec2),
+}
+
 /// The three edge directions of a drawn box: groups of straight strokes by direction
-/// (mod π), strongest (longest in total) first; each is (unit direction, longest stroke).
-fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, f64); 3]> {
+/// (mod π), strongest (longest in total) first; each is (unit direction, its strokes).
+fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
     // Directions as doubled angles, so that d and −d agree.
     let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
     let gap = |a: f64, b: f64| {
@@ -201,20 +400,23 @@ fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, f64); 3]> {
             acc + DVec2::new(a.cos(), a.sin()) * s.length
         });
         let a = doubled.y.atan2(doubled.x) / 2.0;
-        // A stroke's extent along its direction, not its length: a hand's jitter makes a
-        // polyline longer than the edge it draws.
-        let extent = |s: &SnapStroke| {
-            let (lo, hi) =
-                s.points
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                        let t = p.dot(s.direction);
-                        (lo.min(t), hi.max(t))
-                    });
-            hi - lo
-        };
-        let longest = members.iter().map(|s| extent(s)).fold(0.0, f64::max);
-        groups.push((DVec2::new(a.cos(), a.sin()), longest));
+        let edges = members
+            .iter()
+            .map(|s| {
+                let (lo, hi) =
+                    s.points
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                            let t = p.dot(s.direction);
+                            (lo.min(t), hi.max(t))
+                        });
+                Edge {
+                    extent: hi - lo,
+                    bounds: s.bounds,
+                }
+            })
+            .collect();
+        groups.push((DVec2::new(a.cos(), a.sin()), edges));
         left = rest;
     }
     groups.try_into().ok()
@@ -243,10 +445,52 @@ fn box_axes(d: [DVec2; 3]) -> Option<[[DVec3; 3]; 2]> {
     Some([axes(1.0), axes(-1.0)])
 }
 
+/// The sizes of a box with `axes` (labelled as the dropped box's by `perm`: its axis `j`
+/// draws as edge direction `perm[j]`) and its image centre, read off the edges of each
+/// direction: the longest stroke of a direction gives the size along that axis, and the
+/// middle of the strokes' bounds the centre (a box's outline is symmetric about its
+/// centre). A stroke more than twice as long as the dropped box's edge of that direction
+/// draws something else that runs the same way (a table's leg under a thin top runs
+/// along the top's thickness) and does not count, unless no stroke of the direction is
+/// that short (then all count). `None` when no stroke counts.
+fn sizes_and_centre(
+    groups: &[(DVec2, Vec<Edge>); 3],
+    axes: &[DVec3; 3],
+    perm: [usize; 3],
+    dropped: &Cuboid,
+) -> Option<(DVec3, DVec2)> {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let size = [0, 1, 2].map(|j| {
+        let shrink = axes[perm[j]].truncate().length().max(1e-3);
+        let expected = dropped.size[j] * shrink;
+        let edges = &groups[perm[j]].1;
+        let counted: Vec<&Edge> = edges
+            .iter()
+            .filter(|e| e.extent <= 2.0 * expected)
+            .collect();
+        // Without a stroke as short, the drop's labels did not match (its edge of that
+        // direction is another one): all count.
+        let counted = if counted.is_empty() {
+            edges.iter().collect()
+        } else {
+            counted
+        };
+        let mut longest: f64 = 0.0;
+        for edge in counted {
+            longest = longest.max(edge.extent);
+            lo = lo.min(edge.bounds.0);
+            hi = hi.max(edge.bounds.1);
+        }
+        longest / shrink
+    });
+    lo.cmple(hi)
+        .all()
+        .then(|| (DVec3::from_array(size), (lo + hi) / 2.0))
+}
+
 /// Starting poses of a dropped box from the straight strokes around it: the three edge
-/// directions give its orientation up to the mirror of the view (both are returned), the
-/// longest stroke of each direction its size along that axis, and the middle of the
-/// strokes' bounds its centre (a box's outline is symmetric about its centre). The axes
+/// directions give its orientation up to the mirror of the view (both are returned), and
+/// the strokes of each direction its sizes and centre (see `sizes_and_centre`). The axes
 /// are labelled and signed as the dropped box's nearest ones, so its width stays its
 /// width.
 pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> {
@@ -268,15 +512,9 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
     let Some(groups) = edge_directions(&strokes) else {
         return Vec::new();
     };
-    let Some(orientations) = box_axes(groups.map(|(d, _)| d)) else {
+    let Some(orientations) = box_axes([0, 1, 2].map(|i| groups[i].0)) else {
         return Vec::new();
     };
-    let (mut slo, mut shi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for s in &strokes {
-        slo = slo.min(s.bounds.0);
-        shi = shi.max(s.bounds.1);
-    }
-    let centre = (slo + shi) / 2.0;
     let dropped_axes = dropped.axes();
     orientations
         .iter()
@@ -313,11 +551,7 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
                 })?;
                 new_axes[worst] = -new_axes[worst];
             }
-            let size = DVec3::from_array([0, 1, 2].map(|j| {
-                let (_, longest) = groups[perm[j]];
-                let a = axes[perm[j]];
-                longest / a.truncate().length().max(1e-3)
-            }));
+            let (size, centre) = sizes_and_centre(&groups, axes, perm, dropped)?;
             Some(Cuboid {
                 center: DVec3::new(centre.x, centre.y, dropped.center.z),
                 rotation: DQuat::from_mat3(&DMat3::from_cols(
@@ -336,8 +570,8 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
 pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::box_poses;
-    use crate::core::primitive::{Cuboid, Curve2, Primitive};
+    use super::{box_poses, repose_from_ellipses};
+    use crate::core::primitive::{Cuboid, Curve2, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
     use crate::core::snap::SnapContext;
 
@@ -436,5 +670,153 @@ pub(super) mod tests {
             size: DVec3::new(100.0, 50.0, 50.0),
         };
         assert!(box_poses(&context, &dropped).is_empty());
+    }
+
+    /// A circle of `radius` about `centre` square to `axis`, from angle `from` to `to`
+    /// (radians), as a stroke in sketch space (y down).
+    fn rim(centre: DVec3, axis: DVec3, radius: f64, from: f64, to: f64) -> Vec<DVec2> {
+        let u = axis.any_orthonormal_vector();
+        let v = axis.cross(u);
+        (0..=48)
+            .map(|i| {
+                let t = from + (to - from) * f64::from(i) / 48.0;
+                let p = centre + radius * (t.cos() * u + t.sin() * v);
+                DVec2::new(p.x, -p.y)
+            })
+            .collect()
+    }
+
+    fn feature_strokes(strokes: &[Vec<DVec2>]) -> SnapContext {
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Feature)),
+        )
+    }
+
+    /// A table top: radius 200, a tenth as thick, tilted 37° out of the view plane.
+    fn disc() -> Cylinder {
+        Cylinder {
+            center: DVec3::new(500.0, -400.0, 0.0),
+            axis: DVec3::new(0.48, 0.64, 0.6),
+            length: 20.0,
+            radius: 200.0,
+        }
+    }
+
+    /// The disc dropped as a hand would: in the palette's tilt, turned, smaller, off.
+    fn dropped_disc() -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::new(515.0, -390.0, 0.0),
+            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
+            length: 30.0,
+            radius: 160.0,
+        })
+    }
+
+    #[test]
+    fn two_concentric_large_ellipses_make_a_disc() {
+        let truth = disc();
+        let half = truth.axis * (truth.length / 2.0);
+        let tau = std::f64::consts::TAU;
+        let context = feature_strokes(&[
+            rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
+            rim(
+                truth.center - half,
+                truth.axis,
+                truth.radius,
+                0.0,
+                tau / 2.0,
+            ),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        let mirror = DVec3::new(c.axis.x, c.axis.y, -c.axis.z);
+        let angle = c
+            .axis
+            .dot(truth.axis)
+            .abs()
+            .max(mirror.dot(truth.axis).abs())
+            .min(1.0)
+            .acos();
+        assert!(angle.to_degrees() < 0.5, "{c:?}");
+        assert!(
+            (c.length - truth.length).abs() < 0.02 * truth.length,
+            "{c:?}"
+        );
+        assert!(
+            (c.radius - truth.radius).abs() < 0.01 * truth.radius,
+            "{c:?}"
+        );
+        assert!(c.center.truncate().distance(truth.center.truncate()) < 0.5);
+    }
+
+    #[test]
+    fn two_halves_of_one_ellipse_are_one_end() {
+        // Only the near end is drawn, in two strokes: they are not the disc's two ends
+        // (which would make it a disc of no thickness).
+        let truth = disc();
+        let near = truth.center + truth.axis * (truth.length / 2.0);
+        let pi = std::f64::consts::PI;
+        let context = feature_strokes(&[
+            rim(near, truth.axis, truth.radius, 0.0, pi),
+            rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        // The tilt and image axis are the drawn end's; the length is the drop's.
+        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.01, "{c:?}");
+        let dir = c.axis.truncate().normalize();
+        assert!(
+            dir.dot(truth.axis.truncate().normalize()).abs() > 0.9999,
+            "{c:?}"
+        );
+        assert!(c.length > 20.0, "{c:?}");
+    }
+
+    #[test]
+    fn a_long_stroke_along_a_slabs_thin_edges_is_not_its_thickness() {
+        let mut truth = turned_box();
+        truth.size = DVec3::new(200.0, 16.0, 150.0);
+        let mut context = drawn(&truth);
+        // Two table legs under the slab, along its thin axis, five times as long as it is
+        // thick.
+        let [x, y, z] = truth.axes();
+        let legs: Vec<Vec<DVec2>> = [-1.0, 1.0]
+            .iter()
+            .map(|side| {
+                let top = truth.center + x * (side * 60.0) - y * 8.0 + z * 40.0;
+                (0..=20)
+                    .map(|i| {
+                        let p = top - y * (80.0 * f64::from(i) / 20.0);
+                        DVec2::new(p.x, -p.y)
+                    })
+                    .collect()
+            })
+            .collect();
+        let extra = SnapContext::new(legs.iter().enumerate().map(|(i, s)| {
+            (
+                StrokeId(100 + i as u32),
+                s.as_slice(),
+                StrokeClass::Silhouette,
+            )
+        }));
+        context.strokes.extend(extra.strokes);
+        let dropped = Cuboid {
+            center: truth.center + DVec3::new(10.0, -8.0, 0.0),
+            size: DVec3::new(230.0, 20.0, 120.0),
+            ..truth.clone()
+        };
+        let poses = box_poses(&context, &dropped);
+        assert!(!poses.is_empty());
+        for pose in &poses {
+            assert!(
+                (pose.size.y - truth.size.y).abs() < 0.05 * truth.size.y,
+                "{pose:?}"
+            );
+        }
     }
 }

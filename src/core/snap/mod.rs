@@ -184,8 +184,11 @@ struct Scored {
 }
 
 impl Scored {
-    fn of(mut result: SnapResult, settings: &SnapSettings) -> Self {
-        let gate = settings.tight_gate * result.primitive.size();
+    /// `result` scored at the smaller of its size and the `dropped` size: a snap that
+    /// grew must not widen the gate within which strokes count for it (as its confidence
+    /// is judged, see [`SnapResult::confidence`]).
+    fn of(mut result: SnapResult, dropped: f64, settings: &SnapSettings) -> Self {
+        let gate = settings.tight_gate * result.primitive.size().min(dropped);
         let explained = explanation(&result.primitive, &result.assignment, gate);
         result.explained = Some(explained);
         Self { result, explained }
@@ -407,11 +410,14 @@ fn snap_from(
     }
     let mut candidates: Vec<Scored> = Vec::new();
     let mut errors: Vec<SnapError> = Vec::new();
-    let attempt = |start: &Primitive, candidates: &mut Vec<Scored>, errors: &mut Vec<SnapError>| {
+    let attempt_with = |start: &Primitive,
+                        settings: &SnapSettings,
+                        candidates: &mut Vec<Scored>,
+                        errors: &mut Vec<SnapError>| {
         match snap_rounds(context, start, settings, None, cancel, clock) {
             Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
             Ok(r) => {
-                candidates.push(Scored::of(r, settings));
+                candidates.push(Scored::of(r, primitive.size(), settings));
                 Ok(())
             }
             Err(e) => {
@@ -419,6 +425,9 @@ fn snap_from(
                 Ok(())
             }
         }
+    };
+    let attempt = |start: &Primitive, candidates: &mut Vec<Scored>, errors: &mut Vec<SnapError>| {
+        attempt_with(start, settings, candidates, errors)
     };
     for start in bgc_start::starts(context, primitive) {
         attempt(&start, &mut candidates, &mut errors)?;
@@ -432,9 +441,16 @@ fn snap_from(
         // A cold drop is also tried from the starting poses the drawing itself suggests
         // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
         // drawn box); the better snap wins (see `better`).
+        // A pose read off the strokes is as close to them as the drawing is exact, not as
+        // a hand's drop: its first assignment already takes the tight gate, so that the
+        // strokes of parts next to a thin one (a table top's legs) are not taken.
+        let read = SnapSettings {
+            wide_gate: settings.tight_gate,
+            ..settings.clone()
+        };
         for start in initial::starting_poses(context, primitive) {
             if start.is_finite() {
-                attempt(&start, &mut candidates, &mut errors)?;
+                attempt_with(&start, &read, &mut candidates, &mut errors)?;
             }
         }
     }
