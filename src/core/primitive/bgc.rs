@@ -27,9 +27,9 @@
 //! ± rᵢ·νᵢ with νᵢ the view-plane normal of the projected tangent (silhouette strokes;
 //! exact when the spine lies in the view plane, close when it tilts moderately), through
 //! the points and the arc midpoints of the segments. Feature curves `bottom` (at P₀) and
-//! `top` (at P_{K−1}). Regularisers: changes of the turn along the spine (an evenly bent
-//! spine, a circular arc, costs nothing) and second differences of the radii (a smooth
-//! profile).
+//! `top` (at P_{K−1}). Regularisers: second differences of the turns along the spine
+//! (an evenly bent spine, a circular arc, costs nothing, and neither does an S whose
+//! bend changes sense evenly) and second differences of the radii (a smooth profile).
 
 use glam::{DMat3, DQuat, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -43,7 +43,7 @@ use super::{
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};
 
-/// Weight (inside the residual) of a change of the turn between neighbouring points.
+/// Weight (inside the residual) of a second difference of the turns along the spine.
 const TURN_SMOOTHNESS: f64 = 15.0;
 /// Weight (inside the residual) of a second difference of the radii.
 const PROFILE_SMOOTHNESS: f64 = 15.0;
@@ -366,9 +366,12 @@ impl Bgc {
             };
             inequalities.push(("end keeps its side", g));
         }
+        // Second differences of the turns: a C (even turns) and an S whose bend changes
+        // sense evenly (turns changing linearly along the spine) cost nothing, a wiggle
+        // does. First differences would straighten every S into a C.
         let mut regularizers: Vec<T> = kappa
-            .windows(2)
-            .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
+            .windows(3)
+            .map(|w| (w[0] - w[1] * 2.0 + w[2]) * TURN_SMOOTHNESS)
             .collect();
         regularizers.extend(
             radii

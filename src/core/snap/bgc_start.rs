@@ -275,14 +275,17 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
         .iter()
         .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
         .collect();
-    let coef = quadratic(&local)?;
+    let coef = cubic(&local)?;
     let (mut x0, mut x1) = local
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.x), hi.max(p.x))
         });
-    let curve = |x: f64| origin + dir * x + normal * (coef[0] + coef[1] * x + coef[2] * x * x);
-    let slope_dir = |x: f64| (dir + normal * (coef[1] + 2.0 * coef[2] * x)).normalize();
+    let curve =
+        |x: f64| origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])));
+    let slope_dir = |x: f64| {
+        (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize()
+    };
     // Radius profile: half-width linear in x.
     let widths: Vec<DVec2> = local
         .iter()
@@ -458,26 +461,32 @@ fn plane_tilt(rows: &[(DVec2, f64)]) -> DVec2 {
     }
 }
 
-/// Least-squares y = c₀ + c₁·x + c₂·x².
-fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
+/// Least-squares y = c₀ + c₁·x + c₂·x² + c₃·x³: a C (one bend) or an S (a bend one
+/// way, then the other) over its chord.
+fn cubic(points: &[DVec2]) -> Option<[f64; 4]> {
     let scale = points
         .iter()
         .fold(0.0f64, |m, p| m.max(p.x.abs()))
         .max(1e-300);
-    let mut a = [[0.0; 3]; 3];
-    let mut b = [0.0; 3];
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
     for p in points {
         let x = p.x / scale;
-        let row = [1.0, x, x * x];
-        for i in 0..3 {
-            for j in 0..3 {
+        let row = [1.0, x, x * x, x * x * x];
+        for i in 0..4 {
+            for j in 0..4 {
                 a[i][j] += row[i] * row[j];
             }
             b[i] += row[i] * p.y;
         }
     }
     let c = solve(a, b)?;
-    Some([c[0], c[1] / scale, c[2] / (scale * scale)])
+    Some([
+        c[0],
+        c[1] / scale,
+        c[2] / (scale * scale),
+        c[3] / (scale * scale * scale),
+    ])
 }
 
 /// Least-squares y = c₀ + c₁·x.
