@@ -39,13 +39,17 @@ const SAMPLES: usize = 40;
 /// Samples of the projected spine curve before the 3D resampling.
 const DENSE: usize = 200;
 
-/// Evenly chosen samples of a polyline with their unit tangents.
-fn samples(points: &[DVec2]) -> Vec<(DVec2, DVec2)> {
+/// Evenly chosen samples of a polyline among its points within `reach` of `center`,
+/// with their unit tangents.
+fn samples(points: &[DVec2], center: DVec2, reach: f64) -> Vec<(DVec2, DVec2)> {
     let n = points.len();
-    let count = n.min(SAMPLES);
+    let near: Vec<usize> = (0..n)
+        .filter(|j| points[*j].distance(center) <= reach)
+        .collect();
+    let count = near.len().min(SAMPLES);
     (0..count)
         .map(|i| {
-            let j = i * (n - 1) / (count - 1).max(1);
+            let j = near[i * (near.len() - 1) / (count - 1).max(1)];
             let (lo, hi) = (j.saturating_sub(2), (j + 2).min(n - 1));
             (points[j], (points[hi] - points[lo]).normalize_or_zero())
         })
@@ -131,27 +135,23 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
     }
 }
 
-/// Medial samples (midpoint, half-width) of the silhouette strokes mostly within `reach`
-/// of `center`, for a tube of radius about `r` (module docs).
+/// Medial samples (midpoint, half-width) of the silhouette strokes near `center`, for a
+/// tube of radius about `r` (module docs): only the samples within `reach` of `center`
+/// are paired (their partners may lie a little farther), so a stroke that runs on into
+/// another part (one outline drawn along two tubes) gives the medial axis only of the
+/// piece near the drop.
 fn medial_axis(context: &SnapContext, center: DVec2, reach: f64, r: f64) -> Vec<(DVec2, f64)> {
     let outlines: Vec<&[DVec2]> = context
         .strokes
         .iter()
         .filter(|s| s.class == StrokeClass::Silhouette && s.points.len() >= 2)
-        .filter(|s| {
-            let near = s
-                .points
-                .iter()
-                .filter(|p| p.distance(center) <= reach)
-                .count();
-            near * 10 >= s.points.len() * 7
-        })
+        .filter(|s| s.points.iter().any(|p| p.distance(center) <= reach))
         .map(|s| s.points.as_slice())
         .collect();
     // Medial samples: (midpoint, half-width).
     let mut medial: Vec<(DVec2, f64)> = Vec::new();
     for (i, a) in outlines.iter().enumerate() {
-        for (p, tangent) in samples(a) {
+        for (p, tangent) in samples(a, center, reach) {
             let mut best: Option<(f64, DVec2)> = None;
             for (j, b) in outlines.iter().enumerate() {
                 if i == j {
