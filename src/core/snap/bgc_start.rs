@@ -281,11 +281,11 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.x), hi.max(p.x))
         });
-    let curve =
-        |x: f64| origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])));
-    let slope_dir = |x: f64| {
-        (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize()
+    let curve = |x: f64| {
+        origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])))
     };
+    let slope_dir =
+        |x: f64| (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize();
     // Radius profile: half-width linear in x.
     let widths: Vec<DVec2> = local
         .iter()

@@ -3,7 +3,7 @@
 //!
 //! A snap can fit its strokes closely and still be wrong: a tube laid on the wrong pair of
 //! strokes fits them at 1 % RMS. What tells a wrong part from a right one is what the
-//! rest of the drawing says about it. [`judge`] weighs five pieces of evidence, each
+//! rest of the drawing says about it. [`judge`] weighs five pieces of evidence (six for a bent tube), each
 //! turned into a factor in [0, 1] (1: no doubt):
 //!
 //! - **fit**: the RMS distance of its strokes to its curves, relative to its size;
@@ -15,7 +15,10 @@
 //!   changed size (a rough drop lands near its part: a hand misses a part's centre by a
 //!   tenth of its size, so a snap that moved more than a third of it is doubted);
 //! - **ambiguity**: the margin over the best *other* reading the snap found (a pose
-//!   whose outline differs, explaining the drawing about as well).
+//!   whose outline differs, explaining the drawing about as well);
+//! - **depth** (bent tubes only): how much longer its spine is than the spine's drawing
+//!   (a tube that runs mostly in depth draws almost the same outlines over a range of
+//!   tilts, told apart only by how round its end ellipses are drawn).
 //!
 //! The confidence is the product of the factors; the weakest factor names the reason.
 //! A snap is *good* at a confidence of at least 0.5, *refused* below 0.1 and *doubtful*
@@ -264,7 +267,18 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         resized,
         margin,
     };
-    let factors: [(f64, String); 5] = [
+    let depth = match primitive {
+        Primitive::Bgc(b) => {
+            let drawn: f64 = b
+                .projected_spine()
+                .windows(2)
+                .map(|w| w[0].distance(w[1]))
+                .sum();
+            b.spine_length() / drawn.max(f64::MIN_POSITIVE)
+        }
+        _ => 1.0,
+    };
+    let factors: [(f64, String); 6] = [
         (
             ramp(rms, 0.02, 0.08),
             format!(
@@ -307,6 +321,12 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
                 ),
                 None => String::new(),
             },
+        ),
+        (
+            0.4 + 0.6 * ramp(depth, 1.3, 2.0),
+            format!(
+                "it runs mostly in depth (its spine is {depth:.1}× as long as drawn), which only its end ellipses tell"
+            ),
         ),
     ];
     let value = factors.iter().map(|(f, _)| f).product::<f64>();
