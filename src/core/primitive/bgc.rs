@@ -523,4 +523,34 @@ mod tests {
         let exact = std::f64::consts::PI * std::f64::consts::FRAC_PI_2 * 10.0;
         assert!((v - exact).abs() < 0.05 * exact, "{v} vs {exact}");
     }
+
+    /// A planar spine of `k` points a unit apart whose turns are `turn(i)` at point i.
+    fn spine_with_turns(k: usize, turn: impl Fn(usize) -> f64) -> Vec<DVec3> {
+        let mut points = vec![DVec3::ZERO, DVec3::Y];
+        let mut angle = 0.0f64;
+        for i in 1..k - 1 {
+            angle += turn(i);
+            let last = points[i];
+            points.push(last + DVec3::new(-angle.sin(), angle.cos(), 0.0));
+        }
+        points
+    }
+
+    #[test]
+    fn an_evenly_changing_s_and_an_even_c_cost_no_smoothness() {
+        // Turns from +0.3 to −0.3 rad, changing evenly (an S), and even turns (a C).
+        let s = spine_with_turns(8, |i| 0.3 - 0.6 * (i - 1) as f64 / 5.0);
+        let c = spine_with_turns(8, |_| 0.25);
+        for (name, spine) in [("S", s), ("C", c)] {
+            let p = Primitive::Bgc(Bgc::through(spine, 0.2));
+            let shape = p.current_shape();
+            let worst = shape
+                .regularizers
+                .iter()
+                .fold(0.0f64, |m, r| m.max(r.abs()));
+            assert!(worst < 1e-9, "the {name} costs {worst}");
+        }
+        assert!(super::is_s_bend(&[0.3, 0.18, 0.06, -0.06, -0.18, -0.3]));
+        assert!(!super::is_s_bend(&[0.25, 0.25, 0.25, 0.02, -0.02, 0.25]));
+    }
 }

@@ -5,10 +5,12 @@
 //! - the **medial axis** of its two outlines: every sample of a silhouette stroke near
 //!   the drop is paired with the nearest point of another such stroke that lies across
 //!   the tube (roughly perpendicular to the stroke, running roughly parallel to it, at a
-//!   plausible width); the midpoints of the pairs trace the projected spine and their half
-//!   distances the radius. A quadratic through the midpoints, in the frame of their
-//!   principal direction, is the projected spine (a bend of up to about 120° is a graph
-//!   over its chord), from the first to the last midpoint;
+//!   plausible width; only the samples near the drop, so an outline that runs on into
+//!   another part gives only the piece near the drop); the midpoints of the pairs trace
+//!   the projected spine and their half distances the radius. A quadratic through the
+//!   midpoints, in the frame of their principal direction (a C: a bend of up to about
+//!   120° is a graph over its chord), or a cubic when it fits them at least twice as
+//!   closely (an S), is the projected spine, from the first to the last midpoint;
 //! - the **end ellipses**: each feature stroke near the tube goes to the nearer end of
 //!   that spine and is read as a whole ellipse (it ends near where it began; a free fit)
 //!   or a front arc (its extent across the spine is the major axis); the one nearest an
@@ -275,7 +277,7 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
         .iter()
         .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
         .collect();
-    let coef = cubic(&local)?;
+    let coef = spine_curve(&local)?;
     let (mut x0, mut x1) = local
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
@@ -459,6 +461,46 @@ fn plane_tilt(rows: &[(DVec2, f64)]) -> DVec2 {
     } else {
         tilt
     }
+}
+
+/// The projected spine over its chord: a quadratic (a C), or a cubic when that fits the
+/// medial samples at least twice as closely (an S: it bends one way, then the other); a
+/// cubic's freedom would otherwise bend a C's noisy ends.
+fn spine_curve(points: &[DVec2]) -> Option<[f64; 4]> {
+    let rss = |c: &[f64; 4]| {
+        points
+            .iter()
+            .map(|p| (p.y - (c[0] + p.x * (c[1] + p.x * (c[2] + p.x * c[3])))).powi(2))
+            .sum::<f64>()
+    };
+    let three = cubic(points)?;
+    let two = quadratic(points).map(|c| [c[0], c[1], c[2], 0.0]);
+    match two {
+        Some(two) if rss(&three) >= 0.5 * rss(&two) => Some(two),
+        _ => Some(three),
+    }
+}
+
+/// Least-squares y = c₀ + c₁·x + c₂·x².
+fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
+    let scale = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()))
+        .max(1e-300);
+    let mut a = [[0.0; 3]; 3];
+    let mut b = [0.0; 3];
+    for p in points {
+        let x = p.x / scale;
+        let row = [1.0, x, x * x];
+        for i in 0..3 {
+            for j in 0..3 {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i] * p.y;
+        }
+    }
+    let c = solve(a, b)?;
+    Some([c[0], c[1] / scale, c[2] / (scale * scale)])
 }
 
 /// Least-squares y = c₀ + c₁·x + c₂·x² + c₃·x³: a C (one bend) or an S (a bend one
