@@ -241,6 +241,19 @@ pub fn nobody(_: StrokeId, _: DVec2) -> Option<u32> {
     None
 }
 
+/// How much longer a bent tube's spine is than its drawing (1 for every other kind).
+fn depth_ratio(primitive: &Primitive) -> f64 {
+    let Primitive::Bgc(b) = primitive else {
+        return 1.0;
+    };
+    let drawn: f64 = b
+        .projected_spine()
+        .windows(2)
+        .map(|w| w[0].distance(w[1]))
+        .sum();
+    b.spine_length() / drawn.max(f64::MIN_POSITIVE)
+}
+
 /// Judges `result`, a snap of `dropped`; `owner` tells which placed part, if any, owns a
 /// piece of stroke; `gate` is the distance (view units) within which a stroke supports a
 /// curve.
@@ -267,17 +280,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         resized,
         margin,
     };
-    let depth = match primitive {
-        Primitive::Bgc(b) => {
-            let drawn: f64 = b
-                .projected_spine()
-                .windows(2)
-                .map(|w| w[0].distance(w[1]))
-                .sum();
-            b.spine_length() / drawn.max(f64::MIN_POSITIVE)
-        }
-        _ => 1.0,
-    };
+    let depth = depth_ratio(primitive);
     let factors: [(f64, String); 6] = [
         (
             ramp(rms, 0.02, 0.08),
