@@ -266,6 +266,25 @@ fn widening(primitive: &Primitive, dropped: &Primitive) -> f64 {
     widest(&b.radii) / widest(&d.radii).max(f64::MIN_POSITIVE)
 }
 
+/// The factors only a bent tube has: how far it runs in depth and how much wider than
+/// dropped it grew (both 1 for every other kind).
+fn tube_factors(primitive: &Primitive, dropped: &Primitive) -> [(f64, String); 2] {
+    let depth = depth_ratio(primitive);
+    let widened = widening(primitive, dropped);
+    [
+        (
+            0.4 + 0.6 * ramp(depth, 1.3, 2.0),
+            format!(
+                "it runs mostly in depth (its spine is {depth:.1}× as long as drawn), which only its end ellipses tell"
+            ),
+        ),
+        (
+            ramp(widened, 2.0, 4.0),
+            format!("it grew {widened:.1}× as wide as dropped: it is not the tube pointed at"),
+        ),
+    ]
+}
+
 /// Judges `result`, a snap of `dropped`; `owner` tells which placed part, if any, owns a
 /// piece of stroke; `gate` is the distance (view units) within which a stroke supports a
 /// curve.
@@ -292,9 +311,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         resized,
         margin,
     };
-    let depth = depth_ratio(primitive);
-    let widened = widening(primitive, dropped);
-    let factors: [(f64, String); 7] = [
+    let mut factors: Vec<(f64, String)> = vec![
         (
             ramp(rms, 0.02, 0.08),
             format!(
@@ -338,17 +355,8 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
                 None => String::new(),
             },
         ),
-        (
-            0.4 + 0.6 * ramp(depth, 1.3, 2.0),
-            format!(
-                "it runs mostly in depth (its spine is {depth:.1}× as long as drawn), which only its end ellipses tell"
-            ),
-        ),
-        (
-            ramp(widened, 2.0, 4.0),
-            format!("it grew {widened:.1}× as wide as dropped: it is not the tube pointed at"),
-        ),
     ];
+    factors.extend(tube_factors(primitive, dropped));
     let value = factors.iter().map(|(f, _)| f).product::<f64>();
     let value = if value.is_finite() {
         value.clamp(0.0, 1.0)
