@@ -28,8 +28,10 @@
 //! exact when the spine lies in the view plane, close when it tilts moderately), through
 //! the points and the arc midpoints of the segments. Feature curves `bottom` (at P₀) and
 //! `top` (at P_{K−1}). Regularisers: changes of the turn along the spine (an evenly bent
-//! spine, a circular arc, costs nothing) and second differences of the radii (a smooth
-//! profile).
+//! spine, a circular arc, costs nothing) or, for a spine that bends both ways at the
+//! current pose (an S: at least 14° each way), second differences of the turns (an S
+//! whose bend changes sense evenly costs nothing); second differences of the radii (a
+//! smooth profile).
 
 use glam::{DMat3, DQuat, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -43,7 +45,8 @@ use super::{
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};
 
-/// Weight (inside the residual) of a change of the turn between neighbouring points.
+/// Weight (inside the residual) of a change (a C) or a second difference (an S) of the
+/// turns along the spine.
 const TURN_SMOOTHNESS: f64 = 15.0;
 /// Weight (inside the residual) of a second difference of the radii.
 const PROFILE_SMOOTHNESS: f64 = 15.0;
@@ -201,6 +204,17 @@ fn turn(a: DVec3, b: DVec3, u: DVec3, v: DVec3) -> f64 {
     (t + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
+/// How far (radians) a spine must bend each way, in all, to be an S rather than a C
+/// with a little noise in its turns.
+const S_BEND: f64 = 0.25;
+
+/// Whether turns `kappa` bend the spine both ways, each by at least [`S_BEND`] in all.
+fn is_s_bend(kappa: &[f64]) -> bool {
+    let left: f64 = kappa.iter().filter(|t| **t > 0.0).sum();
+    let right: f64 = -kappa.iter().filter(|t| **t < 0.0).sum::<f64>();
+    left >= S_BEND && right >= S_BEND
+}
+
 impl Bgc {
     pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
         let v = view_from_sketch(p.at);
@@ -324,8 +338,9 @@ impl Bgc {
         // An end circle facing away from the viewer shows only its near half (as drawn):
         // which way each end faces is taken at the current numeric pose; an end almost
         // edge-on (|n_z| < [`EDGE_ON`]) counts as facing, a coin toss which half is in front.
+        let params = self.params();
         let now = {
-            let t = spine(k, &self.params()).tangents;
+            let t = spine(k, &params).tangents;
             [-t[0].z, t[k - 1].z]
         };
         let facing = now.map(|z| z > 0.0 || z.abs() < EDGE_ON);
@@ -366,10 +381,20 @@ impl Bgc {
             };
             inequalities.push(("end keeps its side", g));
         }
-        let mut regularizers: Vec<T> = kappa
-            .windows(2)
-            .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
-            .collect();
+        // A spine that bends one way (a C) at the current pose is smoothed towards even
+        // turns, a circular arc; one that bends both ways (an S) towards turns that
+        // change evenly along it (even turns would straighten it into a C).
+        let mut regularizers: Vec<T> = if is_s_bend(&params[8..8 + k - 2]) {
+            kappa
+                .windows(3)
+                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * TURN_SMOOTHNESS)
+                .collect()
+        } else {
+            kappa
+                .windows(2)
+                .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
+                .collect()
+        };
         regularizers.extend(
             radii
                 .windows(3)
@@ -497,5 +522,35 @@ mod tests {
         // Pappus: π r² · (π/2 · R), up to the polygonal spine.
         let exact = std::f64::consts::PI * std::f64::consts::FRAC_PI_2 * 10.0;
         assert!((v - exact).abs() < 0.05 * exact, "{v} vs {exact}");
+    }
+
+    /// A planar spine of `k` points a unit apart whose turns are `turn(i)` at point i.
+    fn spine_with_turns(k: usize, turn: impl Fn(usize) -> f64) -> Vec<DVec3> {
+        let mut points = vec![DVec3::ZERO, DVec3::Y];
+        let mut angle = 0.0f64;
+        for i in 1..k - 1 {
+            angle += turn(i);
+            let last = points[i];
+            points.push(last + DVec3::new(-angle.sin(), angle.cos(), 0.0));
+        }
+        points
+    }
+
+    #[test]
+    fn an_evenly_changing_s_and_an_even_c_cost_no_smoothness() {
+        // Turns from +0.3 to −0.3 rad, changing evenly (an S), and even turns (a C).
+        let s = spine_with_turns(8, |i| 0.3 - 0.6 * (i - 1) as f64 / 5.0);
+        let c = spine_with_turns(8, |_| 0.25);
+        for (name, spine) in [("S", s), ("C", c)] {
+            let p = Primitive::Bgc(Bgc::through(spine, 0.2));
+            let shape = p.current_shape();
+            let worst = shape
+                .regularizers
+                .iter()
+                .fold(0.0f64, |m, r| m.max(r.abs()));
+            assert!(worst < 1e-9, "the {name} costs {worst}");
+        }
+        assert!(super::is_s_bend(&[0.3, 0.18, 0.06, -0.06, -0.18, -0.3]));
+        assert!(!super::is_s_bend(&[0.25, 0.25, 0.25, 0.02, -0.02, 0.25]));
     }
 }

@@ -5,10 +5,12 @@
 //! - the **medial axis** of its two outlines: every sample of a silhouette stroke near
 //!   the drop is paired with the nearest point of another such stroke that lies across
 //!   the tube (roughly perpendicular to the stroke, running roughly parallel to it, at a
-//!   plausible width); the midpoints of the pairs trace the projected spine and their half
-//!   distances the radius. A quadratic through the midpoints, in the frame of their
-//!   principal direction, is the projected spine (a bend of up to about 120° is a graph
-//!   over its chord), from the first to the last midpoint;
+//!   plausible width; only the samples near the drop, so an outline that runs on into
+//!   another part gives only the piece near the drop); the midpoints of the pairs trace
+//!   the projected spine and their half distances the radius. A quadratic through the
+//!   midpoints, in the frame of their principal direction (a C: a bend of up to about
+//!   120° is a graph over its chord), or a cubic when it fits them at least twice as
+//!   closely (an S), is the projected spine, from the first to the last midpoint;
 //! - the **end ellipses**: each feature stroke near the tube goes to the nearer end of
 //!   that spine and is read as a whole ellipse (it ends near where it began; a free fit)
 //!   or a front arc (its extent across the spine is the major axis); the one nearest an
@@ -39,13 +41,17 @@ const SAMPLES: usize = 40;
 /// Samples of the projected spine curve before the 3D resampling.
 const DENSE: usize = 200;
 
-/// Evenly chosen samples of a polyline with their unit tangents.
-fn samples(points: &[DVec2]) -> Vec<(DVec2, DVec2)> {
+/// Evenly chosen samples of a polyline among its points within `reach` of `center`,
+/// with their unit tangents.
+fn samples(points: &[DVec2], center: DVec2, reach: f64) -> Vec<(DVec2, DVec2)> {
     let n = points.len();
-    let count = n.min(SAMPLES);
+    let near: Vec<usize> = (0..n)
+        .filter(|j| points[*j].distance(center) <= reach)
+        .collect();
+    let count = near.len().min(SAMPLES);
     (0..count)
         .map(|i| {
-            let j = i * (n - 1) / (count - 1).max(1);
+            let j = near[i * (near.len() - 1) / (count - 1).max(1)];
             let (lo, hi) = (j.saturating_sub(2), (j + 2).min(n - 1));
             (points[j], (points[hi] - points[lo]).normalize_or_zero())
         })
@@ -131,27 +137,23 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
     }
 }
 
-/// Medial samples (midpoint, half-width) of the silhouette strokes mostly within `reach`
-/// of `center`, for a tube of radius about `r` (module docs).
+/// Medial samples (midpoint, half-width) of the silhouette strokes near `center`, for a
+/// tube of radius about `r` (module docs): only the samples within `reach` of `center`
+/// are paired (their partners may lie a little farther), so a stroke that runs on into
+/// another part (one outline drawn along two tubes) gives the medial axis only of the
+/// piece near the drop.
 fn medial_axis(context: &SnapContext, center: DVec2, reach: f64, r: f64) -> Vec<(DVec2, f64)> {
     let outlines: Vec<&[DVec2]> = context
         .strokes
         .iter()
         .filter(|s| s.class == StrokeClass::Silhouette && s.points.len() >= 2)
-        .filter(|s| {
-            let near = s
-                .points
-                .iter()
-                .filter(|p| p.distance(center) <= reach)
-                .count();
-            near * 10 >= s.points.len() * 7
-        })
+        .filter(|s| s.points.iter().any(|p| p.distance(center) <= reach))
         .map(|s| s.points.as_slice())
         .collect();
     // Medial samples: (midpoint, half-width).
     let mut medial: Vec<(DVec2, f64)> = Vec::new();
     for (i, a) in outlines.iter().enumerate() {
-        for (p, tangent) in samples(a) {
+        for (p, tangent) in samples(a, center, reach) {
             let mut best: Option<(f64, DVec2)> = None;
             for (j, b) in outlines.iter().enumerate() {
                 if i == j {
@@ -275,14 +277,17 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
         .iter()
         .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
         .collect();
-    let coef = quadratic(&local)?;
+    let coef = spine_curve(&local)?;
     let (mut x0, mut x1) = local
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.x), hi.max(p.x))
         });
-    let curve = |x: f64| origin + dir * x + normal * (coef[0] + coef[1] * x + coef[2] * x * x);
-    let slope_dir = |x: f64| (dir + normal * (coef[1] + 2.0 * coef[2] * x)).normalize();
+    let curve = |x: f64| {
+        origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])))
+    };
+    let slope_dir =
+        |x: f64| (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize();
     // Radius profile: half-width linear in x.
     let widths: Vec<DVec2> = local
         .iter()
@@ -458,6 +463,24 @@ fn plane_tilt(rows: &[(DVec2, f64)]) -> DVec2 {
     }
 }
 
+/// The projected spine over its chord: a quadratic (a C), or a cubic when that fits the
+/// medial samples at least twice as closely (an S: it bends one way, then the other); a
+/// cubic's freedom would otherwise bend a C's noisy ends.
+fn spine_curve(points: &[DVec2]) -> Option<[f64; 4]> {
+    let rss = |c: &[f64; 4]| {
+        points
+            .iter()
+            .map(|p| (p.y - (c[0] + p.x * (c[1] + p.x * (c[2] + p.x * c[3])))).powi(2))
+            .sum::<f64>()
+    };
+    let three = cubic(points)?;
+    let two = quadratic(points).map(|c| [c[0], c[1], c[2], 0.0]);
+    match two {
+        Some(two) if rss(&three) >= 0.5 * rss(&two) => Some(two),
+        _ => Some(three),
+    }
+}
+
 /// Least-squares y = c₀ + c₁·x + c₂·x².
 fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
     let scale = points
@@ -478,6 +501,34 @@ fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
     }
     let c = solve(a, b)?;
     Some([c[0], c[1] / scale, c[2] / (scale * scale)])
+}
+
+/// Least-squares y = c₀ + c₁·x + c₂·x² + c₃·x³: a C (one bend) or an S (a bend one
+/// way, then the other) over its chord.
+fn cubic(points: &[DVec2]) -> Option<[f64; 4]> {
+    let scale = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()))
+        .max(1e-300);
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for p in points {
+        let x = p.x / scale;
+        let row = [1.0, x, x * x, x * x * x];
+        for i in 0..4 {
+            for j in 0..4 {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i] * p.y;
+        }
+    }
+    let c = solve(a, b)?;
+    Some([
+        c[0],
+        c[1] / scale,
+        c[2] / (scale * scale),
+        c[3] / (scale * scale * scale),
+    ])
 }
 
 /// Least-squares y = c₀ + c₁·x.

@@ -3,7 +3,7 @@
 //!
 //! A snap can fit its strokes closely and still be wrong: a tube laid on the wrong pair of
 //! strokes fits them at 1 % RMS. What tells a wrong part from a right one is what the
-//! rest of the drawing says about it. [`judge`] weighs six pieces of evidence, each
+//! rest of the drawing says about it. [`judge`] weighs six pieces of evidence (eight for a bent tube), each
 //! turned into a factor in [0, 1] (1: no doubt):
 //!
 //! - **fit**: the RMS distance of its strokes to its curves, relative to its size;
@@ -18,7 +18,11 @@
 //!   whose outline differs, explaining the drawing about as well);
 //! - **depth**: how well the drawing shows the part's length at all ([`depth`]): a part
 //!   seen almost along its axis shows its length only through the flatness of its end
-//!   ellipses, and the strokes' own noise leaves it loose.
+//!   ellipses, and the strokes' own noise leaves it loose;
+//! - **a bent tube's run and width** (bent tubes only): how much longer its spine is than
+//!   the spine's drawing (a tube that runs mostly in depth draws almost the same outlines
+//!   over a range of tilts, told apart only by how round its end ellipses are drawn), and
+//!   how much wider than dropped it grew (two neighbouring tubes read as one fat one).
 //!
 //! The confidence is the product of the factors; the weakest factor names the reason.
 //! A snap is *good* at a confidence of at least 0.5, *refused* below 0.1 and *doubtful*
@@ -315,6 +319,49 @@ pub fn nobody(_: StrokeId, _: DVec2) -> Option<u32> {
     None
 }
 
+/// How much longer a bent tube's spine is than its drawing (1 for every other kind).
+fn depth_ratio(primitive: &Primitive) -> f64 {
+    let Primitive::Bgc(b) = primitive else {
+        return 1.0;
+    };
+    let drawn: f64 = b
+        .projected_spine()
+        .windows(2)
+        .map(|w| w[0].distance(w[1]))
+        .sum();
+    b.spine_length() / drawn.max(f64::MIN_POSITIVE)
+}
+
+/// How many times wider than dropped a bent tube snapped (its widest radius over the
+/// dropped one's; 1 for every other kind): a tube that grew far wider than the hand
+/// showed took the outlines of something else (two neighbouring tubes as one).
+fn widening(primitive: &Primitive, dropped: &Primitive) -> f64 {
+    let (Primitive::Bgc(b), Primitive::Bgc(d)) = (primitive, dropped) else {
+        return 1.0;
+    };
+    let widest = |r: &[f64]| r.iter().fold(0.0f64, |m, x| m.max(*x));
+    widest(&b.radii) / widest(&d.radii).max(f64::MIN_POSITIVE)
+}
+
+/// The factors only a bent tube has: how far it runs in depth and how much wider than
+/// dropped it grew (both 1 for every other kind).
+fn tube_factors(primitive: &Primitive, dropped: &Primitive) -> [(f64, String); 2] {
+    let depth = depth_ratio(primitive);
+    let widened = widening(primitive, dropped);
+    [
+        (
+            0.4 + 0.6 * ramp(depth, 1.3, 2.0),
+            format!(
+                "it runs mostly in depth (its spine is {depth:.1}× as long as drawn), which only its end ellipses tell"
+            ),
+        ),
+        (
+            ramp(widened, 2.0, 4.0),
+            format!("it grew {widened:.1}× as wide as dropped: it is not the tube pointed at"),
+        ),
+    ]
+}
+
 /// Judges `result`, a snap of `dropped`; `owner` tells which placed part, if any, owns a
 /// piece of stroke; `gate` is the distance (view units) within which a stroke supports a
 /// curve.
@@ -345,7 +392,8 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         margin,
         depth,
     };
-    let factors = weigh(&evidence, factor, rival);
+    let mut factors = weigh(&evidence, factor, rival).to_vec();
+    factors.extend(tube_factors(primitive, dropped));
     let value = factors.iter().map(|(f, _)| f).product::<f64>();
     let value = if value.is_finite() {
         value.clamp(0.0, 1.0)
