@@ -117,11 +117,13 @@ const GOOD_BGC_FLOOR: usize = 0;
 /// improves.
 const STABLE_FLOOR: usize = 38;
 /// Good parts whose snap may call itself doubtful or refused: at most 5 % of the 62 parts
-/// (the target, met today: none of the 39 good parts is called so).
+/// (the target, met today: 3 of the 39 good parts are called so, all for a length the
+/// drawing barely shows: the gramophone turntable's thickness and the obliquely drawn
+/// square pipe's depth, which a 2D reference cannot check).
 const GOOD_FLAGGED_CEILING: usize = 3;
-/// Today's floor (7 of 23): wrong parts whose snap calls itself doubtful or refused; the
+/// Today's floor (10 of 23): wrong parts whose snap calls itself doubtful or refused; the
 /// target is 90 % of them.
-const WRONG_FLAGGED_FLOOR: usize = 7;
+const WRONG_FLAGGED_FLOOR: usize = 10;
 
 /// The sketches every part of which is scripted: all sixteen shared sketches.
 const SKETCHES: [&str; 16] = [
@@ -863,7 +865,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 }
 
 #[test]
-#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 39 of 62 parts good (63 %), 0 of 7 bent tubes, 39 of 62 stable (63 %), 7 of 23 wrong parts and 0 of 39 good ones called doubtful or refused"]
+#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 39 of 62 parts good (63 %), 0 of 7 bent tubes, 39 of 62 stable (63 %), 10 of 23 wrong parts and 3 of 39 good ones called doubtful or refused"]
 fn shared_parts_meet_the_targets() {
     let Some(dir) = common::shared_dir() else {
         return;
