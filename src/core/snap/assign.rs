@@ -8,7 +8,9 @@
 //! stroke's samples to the curve decide:
 //! - a stroke whose samples lie within the *gate* (a distance relative to the
 //!   primitive's size, never an absolute number of pixels; for an ellipse, at most its
-//!   semi-major axis) for at least 80 % is taken whole;
+//!   semi-major axis; once the pose is fitted, for an outline at most the distance to
+//!   the part's own outline across from it, see `assign_within`) for at least 80 % is
+//!   taken whole;
 //! - a longer stroke that runs along the curve for at least half the curve's length is
 //!   taken for that part only (one stroke may outline two stacked parts);
 //! - among the curves a stroke qualifies for, the closest wins;
@@ -174,6 +176,23 @@ fn subsample(points: &[DVec2]) -> Vec<DVec2> {
 /// Assigns strokes to the curves of `curves` (a primitive's projected curves at its
 /// current pose), with the gate distance `gate` in view-plane units.
 pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) -> Assignment {
+    assign_within(context, curves, gate, false)
+}
+
+/// As [`assign`], and when `fitted` (the curves are those of a fitted pose, not of a
+/// hand's drop) an outline's gate is also no wider than the part itself there: see
+/// `outline_caps`.
+pub(crate) fn assign_within(
+    context: &SnapContext,
+    curves: &[ProjectedCurve<f64>],
+    gate: f64,
+    fitted: bool,
+) -> Assignment {
+    let caps = if fitted {
+        outline_caps(curves)
+    } else {
+        vec![f64::INFINITY; curves.len()]
+    };
     let mut assignment = Assignment {
         curves: vec![Vec::new(); curves.len()],
     };
@@ -194,7 +213,7 @@ pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) 
         if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
             continue;
         }
-        for (score, k, c) in pieces(stroke, curves, &lengths, gate) {
+        for (score, k, c) in pieces(stroke, curves, &lengths, gate, &caps) {
             scored[k].push((score, c));
         }
     }
@@ -221,6 +240,7 @@ fn pieces(
     curves: &[ProjectedCurve<f64>],
     lengths: &[f64],
     gate: f64,
+    caps: &[f64],
 ) -> Vec<(f64, usize, AssignedStroke)> {
     let samples = subsample(&stroke.points);
     let mut candidates: Vec<Piece> = Vec::new();
@@ -228,7 +248,7 @@ fn pieces(
         if !curve.visible {
             continue;
         }
-        let gate = curve_gate(&curve.curve, gate);
+        let gate = curve_gate(&curve.curve, gate).min(caps[k]);
         let d: Vec<f64> = samples
             .iter()
             .map(|p| curve_distance(&curve.curve, *p))
@@ -442,6 +462,46 @@ fn curve_gate(curve: &Curve2<f64>, gate: f64) -> f64 {
     }
 }
 
+/// Per curve, the widest gate the part's own shape allows once it is fitted: for an
+/// outline (a polyline), the distance from its middle to the nearest other visible
+/// outline of the part running within 35° of it (the opposite silhouette of a tube, the
+/// parallel edge across a box face); no bound for the rest. A stroke further from an
+/// outline than the part is wide there is not drawing it: without this, the gate of a
+/// rod, a tenth of its length, is wider than the rod, and a neighbouring leg's outline
+/// (or the far side of a U drawn round its end) passes it.
+fn outline_caps(curves: &[ProjectedCurve<f64>]) -> Vec<f64> {
+    let chord = |c: &Curve2<f64>| match c {
+        Curve2::Polyline(p) if p.len() >= 2 => {
+            let (a, b) = (p[0].to_dvec2(), p[p.len() - 1].to_dvec2());
+            Some((a.lerp(b, 0.5), (b - a).normalize_or_zero()))
+        }
+        _ => None,
+    };
+    curves
+        .iter()
+        .enumerate()
+        .map(|(k, curve)| {
+            let Some((mid, dir)) = chord(&curve.curve).filter(|_| curve.visible) else {
+                return f64::INFINITY;
+            };
+            curves
+                .iter()
+                .enumerate()
+                .filter(|(j, other)| *j != k && other.visible)
+                .filter_map(|(_, other)| {
+                    let (_, d) = chord(&other.curve)?;
+                    (d.dot(dir).abs() >= ROUGHLY_PARALLEL)
+                        .then(|| curve_distance(&other.curve, mid))
+                })
+                .filter(|d| *d > 0.0)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// cos 35°: two outlines this close in direction run alongside each other.
+const ROUGHLY_PARALLEL: f64 = 0.819;
+
 /// Straight strokes must run within 35° of a two-point curve's direction.
 fn direction_ok(curve: &Curve2<f64>, stroke: &SnapStroke) -> bool {
     match curve {
@@ -474,7 +534,7 @@ pub(crate) fn curve_bounds(curve: &Curve2<f64>) -> (DVec2, DVec2) {
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::{assign, curve_length};
+    use super::{assign, assign_within, curve_length};
     use crate::core::primitive::{Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
     use crate::core::snap::SnapContext;
@@ -652,6 +712,41 @@ mod tests {
                 a.curves
             );
         }
+    }
+
+    #[test]
+    fn a_fitted_rods_hidden_outline_does_not_take_a_neighbours() {
+        // A side-on rod (radius 5, length 200) whose right outline is hidden; a
+        // neighbouring leg's outline runs 15 to its right: within the tight gate (a tenth
+        // of the rod's length) but further from that outline than the rod is wide.
+        let rod = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 200.0,
+            radius: 5.0,
+        });
+        let shape = rod.current_shape();
+        let line = |x: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| DVec2::new(x, -90.0 + 4.5 * f64::from(i)))
+                .collect()
+        };
+        let strokes = [
+            (StrokeId(0), line(-5.0), StrokeClass::Silhouette),
+            (StrokeId(1), line(20.0), StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let taken = |a: &super::Assignment| -> Vec<StrokeId> {
+            let mut ids = a.stroke_ids();
+            ids.dedup();
+            ids
+        };
+        // From a hand's drop the gate is the gate: the neighbour may be the outline.
+        let dropped = assign(&ctx, &shape.curves, 20.0);
+        assert_eq!(taken(&dropped), vec![StrokeId(0), StrokeId(1)]);
+        // Once fitted, an outline is no wider than the rod.
+        let fitted = assign_within(&ctx, &shape.curves, 20.0, true);
+        assert_eq!(taken(&fitted), vec![StrokeId(0)]);
     }
 
     #[test]

@@ -597,7 +597,7 @@ fn snap_rounds(
             multipliers = Some(report.multipliers);
         }
         let tight = settings.tight_gate * current.size();
-        let next = assign(context, &current.current_shape().curves, tight);
+        let next = assign::assign_within(context, &current.current_shape().curves, tight, true);
         let changed = !next.same_strokes(&assignment);
         if check_enough(&current, &next).is_err() {
             // The tight gate lost strokes the fit needs: keep the wider assignment.
