@@ -607,14 +607,15 @@ fn judge_sketch(name: &'static str, dir: &Path) -> Vec<Judged> {
                 StepOutcome::Placed { confidence, .. } | StepOutcome::Refused { confidence, .. } => {
                     let e = &confidence.evidence;
                     format!(
-                        "confidence {:.2}: rms {:.1} %, drawn {:.0} %, owned {:.0} %, moved {:.0} %, size ×{:.1}, margin {}",
+                        "confidence {:.2}: rms {:.1} %, drawn {:.0} %, owned {:.0} %, moved {:.0} %, size ×{:.1}, margin {}, depth {:.1} %",
                         confidence.value,
                         100.0 * e.rms,
                         100.0 * e.support,
                         100.0 * e.owned,
                         100.0 * e.moved,
                         e.resized,
-                        e.margin.map_or("—".to_owned(), |m| format!("{m:.2}"))
+                        e.margin.map_or("—".to_owned(), |m| format!("{m:.2}")),
+                        100.0 * e.depth
                     )
                 }
                 StepOutcome::Skipped(_) => String::new(),

@@ -9,8 +9,10 @@
 //!
 //! An end circle of a solid of revolution seen at elevation φ projects (orthographically)
 //! to an ellipse with minor/major = |sin φ| (the axis' z component) whose minor axis runs
-//! along the projected axis, whatever the part's proportions. Every stroke near the drop
-//! is fitted with an ellipse (Halíř–Flusser, refined); one it fits well (RMS within 8 % of
+//! along the projected axis, whatever the part's proportions. Every stroke near the drop,
+//! and every run of fragments that continue one another end to end (an ellipse drawn in
+//! three or four arcs), is fitted with an ellipse (Halíř–Flusser, refined); one it fits
+//! well (RMS within 8 % of
 //! the ellipse) over a quarter of a turn or more (an arc the classifier took for an
 //! outline must cover more: 2.5 rad), whose centre lies near an end of the dropped
 //! primitive and whose major semi-axis is within a factor 2 of the dropped radii, may
@@ -36,7 +38,7 @@ use super::assign::{curve_bounds, ROUGHLY_STRAIGHT};
 use super::context::{SnapContext, SnapStroke};
 use crate::core::geom::{fit_ellipse, refine_ellipse, Ellipse2};
 use crate::core::primitive::{Cuboid, Primitive};
-use crate::core::sketch::StrokeClass;
+use crate::core::sketch::{StrokeClass, StrokeId};
 
 /// The starting poses worth a try besides the dropped one (none when the drawing near it
 /// says nothing more).
@@ -71,73 +73,167 @@ fn normalised(e: Ellipse2) -> Ellipse2 {
     }
 }
 
-/// An ellipse a stroke draws (see [`drawn_ellipses`]).
-struct Drawn<'a> {
+/// An ellipse that a stroke, or a run of fragments, draws (see [`drawn_ellipses`]).
+struct Drawn {
     /// The fitted ellipse.
     ellipse: Ellipse2,
-    /// The stroke.
-    stroke: &'a SnapStroke,
-    /// The stroke's RMS distance to it.
+    /// The strokes that draw it (one, or the fragments of a run in order).
+    strokes: Vec<StrokeId>,
+    /// Their points.
+    points: Vec<DVec2>,
+    /// The points' RMS distance to it.
     rms: f64,
 }
 
 /// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
-/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed).
-fn drawn_ellipses(
-    context: &SnapContext,
-    near: DVec2,
-    reach: f64,
-    radii: (f64, f64),
-) -> Vec<Drawn<'_>> {
+/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed). Besides
+/// single strokes, runs of fragments ([`fragment_runs`]) are read together: a hand
+/// often draws an ellipse in three or four arcs, none of which says its shape alone.
+fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f64)) -> Vec<Drawn> {
+    let nearby: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|stroke| {
+            let (lo, hi) = stroke.bounds;
+            let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
+            stroke.points.len() >= 3 && closest.distance(near) <= reach + 2.0 * radii.1
+        })
+        .collect();
     let mut out = Vec::new();
-    for stroke in &context.strokes {
-        if stroke.points.len() < 5 {
-            continue;
+    let mut read = |run: &[&SnapStroke]| {
+        let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
+        if points.len() < 5 {
+            return;
         }
-        let (lo, hi) = stroke.bounds;
-        let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
-        if closest.distance(near) > reach + 2.0 * radii.1 {
-            continue;
-        }
-        let Some(fit) = fit_ellipse(&stroke.points) else {
-            continue;
+        let Some(fit) = fit_ellipse(&points) else {
+            return;
         };
-        let fit = normalised(refine_ellipse(&fit, &stroke.points));
+        let fit = normalised(refine_ellipse(&fit, &points));
         if fit.center.distance(near) > reach || !(radii.0..=radii.1).contains(&fit.semi_major) {
-            continue;
+            return;
         }
-        // Only a stroke the ellipse really fits (RMS within 8 % of its size) and that
-        // covers a good part of it tells the tilt; an arc classified as an outline must
+        // Only strokes the ellipse really fits (RMS within 8 % of its size) and that
+        // cover a good part of it tell the tilt; an arc classified as an outline must
         // cover more of the turn, as an outline bent by the hand may fit a short arc.
-        let min_sweep = if stroke.class == StrokeClass::Feature {
+        let min_sweep = if run.iter().all(|s| s.class == StrokeClass::Feature) {
             1.5
         } else {
             2.5
         };
-        let rms = fit.rms_distance(&stroke.points);
-        let covered = fit.angular_span(&stroke.points).map_or(0.0, |s| s.sweep);
+        let rms = fit.rms_distance(&points);
+        let covered = fit.angular_span(&points).map_or(0.0, |s| s.sweep);
         if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
             out.push(Drawn {
                 ellipse: fit,
-                stroke,
+                strokes: run.iter().map(|s| s.id).collect(),
+                points,
                 rms,
             });
+        }
+    };
+    for stroke in &nearby {
+        read(std::slice::from_ref(stroke));
+    }
+    for run in fragment_runs(&nearby, radii.1) {
+        // Every stretch of two or more consecutive fragments: a run may carry on from an
+        // end arc into the outline it meets.
+        for len in 2..=run.len() {
+            for window in run.windows(len) {
+                read(window);
+            }
         }
     }
     out
 }
 
-/// Whether two strokes draw one ellipse between them (pieces of one end, or one end
-/// drawn twice) rather than two: one ellipse fits both about as well (RMS within 1.5 ×
-/// the worse of their own) as each fits its own.
-fn one_ellipse(a: &Drawn<'_>, b: &Drawn<'_>) -> bool {
-    let points: Vec<DVec2> = a
-        .stroke
-        .points
-        .iter()
-        .chain(&b.stroke.points)
-        .copied()
+/// The longest run of fragments [`fragment_runs`] follows.
+const MAX_RUN: usize = 6;
+
+/// Runs of strokes that continue one another, as the fragments of one curve do: an end
+/// of one lies within a small gap of an end of the next (at most a third of the shorter
+/// one's length and half of `radius`), and the curve carries on through the joint in
+/// about the same direction (within 35°). Each end joins its nearest such partner when
+/// that partner's end chooses it too. Runs of one stroke are left out.
+fn fragment_runs<'a>(strokes: &[&'a SnapStroke], radius: f64) -> Vec<Vec<&'a SnapStroke>> {
+    let n = strokes.len();
+    // Per stroke end (2·i: its start, 2·i + 1: its end): the point and the unit
+    // direction leaving the stroke there.
+    let end = |k: usize| {
+        let points = &strokes[k / 2].points;
+        let m = points.len();
+        let (p, q) = if k % 2 == 0 {
+            (points[0], points[(m / 5).clamp(1, m - 1)])
+        } else {
+            (points[m - 1], points[m - 1 - (m / 5).clamp(1, m - 1)])
+        };
+        (p, (p - q).normalize_or_zero())
+    };
+    let partner = |k: usize| {
+        let (p, out) = end(k);
+        (0..2 * n)
+            .filter(|j| j / 2 != k / 2)
+            .filter_map(|j| {
+                let (q, back) = end(j);
+                let gap = p.distance(q);
+                let shorter = strokes[k / 2].length.min(strokes[j / 2].length);
+                // Leaving one stroke along `out`, the next is entered against its own
+                // leaving direction.
+                let continues = out.dot(-back) >= 35f64.to_radians().cos();
+                (continues && gap <= (shorter / 3.0).min(radius / 2.0)).then_some((gap, j))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, j)| j)
+    };
+    let link: Vec<Option<usize>> = (0..2 * n)
+        .map(|k| partner(k).filter(|j| partner(*j) == Some(k)))
         .collect();
+    let mut used = vec![false; n];
+    let mut runs = Vec::new();
+    for first in 0..n {
+        if used[first] {
+            continue;
+        }
+        // Walk back to the run's first stroke (or all the way round a closed run).
+        let mut at = first;
+        let mut entry = 0;
+        for _ in 0..n {
+            match link[2 * at + entry] {
+                Some(j) if j / 2 != first => {
+                    at = j / 2;
+                    entry = 1 - j % 2;
+                }
+                _ => break,
+            }
+        }
+        // Then forward, leaving each stroke by its other end.
+        let mut run = Vec::new();
+        let mut exit = 1 - entry;
+        while !used[at] && run.len() < MAX_RUN {
+            used[at] = true;
+            run.push(strokes[at]);
+            match link[2 * at + exit] {
+                Some(j) => {
+                    at = j / 2;
+                    exit = 1 - j % 2;
+                }
+                None => break,
+            }
+        }
+        if run.len() >= 2 {
+            runs.push(run);
+        }
+    }
+    runs
+}
+
+/// Whether two readings draw one ellipse between them (pieces of one end, or one end
+/// drawn twice) rather than two: they share a stroke, or one ellipse fits both about as
+/// well (RMS within 1.5 × the worse of their own) as each fits its own.
+fn one_ellipse(a: &Drawn, b: &Drawn) -> bool {
+    if a.strokes.iter().any(|s| b.strokes.contains(s)) {
+        return true;
+    }
+    let points: Vec<DVec2> = a.points.iter().chain(&b.points).copied().collect();
     fit_ellipse(&points).is_some_and(|e| {
         let e = refine_ellipse(&e, &points);
         e.rms_distance(&points) <= 1.5 * a.rms.max(b.rms)
@@ -570,9 +666,10 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
 pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::{box_poses, repose_from_ellipses};
+    use super::{box_poses, fragment_runs, repose_from_ellipses};
     use crate::core::primitive::{Cuboid, Curve2, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
+    use crate::core::snap::context::SnapStroke;
     use crate::core::snap::SnapContext;
 
     /// The visible edges of `truth` as straight strokes (sketch space, y down).
@@ -775,6 +872,82 @@ pub(super) mod tests {
             "{c:?}"
         );
         assert!(c.length > 20.0, "{c:?}");
+    }
+
+    #[test]
+    fn ends_drawn_in_fragments_are_read_together() {
+        // A rod whose top is drawn in five short arcs and whose bottom's half in three,
+        // with small gaps: no arc alone sweeps enough of a turn to tell the tilt.
+        let truth = Cylinder {
+            center: DVec3::new(300.0, -300.0, 0.0),
+            axis: DVec3::new(0.3, 0.8, 0.52).normalize(),
+            length: 150.0,
+            radius: 60.0,
+        };
+        let half = truth.axis * (truth.length / 2.0);
+        let tau = std::f64::consts::TAU;
+        let arcs = |centre: DVec3, from: f64, to: f64, n: usize| {
+            (0..n)
+                .map(|k| {
+                    let step = (to - from) / n as f64;
+                    let a = from + step * k as f64;
+                    rim(centre, truth.axis, truth.radius, a + 0.04, a + step - 0.04)
+                })
+                .collect::<Vec<_>>()
+        };
+        let mut strokes = arcs(truth.center + half, 0.0, tau, 5);
+        strokes.extend(arcs(truth.center - half, 0.0, tau / 2.0, 3));
+        let context = feature_strokes(&strokes);
+        let dropped = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(310.0, -290.0, 0.0),
+            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
+            length: 120.0,
+            radius: 50.0,
+        });
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped) else {
+            panic!("no pose");
+        };
+        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.02, "{c:?}");
+        assert!(
+            (c.length - truth.length).abs() < 0.05 * truth.length,
+            "{c:?}"
+        );
+        assert!(
+            (c.radius - truth.radius).abs() < 0.03 * truth.radius,
+            "{c:?}"
+        );
+        assert!(
+            c.center.truncate().distance(truth.center.truncate()) < 3.0,
+            "{c:?}"
+        );
+    }
+
+    #[test]
+    fn fragments_that_continue_one_another_form_one_run() {
+        let tau = std::f64::consts::TAU;
+        let centre = DVec3::new(0.0, 0.0, 0.0);
+        let axis = DVec3::Z;
+        // Three arcs of one circle with small gaps, given out of order, and a stroke
+        // across the circle's middle that meets none of them end to end.
+        let mut strokes: Vec<Vec<DVec2>> = [2, 0, 1]
+            .iter()
+            .map(|k| {
+                let a = tau / 3.0 * f64::from(*k);
+                rim(centre, axis, 100.0, a + 0.03, a + tau / 3.0 - 0.03)
+            })
+            .collect();
+        strokes.push(vec![
+            DVec2::new(-50.0, 0.0),
+            DVec2::new(50.0, 0.0),
+            DVec2::new(60.0, 1.0),
+        ]);
+        let context = feature_strokes(&strokes);
+        let all: Vec<&SnapStroke> = context.strokes.iter().collect();
+        let runs = fragment_runs(&all, 100.0);
+        assert_eq!(runs.len(), 1, "{}", runs.len());
+        let mut ids: Vec<u32> = runs[0].iter().map(|s| s.id.0).collect();
+        ids.sort_unstable();
+        assert_eq!(ids, vec![0, 1, 2]);
     }
 
     #[test]
