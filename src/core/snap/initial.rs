@@ -161,7 +161,7 @@ fn fragment_runs<'a>(strokes: &[&'a SnapStroke], radius: f64) -> Vec<Vec<&'a Sna
     let end = |k: usize| {
         let points = &strokes[k / 2].points;
         let m = points.len();
-        let (p, q) = if k % 2 == 0 {
+        let (p, q) = if k.is_multiple_of(2) {
             (points[0], points[(m / 5).clamp(1, m - 1)])
         } else {
             (points[m - 1], points[m - 1 - (m / 5).clamp(1, m - 1)])
