@@ -181,6 +181,29 @@ impl<'g> OutlineRun<'g> {
     }
 }
 
+/// How far a box edge runs on past each of its corners for the stroke samples measured
+/// against it, as a fraction of its length. A hand drawing a box overshoots its corners
+/// (a sixth of an edge is common in a quick sketch, more in construction lines); counted
+/// against the edge's end, those samples pull the corner outwards and the box grows
+/// along that edge. The box's sizes need no such pull: every edge's corners lie on the
+/// lines of the edges across it, and each drawn edge pins its line wherever along it the
+/// stroke ends, so the sizes come from where the edges lie, not from how far the hand
+/// carried them. A longer run costs more than it gains: near a corner it lets an edge
+/// take the samples of the edge it meets.
+const EDGE_RUN: f64 = 0.15;
+
+/// A straight edge `points` (two corners) lengthened by [`EDGE_RUN`] at both ends.
+fn edge_run<'g>(points: &[Vec2<Expr<'g>>]) -> Option<Curve2<Expr<'g>>> {
+    let [a, b] = points else {
+        return None;
+    };
+    let d = Vec2::new(b.x - a.x, b.y - a.y);
+    Some(Curve2::Polyline(vec![
+        Vec2::new(a.x - d.x * EDGE_RUN, a.y - d.y * EDGE_RUN),
+        Vec2::new(b.x + d.x * EDGE_RUN, b.y + d.y * EDGE_RUN),
+    ]))
+}
+
 /// The far end of a solid of revolution drawn as the half of its ellipse that the body
 /// does not hide: a "U" under a standing can. Either half of the fitted ellipse fits such
 /// a stroke, so a fit pushed along the axis (by a wide start, or by a relation in the
@@ -312,10 +335,16 @@ pub fn fit_terms<'g>(
             _ => Vec::new(),
         };
         let half = FarHalf::of(&shape.curves, &numeric.curves, k, &samples);
+        // A box edge runs on past its corners (see [`EDGE_RUN`]).
+        let measured = match (primitive, &curve.curve) {
+            (Primitive::Cuboid(_), Curve2::Polyline(points)) => edge_run(points),
+            _ => None,
+        };
+        let measured = measured.as_ref().unwrap_or(&curve.curve);
         let per_sample: Vec<Expr<'g>> = samples
             .iter()
             .map(|p| {
-                let d2 = distance(g, &curve.curve, *p).square();
+                let d2 = distance(g, measured, *p).square();
                 let d2 = runs
                     .iter()
                     .filter(|run| run.reaches(*p))
