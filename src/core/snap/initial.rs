@@ -1,9 +1,10 @@
 //! Better starting poses than the dropped one, read off the drawing near it.
 //!
 //! A dropped primitive has a fixed tilt, but the strokes say how the part really sits,
-//! and the fit converges far more reliably from there. Two readings are made:
+//! and the fit converges far more reliably from there. Three readings are made:
 //! - solids of revolution, from their end ellipses (below);
-//! - boxes, from the directions of their drawn edges ([`box_poses`]).
+//! - boxes, from the directions of their drawn edges ([`box_poses`]);
+//! - spheres, from the circle their outline draws near the drop ([`sphere_poses`]).
 //!
 //! # End ellipses
 //!
@@ -36,8 +37,8 @@ use glam::{DMat3, DQuat, DVec2, DVec3};
 
 use super::assign::{curve_bounds, ROUGHLY_STRAIGHT};
 use super::context::{SnapContext, SnapStroke};
-use crate::core::geom::{fit_ellipse, refine_ellipse, Ellipse2};
-use crate::core::primitive::{Cuboid, Primitive};
+use crate::core::geom::{fit_circle, fit_ellipse, refine_ellipse, Circle2, Ellipse2};
+use crate::core::primitive::{Cuboid, Primitive, Sphere};
 use crate::core::sketch::{StrokeClass, StrokeId};
 
 /// The starting poses worth a try besides the dropped one (none when the drawing near it
@@ -47,6 +48,10 @@ pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Ve
         Primitive::Cuboid(c) => box_poses(context, c)
             .into_iter()
             .map(Primitive::Cuboid)
+            .collect(),
+        Primitive::Sphere(s) => sphere_poses(context, s)
+            .into_iter()
+            .map(Primitive::Sphere)
             .collect(),
         _ => repose_from_ellipses(context, primitive)
             .into_iter()
@@ -454,6 +459,105 @@ pub(crate) fn repose_from_ellipses(
     })
 }
 
+/// The circles a sphere's outline may draw near a drop: a centre within half the dropped
+/// radius of the dropped centre and a radius within a factor 1.6 of the dropped one, as
+/// a hand's rough drop misses by less.
+const SPHERE_REACH: f64 = 0.5;
+
+/// The sweep (radians) of `points` round `center`: the full turn less the widest gap
+/// between their directions.
+fn sweep_round(points: &[DVec2], center: DVec2) -> f64 {
+    let mut angles: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            let d = *p - center;
+            d.y.atan2(d.x)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let (Some(first), Some(last)) = (angles.first(), angles.last()) else {
+        return 0.0;
+    };
+    let wrap = first + std::f64::consts::TAU - last;
+    let widest = angles.windows(2).map(|w| w[1] - w[0]).fold(wrap, f64::max);
+    std::f64::consts::TAU - widest
+}
+
+/// Starting poses for a sphere, read off the circles drawn near its drop. A sphere's
+/// outline is a circle whatever the view, and the hand draws it as one or a few arcs;
+/// a rough drop (off by a tenth of the size, a quarter too big or small) may meet other
+/// circles first: the ends of tubes joined to a ball, a neighbour's outline. So every
+/// stroke near the drop, and every run of fragments ([`fragment_runs`]), that a circle
+/// fits closely (RMS within 8 % of its radius, as for an end ellipse) over a fifth of a
+/// turn or more proposes a circle; each circle is scored by how much of its length the
+/// nearby strokes draw (samples within a tenth of the radius of it), and the best drawn
+/// one is the start. A
+/// start read off the drawing lands on the same outline from any drop near it.
+fn sphere_poses(context: &SnapContext, dropped: &Sphere) -> Vec<Sphere> {
+    let (c0, r0) = (dropped.center.truncate(), dropped.radius);
+    if !(r0 > 0.0) {
+        return Vec::new();
+    }
+    let reach = SPHERE_REACH * r0;
+    let nearby: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|stroke| {
+            let (lo, hi) = stroke.bounds;
+            let closest = DVec2::new(c0.x.clamp(lo.x, hi.x), c0.y.clamp(lo.y, hi.y));
+            stroke.points.len() >= 3 && closest.distance(c0) <= reach + 1.6 * r0
+        })
+        .collect();
+    let mut circles: Vec<Circle2> = Vec::new();
+    let mut propose = |run: &[&SnapStroke]| {
+        let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
+        let Some(circle) = fit_circle(&points) else {
+            return;
+        };
+        let fits = circle.rms_residual <= 0.08 * circle.radius
+            && circle.center.distance(c0) <= reach
+            && (r0 / 1.6..=r0 * 1.6).contains(&circle.radius)
+            && sweep_round(&points, circle.center) >= 0.2 * std::f64::consts::TAU;
+        if fits {
+            circles.push(circle);
+        }
+    };
+    for stroke in &nearby {
+        propose(std::slice::from_ref(stroke));
+    }
+    for run in fragment_runs(&nearby, 1.6 * r0) {
+        for len in 2..=run.len() {
+            for window in run.windows(len) {
+                propose(window);
+            }
+        }
+    }
+    // How much of a circle the nearby strokes draw: the share of its directions (in 96
+    // sectors) that a stroke sample near it covers.
+    let drawn = |circle: &Circle2| {
+        let mut covered = [false; 96];
+        for p in nearby.iter().flat_map(|s| &s.points) {
+            if circle.distance(*p) <= 0.1 * circle.radius {
+                let d = *p - circle.center;
+                let a = d.y.atan2(d.x) + std::f64::consts::PI;
+                let k = ((a / std::f64::consts::TAU * 96.0) as usize).min(95);
+                covered[k] = true;
+            }
+        }
+        covered.iter().filter(|c| **c).count() as f64 / 96.0
+    };
+    circles
+        .iter()
+        .map(|c| (drawn(c), c))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| Sphere {
+            center: DVec3::new(c.center.x, c.center.y, dropped.center.z),
+            radius: c.radius,
+        })
+        .into_iter()
+        .collect()
+}
+
 /// Strokes closer in direction than this (radians) belong to one edge direction.
 const SAME_DIRECTION: f64 = 0.14;
 
@@ -666,8 +770,8 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
 pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::{box_poses, fragment_runs, repose_from_ellipses};
-    use crate::core::primitive::{Cuboid, Curve2, Cylinder, Primitive};
+    use super::{box_poses, fragment_runs, repose_from_ellipses, starting_poses};
+    use crate::core::primitive::{Cuboid, Curve2, Cylinder, Primitive, Sphere};
     use crate::core::sketch::{StrokeClass, StrokeId};
     use crate::core::snap::context::SnapStroke;
     use crate::core::snap::SnapContext;
@@ -948,6 +1052,45 @@ pub(super) mod tests {
         let mut ids: Vec<u32> = runs[0].iter().map(|s| s.id.0).collect();
         ids.sort_unstable();
         assert_eq!(ids, vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn a_sphere_starts_from_the_circle_drawn_round_a_rough_drop() {
+        // A ball drawn as two arcs, a tube's end ellipse on its rim and a stroke across
+        // it; dropped a quarter too big and off by a tenth of its size.
+        let arc = |c: DVec2, r: f64, from: f64, to: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| c + r * DVec2::from_angle(from + (to - from) * f64::from(i) / 40.0))
+                .collect()
+        };
+        let ball = DVec2::new(300.0, -200.0);
+        let strokes = vec![
+            arc(ball, 100.0, 0.3, 3.0),
+            arc(ball, 100.0, 3.3, 6.0),
+            arc(
+                ball + DVec2::new(95.0, 0.0),
+                30.0,
+                0.0,
+                std::f64::consts::TAU,
+            ),
+            vec![ball - DVec2::new(60.0, 10.0), ball + DVec2::new(40.0, 30.0)],
+        ];
+        // Strokes are given in sketch space (y down).
+        let strokes: Vec<Vec<DVec2>> = strokes
+            .iter()
+            .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
+            .collect();
+        let context = feature_strokes(&strokes);
+        let dropped = Sphere {
+            center: DVec3::new(ball.x + 15.0, ball.y - 12.0, 0.0),
+            radius: 125.0,
+        };
+        let poses = starting_poses(&context, &Primitive::Sphere(dropped));
+        let [Primitive::Sphere(s)] = poses.as_slice() else {
+            panic!("{poses:?}");
+        };
+        assert!(s.center.truncate().distance(ball) < 1.0, "{s:?}");
+        assert!((s.radius - 100.0).abs() < 1.0, "{s:?}");
     }
 
     #[test]
