@@ -1064,7 +1064,7 @@ pub(super) mod tests {
                 .collect()
         };
         let ball = DVec2::new(300.0, -200.0);
-        let strokes = vec![
+        let strokes = [
             arc(ball, 100.0, 0.3, 3.0),
             arc(ball, 100.0, 3.3, 6.0),
             arc(
