@@ -30,6 +30,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::assign::{stroke_samples, Assignment};
 use super::context::{prepare, SnapContext};
 use super::{SnapError, SnapResult, SnapSettings};
 use crate::core::geom::{fit_ellipse, fit_line, Ellipse2};
@@ -107,7 +108,10 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
 
 /// A reading of the drawing: medial samples (midpoint, half-width), and the strokes to fit
 /// to (see [`Start`]).
-type Reading = (Vec<(DVec2, f64)>, Option<SnapContext>);
+type Reading = (Vec<(DVec2, f64)>, Option<Clipped>);
+
+/// The drawing a tube is fitted to when its outlines stop at junctions (see [`Start`]).
+type Clipped = (SnapContext, SnapContext, Vec<medial::Wall>);
 
 /// Medial samples (midpoint, half-width) of the tube dropped from `first` to `last` with
 /// radius about `r` (see [`medial`]): the silhouette strokes near the drop are paired
@@ -165,6 +169,23 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
             }
         }
     }
+    // Other strokes drawn on across the part the tube meets (an outline drawn in two
+    // strokes, the second running on past the junction) stop there too.
+    let own: Vec<usize> = tube.stops.iter().map(|s| indices[s.stroke]).collect();
+    for (i, stroke) in clipped.strokes.iter_mut().enumerate() {
+        if own.contains(&i) || stroke.class != StrokeClass::Silhouette {
+            continue;
+        }
+        for wall in &tube.walls {
+            if let Some(points) = medial::trimmed(&stroke.points, wall) {
+                match prepare(stroke.id, points, stroke.class) {
+                    Some(s) => *stroke = s,
+                    // Nothing left on the tube's side: the stroke is the other part's.
+                    None => stroke.points.clear(),
+                }
+            }
+        }
+    }
     // The parts the tube meets at its junctions cross it: their outlines are none of
     // its own (nor its end ellipses).
     let across: Vec<_> = tube
@@ -172,8 +193,12 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
         .iter()
         .map(|k| context.strokes[indices[*k]].id)
         .collect();
-    clipped.strokes.retain(|s| !across.contains(&s.id));
-    vec![(tube.samples, Some(clipped))]
+    clipped
+        .strokes
+        .retain(|s| !across.contains(&s.id) && s.points.len() >= 2);
+    let mut whole = context.clone();
+    whole.strokes.retain(|s| !across.contains(&s.id));
+    vec![(tube.samples, Some((clipped, whole, tube.walls)))]
 }
 
 /// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
@@ -231,12 +256,14 @@ fn front_arc(points: &[DVec2], at: DVec2, tau: DVec2) -> Option<(Ellipse2, bool)
 
 /// A starting BGC read off the drawing, and the drawing to fit it to: `None` for the
 /// whole drawing, or the drawing with the tube's outlines clipped where they stop at a
-/// junction (see [`medial`]).
+/// junction (see [`medial`]) and the one to name its strokes in.
 pub(crate) struct Start {
     /// The starting pose.
-    pub pose: Primitive,
-    /// The strokes to fit it to, when not all of the drawing's.
-    pub context: Option<SnapContext>,
+    pose: Primitive,
+    /// The strokes to fit it to, when not all of the drawing's: the tube's outlines
+    /// clipped at its junctions, the drawing without the outlines of the parts it meets
+    /// there (whose strokes the result names), and the far sides of those junctions.
+    context: Option<Clipped>,
 }
 
 /// The starting BGCs for the dropped `primitive`, best first, or none (see the module
@@ -368,8 +395,9 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
 }
 
 /// Snaps a starting pose: fitted to its own strokes (see [`Start`]), then assigned the
-/// whole drawing's strokes at the tight gate (so that the result names the drawing's
-/// strokes as they are, whole or in pieces), unless that loses strokes the fit needs.
+/// drawing's strokes as they are (whole or in pieces, but for the outlines of the parts
+/// it meets at its junctions) at the tight gate, so that the result names them, unless
+/// that loses strokes the fit needs.
 pub(crate) fn snap_start(
     context: &SnapContext,
     start: &Start,
@@ -377,18 +405,51 @@ pub(crate) fn snap_start(
     cancel: Option<&CancelFlag>,
     clock: Option<&dyn Clock>,
 ) -> Result<SnapResult, SnapError> {
-    let Some(clipped) = &start.context else {
+    let Some((clipped, whole, walls)) = &start.context else {
         return super::snap_rounds(context, &start.pose, settings, None, cancel, clock);
     };
     let mut result = super::snap_rounds(clipped, &start.pose, settings, None, cancel, clock)?;
     let tight = settings.tight_gate * result.primitive.size();
     let curves = result.primitive.current_shape().curves;
-    let whole = super::assign::assign_within(context, &curves, tight, true);
-    if super::check_enough(&result.primitive, &whole).is_ok() {
-        result.rms = super::fit_rms(&result.primitive, &whole);
-        result.assignment = whole;
+    let mut named = super::assign::assign_within(whole, &curves, tight, true);
+    within_walls(&mut named, whole, walls);
+    if super::check_enough(&result.primitive, &named).is_ok() {
+        result.rms = super::fit_rms(&result.primitive, &named);
+        result.assignment = named;
     }
     Ok(result)
+}
+
+/// Drops from `assignment` the stroke samples beyond the junctions' `walls` (an outline
+/// drawn on across the part the tube meets is the tube's only up to the junction): a
+/// stroke taken whole becomes a piece of it.
+fn within_walls(assignment: &mut Assignment, context: &SnapContext, walls: &[medial::Wall]) {
+    for curve in &mut assignment.curves {
+        for taken in curve.iter_mut() {
+            let Some(stroke) = context.strokes.iter().find(|s| s.id == taken.stroke) else {
+                continue;
+            };
+            let samples = stroke_samples(stroke);
+            let indices: Vec<usize> = taken
+                .part
+                .clone()
+                .unwrap_or_else(|| (0..samples.len()).collect());
+            let kept: Vec<usize> = indices
+                .iter()
+                .copied()
+                .filter(|i| {
+                    samples
+                        .get(*i)
+                        .is_some_and(|p| !walls.iter().any(|w| w.beyond(*p)))
+                })
+                .collect();
+            if kept.len() < indices.len() {
+                taken.samples = kept.iter().map(|i| samples[*i]).collect();
+                taken.part = Some(kept);
+            }
+        }
+        curve.retain(|taken| taken.samples.len() >= 2);
+    }
 }
 
 /// The gradient tolerance of a BGC's fit, in the normalised frame (objective values are

@@ -50,6 +50,23 @@ pub(super) struct Junction {
     pub at: DVec2,
     /// The two strokes of the crossing chain.
     pub across: (usize, usize),
+    /// The crossing chain's unit direction there.
+    pub direction: DVec2,
+}
+
+/// The far side of a junction, seen from the tube: a line through the junction along the
+/// part that crosses it, the unit normal `inward` pointing to the tube, and the tube's
+/// half-width there (see [`trimmed`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Wall {
+    /// The junction.
+    pub at: DVec2,
+    /// The crossing part's unit direction.
+    pub direction: DVec2,
+    /// The unit normal towards the tube.
+    pub inward: DVec2,
+    /// The tube's half-width at the junction.
+    pub half: f64,
 }
 
 /// Where the tube's outline `stroke` (an index into the outlines) stops at a junction:
@@ -236,6 +253,7 @@ fn junctions(chain: &[Medial], others: &[&[Medial]]) -> Vec<(f64, Junction)> {
                     let junction = Junction {
                         at: a[0].at + da * s,
                         across: b[0].pair,
+                        direction: db.normalize_or_zero(),
                     };
                     cuts.push((a[0].along + s * (a[1].along - a[0].along), junction));
                 }
@@ -419,6 +437,8 @@ pub(super) struct Tube {
     /// The outlines of the parts it meets at those junctions (they cross it: none of
     /// them is its own).
     pub across: Vec<usize>,
+    /// The far sides of those junctions.
+    pub walls: Vec<Wall>,
 }
 
 /// The tube dropped from `drop[0]` to `drop[1]`: the nearest piece that runs with the
@@ -461,11 +481,49 @@ pub(super) fn tube_of(pieces: &[Piece], drop: [DVec2; 2]) -> Tube {
                     });
                 }
                 tube.across.extend([j.across.0, j.across.1]);
+                let mean = s.iter().map(|m| m.at).sum::<DVec2>() / s.len() as f64;
+                let normal = j.direction.perp();
+                let inward = if (mean - j.at).dot(normal) < 0.0 {
+                    -normal
+                } else {
+                    normal
+                };
+                tube.walls.push(Wall {
+                    at: j.at,
+                    direction: j.direction,
+                    inward,
+                    half: m.half,
+                });
             }
         }
         tube.samples.extend(s.iter().map(|m| (m.at, m.half)));
     }
     tube
+}
+
+impl Wall {
+    /// Whether `p` lies beyond the wall, within a few tube widths of the junction.
+    pub(super) fn beyond(&self, p: DVec2) -> bool {
+        let d = p - self.at;
+        d.dot(self.inward) < 0.0 && d.dot(self.direction).abs() <= 4.0 * self.half
+    }
+}
+
+/// A stroke `points` trimmed at a junction's `wall`: without its points beyond the wall
+/// within a few tube widths of the junction (an outline drawn on across the part the tube
+/// meets), the longest run that is left; `None` when nothing is trimmed.
+pub(super) fn trimmed(points: &[DVec2], wall: &Wall) -> Option<Vec<DVec2>> {
+    let beyond = |p: &DVec2| wall.beyond(*p);
+    if !points.iter().any(beyond) {
+        return None;
+    }
+    let mut best: &[DVec2] = &[];
+    for run in points.split(beyond) {
+        if run.len() > best.len() {
+            best = run;
+        }
+    }
+    Some(best.to_vec())
 }
 
 /// The outline `points` clipped at its junctions `stops` (see [`Stop`]): the part on the
