@@ -671,4 +671,27 @@ mod tests {
         assert!(clipped_end.first().unwrap().distance(DVec2::new(45.0, 0.0)) < 1e-9);
         assert!(clipped_end.last().unwrap().distance(DVec2::new(100.0, 0.0)) < 1e-9);
     }
+
+    #[test]
+    fn a_stroke_drawn_on_across_a_post_is_trimmed_at_the_post() {
+        // A wall at x = 0 along y (a post), the tube on the side of negative x, 10 wide.
+        let wall = Wall {
+            at: DVec2::ZERO,
+            direction: DVec2::Y,
+            inward: DVec2::NEG_X,
+            half: 10.0,
+        };
+        let through: Vec<DVec2> = (0..=10)
+            .map(|i| DVec2::new(f64::from(i) * 10.0 - 60.0, 5.0))
+            .collect();
+        let kept = trimmed(&through, &wall).unwrap();
+        assert!(kept.iter().all(|p| p.x <= 0.0));
+        assert_eq!(kept.len(), 7);
+        // Far along the post (beyond four tube widths) nothing is the tube's business.
+        let far: Vec<DVec2> = through
+            .iter()
+            .map(|p| *p + DVec2::new(0.0, 100.0))
+            .collect();
+        assert!(trimmed(&far, &wall).is_none());
+    }
 }
