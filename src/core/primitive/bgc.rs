@@ -50,9 +50,6 @@ use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketc
 const TURN_SMOOTHNESS: f64 = 15.0;
 /// Weight (inside the residual) of a second difference of the radii.
 const PROFILE_SMOOTHNESS: f64 = 15.0;
-/// Weight (inside the residual) of the pull of the spine's plane towards the view plane
-/// (1 − n_z²).
-const PLANE_PULL: f64 = 0.15;
 /// The largest turn of the spine at one point (radians).
 const MAX_TURN: f64 = 1.2;
 /// An end circle whose normal is within this (|n_z|) of the view plane is nearly
@@ -404,10 +401,6 @@ impl Bgc {
                 .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
         );
         regularizers.push(x[3].square() + x[4].square() + x[5].square() + x[6].square() - 1.0);
-        // A mild pull of the spine's plane towards the view plane: contours alone do not
-        // tell the tilt (a drawn ellipse-like bend is as well a circular arc seen aslant),
-        // so without the ends' evidence the least tilted reading is kept.
-        regularizers.push((h.lit(1.0) - s.normal.z.square()) * PLANE_PULL);
         Shape {
             curves: vec![
                 curve(

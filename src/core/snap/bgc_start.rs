@@ -139,22 +139,9 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     let pieces = medial::cut_at_junctions(&chains, drop);
     let tube = medial::tube_of(&pieces, drop);
     if tube.stops.is_empty() {
-        // No junction, and the tube found covers less of the drop than a hand's drop is
-        // off by: its outlines broke up (a stretch missing, a hand's outline wandering
-        // off its partner), so every pair near the drop is read together too.
-        let axis = (drop[1] - drop[0]).normalize_or_zero();
-        let (lo, hi) =
-            tube.samples
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (p, _)| {
-                    let x = (*p - drop[0]).dot(axis);
-                    (lo.min(x), hi.max(x))
-                });
-        let short = !(hi - lo >= 0.75 * drop[0].distance(drop[1]));
-        let pooled = (short && all.len() > tube.samples.len()).then_some((all, None));
-        return std::iter::once((tube.samples, None))
-            .chain(pooled)
-            .collect();
+        // No junction: every pair near the drop is read together (a hand's outline that
+        // breaks up or wanders off its partner for a stretch breaks the chains).
+        return vec![(all, None)];
     }
     let mut clipped = context.clone();
     for (k, index) in indices.iter().enumerate() {

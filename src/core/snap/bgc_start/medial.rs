@@ -141,9 +141,9 @@ fn closest(points: &[DVec2], p: DVec2) -> Option<(DVec2, DVec2, f64)> {
 
 /// Medial samples of the outlines `outlines` near `center` for a tube of radius about `r`:
 /// each sample of an outline within `reach` of `center` is paired with the nearest point
-/// of another outline that lies across the tube: the two run within about 50° of each
-/// other (a flaring tube's outlines diverge), the pair lies across their bisector, and it
-/// is between `widths.0`·r and `widths.1`·r apart.
+/// of another outline that lies across the tube: the two run within about 45° of each
+/// other, the pair lies across the sample's outline, and it is between `widths.0`·r and
+/// `widths.1`·r apart.
 pub(super) fn medial_samples(
     outlines: &[&[DVec2]],
     center: DVec2,
@@ -164,9 +164,8 @@ pub(super) fn medial_samples(
                 };
                 let d = q.distance(p);
                 let dir = if dir.dot(tangent) < 0.0 { -dir } else { dir };
-                let bisector = (dir + tangent).normalize_or_zero();
-                let across = (q - p).dot(bisector).abs() <= 0.4 * d;
-                let parallel = dir.dot(tangent) >= 0.6;
+                let across = (q - p).dot(tangent).abs() <= 0.4 * d;
+                let parallel = dir.dot(tangent) >= 0.7;
                 if across
                     && parallel
                     && (widths.0 * r..=widths.1 * r).contains(&d)
