@@ -1430,6 +1430,69 @@ pub(crate) fn scene_with(
     }
 }
 
+/// A bent tube that ends at a post drawn across it (as a candlestick's arms meet its
+/// stem): a random tube of the wider variety from a designer's view, drawn plainly, whose
+/// outlines run on past its bottom end across a post (two parallel outlines through that
+/// end, across the tube there, as wide as the tube), and whose bottom end ellipse the post
+/// hides. The truth is the tube alone; the same seed gives the same scene.
+pub(crate) fn bgc_across_post(seed: u64) -> Scene {
+    let mut scene = scene_with(PrimitiveKind::Bgc, seed, Condition::Plain, false, None);
+    let Primitive::Bgc(b) = &scene.truth else {
+        unreachable!("scene_with draws the kind asked for");
+    };
+    let sketch = |v: DVec2| sketch_from_view(v);
+    let end = b.spine[0].truncate();
+    let along = (b.spine[0].truncate() - b.spine[1].truncate()).normalize();
+    let across = along.perp();
+    let r = b.radii[0];
+    scene.strokes.retain(|s| !s.label.contains("bottom"));
+    // The outlines run on past the end, to the post's far side.
+    for stroke in &mut scene.strokes {
+        if stroke.class != StrokeClass::Silhouette || stroke.points.len() < 2 {
+            continue;
+        }
+        let first = view_point(stroke.points[0]);
+        let last = view_point(stroke.points[stroke.points.len() - 1]);
+        let near_first = first.distance(end) <= 1.5 * r;
+        let near_last = last.distance(end) <= 1.5 * r;
+        if !(near_first || near_last) {
+            continue;
+        }
+        let from = if near_last { last } else { first };
+        let run: Vec<DVec2> = (1..=10)
+            .map(|i| sketch(from + along * (2.0 * r * f64::from(i) / 10.0)))
+            .collect();
+        if near_last {
+            stroke.points.extend(run);
+        } else {
+            let mut points: Vec<DVec2> = run.into_iter().rev().collect();
+            points.append(&mut stroke.points);
+            stroke.points = points;
+        }
+    }
+    // The post: two outlines across the tube's end, a little over three tube lengths long.
+    let reach = 1.6 * b.spine_length();
+    for (side, label) in [(1.0, "post left"), (-1.0, "post right")] {
+        let points = (0..=40)
+            .map(|i| {
+                let s = reach * (f64::from(i) / 20.0 - 1.0);
+                sketch(end + along * (side * r) + across * s)
+            })
+            .collect();
+        scene.strokes.push(SynthStroke {
+            points,
+            class: StrokeClass::Silhouette,
+            label: label.to_owned(),
+        });
+    }
+    scene
+}
+
+/// The view-plane point of a sketch point.
+fn view_point(p: DVec2) -> DVec2 {
+    DVec2::new(p.x, -p.y)
+}
+
 /// Draws a given cylinder, cone, sphere or box under `condition`, with hidden lines when
 /// `hidden_lines` (an assembly's parts), as [`scene_with`] draws its primitives.
 pub(crate) fn draw_with(

@@ -30,52 +30,21 @@
 
 use glam::{DVec2, DVec3};
 
-use super::context::SnapContext;
-use super::SnapSettings;
+use super::assign::{stroke_samples, Assignment};
+use super::context::{prepare, SnapContext};
+use super::{SnapError, SnapResult, SnapSettings};
 use crate::core::geom::{fit_ellipse, fit_line, Ellipse2};
 use crate::core::primitive::{Bgc, Primitive};
 use crate::core::sketch::StrokeClass;
+use crate::core::solve::{CancelFlag, Clock};
 
-/// At most this many samples of a stroke are paired.
-const SAMPLES: usize = 40;
+mod medial;
+
+/// A tube's outlines pair when they are between these multiples of its dropped radius
+/// apart.
+const WIDTHS: (f64, f64) = (0.8, 4.0);
 /// Samples of the projected spine curve before the 3D resampling.
 const DENSE: usize = 200;
-
-/// Evenly chosen samples of a polyline among its points within `reach` of `center`,
-/// with their unit tangents.
-fn samples(points: &[DVec2], center: DVec2, reach: f64) -> Vec<(DVec2, DVec2)> {
-    let n = points.len();
-    let near: Vec<usize> = (0..n)
-        .filter(|j| points[*j].distance(center) <= reach)
-        .collect();
-    let count = near.len().min(SAMPLES);
-    (0..count)
-        .map(|i| {
-            let j = near[i * (near.len() - 1) / (count - 1).max(1)];
-            let (lo, hi) = (j.saturating_sub(2), (j + 2).min(n - 1));
-            (points[j], (points[hi] - points[lo]).normalize_or_zero())
-        })
-        .collect()
-}
-
-/// The closest point to `p` on a polyline, with the polyline's unit direction there.
-fn closest(points: &[DVec2], p: DVec2) -> Option<(DVec2, DVec2)> {
-    let mut best: Option<(f64, DVec2, DVec2)> = None;
-    for w in points.windows(2) {
-        let ab = w[1] - w[0];
-        let len2 = ab.length_squared();
-        if len2 <= 0.0 {
-            continue;
-        }
-        let t = ((p - w[0]).dot(ab) / len2).clamp(0.0, 1.0);
-        let q = w[0] + ab * t;
-        let d = q.distance_squared(p);
-        if best.as_ref().is_none_or(|(b, _, _)| d < *b) {
-            best = Some((d, q, ab / len2.sqrt()));
-        }
-    }
-    best.map(|(_, q, dir)| (q, dir))
-}
 
 /// The end ellipses drawn near the ends `ends` of the projected spine (where it runs
 /// along the unit `taus`, outwards or inwards), for a tube of half-width about `widths`:
@@ -137,48 +106,86 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
     }
 }
 
-/// Medial samples (midpoint, half-width) of the silhouette strokes near `center`, for a
-/// tube of radius about `r` (module docs): only the samples within `reach` of `center`
-/// are paired (their partners may lie a little farther), so a stroke that runs on into
-/// another part (one outline drawn along two tubes) gives the medial axis only of the
-/// piece near the drop.
-fn medial_axis(context: &SnapContext, center: DVec2, reach: f64, r: f64) -> Vec<(DVec2, f64)> {
-    let outlines: Vec<&[DVec2]> = context
-        .strokes
-        .iter()
-        .filter(|s| s.class == StrokeClass::Silhouette && s.points.len() >= 2)
-        .filter(|s| s.points.iter().any(|p| p.distance(center) <= reach))
-        .map(|s| s.points.as_slice())
+/// A reading of the drawing: medial samples (midpoint, half-width), and the strokes to fit
+/// to (see [`Start`]).
+type Reading = (Vec<(DVec2, f64)>, Option<Clipped>);
+
+/// The drawing a tube is fitted to when its outlines stop at junctions (see [`Start`]).
+type Clipped = (SnapContext, SnapContext, Vec<medial::Wall>);
+
+/// Medial samples (midpoint, half-width) of the tube dropped from `first` to `last` with
+/// radius about `r` (see [`medial`]): the silhouette strokes near the drop are paired
+/// within `reach` of its centre, the pairs grouped into chains, the chains cut at their
+/// junctions, and the piece nearest the drop kept with its continuations. With them, the
+/// drawing with the tube's outlines clipped where they stop at a junction (`None` when
+/// none does), so that its fit does not run on along them into the part beyond.
+fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> Vec<Reading> {
+    let center = (drop[0] + drop[1]) / 2.0;
+    let indices: Vec<usize> = (0..context.strokes.len())
+        .filter(|i| {
+            let s = &context.strokes[*i];
+            s.class == StrokeClass::Silhouette
+                && s.points.len() >= 2
+                && s.points.iter().any(|p| p.distance(center) <= reach)
+        })
         .collect();
-    // Medial samples: (midpoint, half-width).
-    let mut medial: Vec<(DVec2, f64)> = Vec::new();
-    for (i, a) in outlines.iter().enumerate() {
-        for (p, tangent) in samples(a, center, reach) {
-            let mut best: Option<(f64, DVec2)> = None;
-            for (j, b) in outlines.iter().enumerate() {
-                if i == j {
-                    continue;
-                }
-                let Some((q, dir)) = closest(b, p) else {
-                    continue;
-                };
-                let d = q.distance(p);
-                let across = (q - p).dot(tangent).abs() <= 0.4 * d;
-                let parallel = dir.dot(tangent).abs() >= 0.7;
-                if across
-                    && parallel
-                    && (0.8 * r..=4.0 * r).contains(&d)
-                    && best.as_ref().is_none_or(|(bd, _)| d < *bd)
-                {
-                    best = Some((d, q));
-                }
-            }
-            if let Some((d, q)) = best {
-                medial.push(((p + q) / 2.0, d / 2.0));
+    let outlines: Vec<&[DVec2]> = indices
+        .iter()
+        .map(|i| context.strokes[*i].points.as_slice())
+        .collect();
+    let samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
+    let all: Vec<(DVec2, f64)> = samples.iter().map(|m| (m.at, m.half)).collect();
+    let chains = medial::chains(samples);
+    let pieces = medial::cut_at_junctions(&chains, drop);
+    let tube = medial::tube_of(&pieces, drop);
+    if tube.stops.is_empty() {
+        // No junction: every pair near the drop is read together (a hand's outline that
+        // breaks up or wanders off its partner for a stretch breaks the chains).
+        return vec![(all, None)];
+    }
+    let mut clipped = context.clone();
+    for (k, index) in indices.iter().enumerate() {
+        let mine: Vec<&medial::Stop> = tube.stops.iter().filter(|s| s.stroke == k).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let stroke = &mut clipped.strokes[*index];
+        if let Some(points) = medial::clipped(&stroke.points, &mine) {
+            if let Some(s) = prepare(stroke.id, points, stroke.class) {
+                *stroke = s;
             }
         }
     }
-    medial
+    // Other strokes drawn on across the part the tube meets (an outline drawn in two
+    // strokes, the second running on past the junction) stop there too.
+    let own: Vec<usize> = tube.stops.iter().map(|s| indices[s.stroke]).collect();
+    for (i, stroke) in clipped.strokes.iter_mut().enumerate() {
+        if own.contains(&i) || stroke.class != StrokeClass::Silhouette {
+            continue;
+        }
+        for wall in &tube.walls {
+            if let Some(points) = medial::trimmed(&stroke.points, wall) {
+                match prepare(stroke.id, points, stroke.class) {
+                    Some(s) => *stroke = s,
+                    // Nothing left on the tube's side: the stroke is the other part's.
+                    None => stroke.points.clear(),
+                }
+            }
+        }
+    }
+    // The parts the tube meets at its junctions cross it: their outlines are none of
+    // its own (nor its end ellipses).
+    let across: Vec<_> = tube
+        .across
+        .iter()
+        .map(|k| context.strokes[indices[*k]].id)
+        .collect();
+    clipped
+        .strokes
+        .retain(|s| !across.contains(&s.id) && s.points.len() >= 2);
+    let mut whole = context.clone();
+    whole.strokes.retain(|s| !across.contains(&s.id));
+    vec![(tube.samples, Some((clipped, whole, tube.walls)))]
 }
 
 /// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
@@ -234,13 +241,25 @@ fn front_arc(points: &[DVec2], at: DVec2, tau: DVec2) -> Option<(Ellipse2, bool)
     (fit.semi_minor > 0.0).then_some((fit, false))
 }
 
+/// A starting BGC read off the drawing, and the drawing to fit it to: `None` for the
+/// whole drawing, or the drawing with the tube's outlines clipped where they stop at a
+/// junction (see [`medial`]) and the one to name its strokes in.
+pub(crate) struct Start {
+    /// The starting pose.
+    pose: Primitive,
+    /// The strokes to fit it to, when not all of the drawing's: the tube's outlines
+    /// clipped at its junctions, the drawing without the outlines of the parts it meets
+    /// there (whose strokes the result names), and the far sides of those junctions.
+    context: Option<Clipped>,
+}
+
 /// The starting BGCs for the dropped `primitive`, best first, or none (see the module
 /// docs).
-pub(crate) fn starts(context: &SnapContext, primitive: &Primitive) -> Vec<Primitive> {
+pub(crate) fn starts(context: &SnapContext, primitive: &Primitive) -> Vec<Start> {
     starting_poses(context, primitive).unwrap_or_default()
 }
 
-fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Primitive>> {
+fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Start>> {
     let Primitive::Bgc(dropped) = primitive else {
         return None;
     };
@@ -253,14 +272,33 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     }
     let first = dropped.spine.first()?.truncate();
     let last = dropped.spine.last()?.truncate();
-    let center = (first + last) / 2.0;
-    let axis = (last - first).normalize_or(DVec2::Y);
     let length = first.distance(last);
     let r = dropped.radii.iter().sum::<f64>() / k as f64;
     if !(length > 0.0 && r > 0.0) {
         return None;
     }
-    let medial = medial_axis(context, center, length + 3.0 * r, r);
+    let readings = medial_axis(context, [first, last], length + 3.0 * r, r);
+    let starts: Vec<Start> = readings
+        .into_iter()
+        .filter_map(|(medial, clipped)| {
+            pose_from(context, dropped, &medial).map(|pose| Start {
+                pose,
+                context: clipped,
+            })
+        })
+        .collect();
+    Some(starts)
+}
+
+/// The starting BGC for `dropped` from the medial samples `medial` of its outlines (see
+/// the module docs).
+fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> Option<Primitive> {
+    let k = dropped.spine.len();
+    let first = dropped.spine.first()?.truncate();
+    let last = dropped.spine.last()?.truncate();
+    let axis = (last - first).normalize_or(DVec2::Y);
+    let length = first.distance(last);
+    let r = dropped.radii.iter().sum::<f64>() / k as f64;
     if medial.len() < 8 {
         return None;
     }
@@ -291,7 +329,7 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     // Radius profile: half-width linear in x.
     let widths: Vec<DVec2> = local
         .iter()
-        .zip(&medial)
+        .zip(medial)
         .map(|(p, (_, w))| DVec2::new(p.x, *w))
         .collect();
     let (w0, w1) = linear(&widths)?;
@@ -339,8 +377,66 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Pr
     let mut bgc = Bgc::through(spine, r);
     bgc.radii = radii;
     bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
-    let start = Primitive::Bgc(bgc);
-    Some(start.is_finite().then_some(start).into_iter().collect())
+    let pose = Primitive::Bgc(bgc);
+    pose.is_finite().then_some(pose)
+}
+
+/// Snaps a starting pose: fitted to its own strokes (see [`Start`]), then assigned the
+/// drawing's strokes as they are (whole or in pieces, but for the outlines of the parts
+/// it meets at its junctions) at the tight gate, so that the result names them, unless
+/// that loses strokes the fit needs.
+pub(crate) fn snap_start(
+    context: &SnapContext,
+    start: &Start,
+    settings: &SnapSettings,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let Some((clipped, whole, walls)) = &start.context else {
+        return super::snap_rounds(context, &start.pose, settings, None, cancel, clock);
+    };
+    let mut result = super::snap_rounds(clipped, &start.pose, settings, None, cancel, clock)?;
+    let tight = settings.tight_gate * result.primitive.size();
+    let curves = result.primitive.current_shape().curves;
+    let mut named = super::assign::assign_within(whole, &curves, tight, true);
+    within_walls(&mut named, whole, walls);
+    if super::check_enough(&result.primitive, &named).is_ok() {
+        result.rms = super::fit_rms(&result.primitive, &named);
+        result.assignment = named;
+    }
+    Ok(result)
+}
+
+/// Drops from `assignment` the stroke samples beyond the junctions' `walls` (an outline
+/// drawn on across the part the tube meets is the tube's only up to the junction): a
+/// stroke taken whole becomes a piece of it.
+fn within_walls(assignment: &mut Assignment, context: &SnapContext, walls: &[medial::Wall]) {
+    for curve in &mut assignment.curves {
+        for taken in curve.iter_mut() {
+            let Some(stroke) = context.strokes.iter().find(|s| s.id == taken.stroke) else {
+                continue;
+            };
+            let samples = stroke_samples(stroke);
+            let indices: Vec<usize> = taken
+                .part
+                .clone()
+                .unwrap_or_else(|| (0..samples.len()).collect());
+            let kept: Vec<usize> = indices
+                .iter()
+                .copied()
+                .filter(|i| {
+                    samples
+                        .get(*i)
+                        .is_some_and(|p| !walls.iter().any(|w| w.beyond(*p)))
+                })
+                .collect();
+            if kept.len() < indices.len() {
+                taken.samples = kept.iter().map(|i| samples[*i]).collect();
+                taken.part = Some(kept);
+            }
+        }
+        curve.retain(|taken| taken.samples.len() >= 2);
+    }
 }
 
 /// The gradient tolerance of a BGC's fit, in the normalised frame (objective values are

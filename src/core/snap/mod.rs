@@ -430,7 +430,11 @@ fn snap_from(
         attempt_with(start, settings, candidates, errors)
     };
     for start in bgc_start::starts(context, primitive) {
-        attempt(&start, &mut candidates, &mut errors)?;
+        match bgc_start::snap_start(context, &start, settings, cancel, clock) {
+            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+            Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
+            Err(e) => errors.push(e),
+        }
     }
     if !candidates.iter().any(|c| good(&c.result)) {
         // No good fit from the drawn spine: the straight drop and the starting poses
