@@ -117,13 +117,15 @@ const GOOD_BGC_FLOOR: usize = 6;
 /// improves.
 const STABLE_FLOOR: usize = 42;
 /// Good parts whose snap may call itself doubtful or refused: at most 5 % of the 62 parts
-/// (the target, met today: 3 of the 39 good parts are called so, all for a length the
+/// (the target, met today: 3 of the 45 good parts are called so, all for a length the
 /// drawing barely shows: the gramophone turntable's thickness and the obliquely drawn
 /// square pipe's depth, which a 2D reference cannot check).
 const GOOD_FLAGGED_CEILING: usize = 3;
-/// Today's floor (10 of 23): wrong parts whose snap calls itself doubtful or refused; the
-/// target is 90 % of them.
-const WRONG_FLAGGED_FLOOR: usize = 10;
+/// Today's ceiling (11 of 17): wrong parts accepted silently, their snap calling itself
+/// good; the target is that 90 % of wrong parts call themselves doubtful or refused. (A
+/// floor on the count of flagged wrong parts falls each time a wrong part is fixed: it
+/// was 10 of 23, 13 accepted, before six of the menorah's arms landed right.)
+const WRONG_ACCEPTED_CEILING: usize = 11;
 
 /// The sketches every part of which is scripted: all sixteen shared sketches.
 const SKETCHES: [&str; 16] = [
@@ -835,9 +837,10 @@ fn shared_parts_match_their_references_at_least_as_often_as_today() {
          ceiling {GOOD_FLAGGED_CEILING}"
     );
     assert!(
-        wrong_flagged >= WRONG_FLAGGED_FLOOR,
-        "{wrong_flagged} of {wrong} wrong parts called doubtful or refused, below today's \
-         floor {WRONG_FLAGGED_FLOOR}"
+        wrong - wrong_flagged <= WRONG_ACCEPTED_CEILING,
+        "{} of {wrong} wrong parts accepted as good, above today's ceiling \
+         {WRONG_ACCEPTED_CEILING}",
+        wrong - wrong_flagged
     );
     assert!(
         good >= GOOD_FLOOR,

@@ -50,6 +50,9 @@ use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketc
 const TURN_SMOOTHNESS: f64 = 15.0;
 /// Weight (inside the residual) of a second difference of the radii.
 const PROFILE_SMOOTHNESS: f64 = 15.0;
+/// Weight (inside the residual) of the pull of the spine's plane towards the view plane
+/// when no end ellipse is assigned (see [`Shape::untilted`]).
+const PLANE_PULL: f64 = 0.15;
 /// The largest turn of the spine at one point (radians).
 const MAX_TURN: f64 = 1.2;
 /// An end circle whose normal is within this (|n_z|) of the view plane is nearly
@@ -437,6 +440,10 @@ impl Bgc {
             equalities,
             inequalities,
             regularizers,
+            // The spine's plane leans out of the view (1 − n_z²) only as far as its end
+            // ellipses say: a drawn bend is as well a circular arc seen aslant, which the
+            // turn smoothness prefers.
+            untilted: vec![(h.lit(1.0) - s.normal.z.square()) * PLANE_PULL],
         }
     }
 

@@ -187,6 +187,7 @@ impl Cuboid {
                 ),
             ],
             regularizers: Vec::new(),
+            untilted: Vec::new(),
         }
     }
 

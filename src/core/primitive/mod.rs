@@ -202,6 +202,11 @@ pub struct Shape<T> {
     /// Regularising residuals r whose squares are added to the objective with a small
     /// weight (smoothness of profiles and spines); empty for most kinds.
     pub regularizers: Vec<T>,
+    /// Residuals of a pull towards the least tilted pose, added (squared, with the
+    /// regularisers' weight) only when no end ellipse is assigned: without an end's
+    /// evidence the outlines alone do not tell how a bent tube's plane leans out of the
+    /// view, and the least tilted reading is kept. Empty for most kinds.
+    pub untilted: Vec<T>,
 }
 
 impl<T> Default for Shape<T> {
@@ -212,6 +217,7 @@ impl<T> Default for Shape<T> {
             equalities: Vec::new(),
             inequalities: Vec::new(),
             regularizers: Vec::new(),
+            untilted: Vec::new(),
         }
     }
 }

@@ -379,6 +379,18 @@ pub fn fit_terms<'g>(
     for r in &shape.regularizers {
         terms.push(r.square() * REGULARIZER_WEIGHT);
     }
+    // Without both ends' evidence the least tilted reading is kept (`Shape::untilted`).
+    let ends_drawn = shape
+        .curves
+        .iter()
+        .zip(&assignment.curves)
+        .filter(|(c, a)| c.class == CurveClass::Feature && !a.is_empty())
+        .count();
+    if ends_drawn < 2 {
+        for r in &shape.untilted {
+            terms.push(r.square() * REGULARIZER_WEIGHT);
+        }
+    }
     FitTerms {
         objective: g.sum(terms),
         equalities: shape.equalities,

@@ -278,7 +278,12 @@ pub(super) fn cut_at_junctions(chains: &[Vec<Medial>], drop: [DVec2; 2]) -> Vec<
         let others: Vec<&[Medial]> = chains
             .iter()
             .enumerate()
-            .filter(|(j, c)| *j != i && c[0].pair != chain[0].pair)
+            // Only the outlines of another part make a junction: a chain that shares a
+            // stroke with this one pairs the same tube's outlines another way.
+            .filter(|(j, c)| {
+                let (a, b) = (c[0].pair, chain[0].pair);
+                *j != i && a.0 != b.0 && a.0 != b.1 && a.1 != b.0 && a.1 != b.1
+            })
             .map(|(_, c)| c.as_slice())
             .collect();
         let mut cuts: Vec<(f64, Junction)> = junctions(chain, &others)
