@@ -480,6 +480,60 @@ mod tests {
     }
 
     #[test]
+    fn a_tubes_tilt_is_pulled_to_the_view_plane_only_without_both_ends_drawn() {
+        use crate::core::primitive::{Bgc, CurveClass};
+        use crate::core::sketch::StrokeId;
+        use crate::core::snap::{AssignedStroke, Assignment};
+        // A bent tube in a plane leaning 40° out of the view.
+        let lean = 40f64.to_radians();
+        let spine: Vec<DVec3> = (0..8)
+            .map(|i| {
+                let t = f64::from(i) / 7.0;
+                let (x, y) = (t, 0.3 * (std::f64::consts::PI * t).sin());
+                DVec3::new(x, y * lean.cos(), y * lean.sin())
+            })
+            .collect();
+        let p = Primitive::Bgc(Bgc::through(spine, 0.05));
+        let now = p.current_shape().curves;
+        // Every curve of `class` takes samples of itself: a perfect drawing of it.
+        let drawing = |class: CurveClass| Assignment {
+            curves: now
+                .iter()
+                .map(|c| {
+                    if c.class == class {
+                        vec![AssignedStroke {
+                            stroke: StrokeId(0),
+                            samples: c.curve.points(16),
+                            mean_distance: 0.0,
+                            part: None,
+                        }]
+                    } else {
+                        Vec::new()
+                    }
+                })
+                .collect(),
+        };
+        let frame = super::Frame {
+            origin: DVec3::ZERO,
+            scale: 1.0,
+        };
+        let value = |assignment: &Assignment| {
+            let g = Graph::new();
+            let x = g.vars(p.params().len());
+            let terms = super::fit_terms(&g, &x, &p, assignment, &frame);
+            Tape::compile(&g, &[terms.objective]).eval(&p.params())[0]
+        };
+        let ends = value(&drawing(CurveClass::Feature));
+        let outlines = value(&drawing(CurveClass::Silhouette));
+        // The pull: (1 − n_z²)·0.15, squared, with the regularisers' weight 0.01.
+        let pull = (lean.sin().powi(2) * 0.15).powi(2) * 0.01;
+        assert!(
+            (outlines - ends - pull).abs() < 0.1 * pull,
+            "{outlines} against {ends} (pull {pull})"
+        );
+    }
+
+    #[test]
     fn a_far_end_drawn_as_a_u_charges_samples_on_the_bodys_side() {
         let p = can();
         let g = Graph::new();

@@ -622,6 +622,38 @@ mod tests {
     }
 
     #[test]
+    fn only_another_parts_outlines_make_a_junction() {
+        // A chain of the pair (0, 1) along x, crossed at x = 0 by a chain of the same
+        // tube's outline 1 paired another way, and by one of another part's pair (2, 3).
+        let chain = |pair: (usize, usize), from: DVec2, to: DVec2| -> Vec<Medial> {
+            (0..=20)
+                .map(|i| {
+                    let t = f64::from(i) / 20.0;
+                    Medial {
+                        at: from.lerp(to, t),
+                        half: 5.0,
+                        pair,
+                        along: 200.0 * t,
+                        along_b: 200.0 * t,
+                    }
+                })
+                .collect()
+        };
+        let tube = chain((0, 1), DVec2::new(-100.0, 0.0), DVec2::new(100.0, 0.0));
+        let same = chain((1, 4), DVec2::new(0.0, -100.0), DVec2::new(0.0, 100.0));
+        let other = chain((2, 3), DVec2::new(0.0, -100.0), DVec2::new(0.0, 100.0));
+        let drop = [DVec2::new(20.0, 0.0), DVec2::new(90.0, 0.0)];
+        let count = |chains: &[Vec<Medial>]| {
+            cut_at_junctions(chains, drop)
+                .iter()
+                .filter(|p| p.samples[0].pair == (0, 1))
+                .count()
+        };
+        assert_eq!(count(&[tube.clone(), same]), 1);
+        assert_eq!(count(&[tube, other]), 2);
+    }
+
+    #[test]
     fn a_drop_over_the_junction_keeps_the_whole_tube() {
         let strokes = vec![u(90.0), u(110.0), post(-12.0), post(12.0)];
         let found = tube(&strokes, DVec2::new(-90.0, -40.0), DVec2::new(90.0, -40.0));
