@@ -865,7 +865,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 }
 
 #[test]
-#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 45 of 62 parts good (73 %), 6 of 7 bent tubes, 42 of 62 stable (68 %), 5 of 17 wrong parts and 8 of 45 good ones called doubtful or refused"]
+#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 45 of 62 parts good (73 %), 6 of 7 bent tubes, 42 of 62 stable (68 %), 6 of 17 wrong parts and 3 of 45 good ones called doubtful or refused"]
 fn shared_parts_meet_the_targets() {
     let Some(dir) = common::shared_dir() else {
         return;
