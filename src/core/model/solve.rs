@@ -1,6 +1,8 @@
-//! The global solve (problem 2 of seed 002): min Σφ_p s.t. every C_p and every hard ψ_g,
-//! with soft relations as weighted terms of the objective, from x_start = (the current
-//! primitives: the previous solution and the new part's snap).
+//! The global solve (problem 2 of the optimisation details of Shtof, Agathos, Gingold,
+//! Shamir and Cohen-Or, *Geosemantic Snapping for Sketch-Based Modeling*, Eurographics
+//! 2013): min Σφ_p s.t. every C_p and every hard ψ_g, with soft relations as weighted
+//! terms of the objective, from x_start = (the current primitives: the previous solution
+//! and the new part's snap).
 //!
 //! **Frames.** Each primitive keeps the variables of its own snapping problem, in its own
 //! normalised frame (centre at the origin, size 1, see [`Frame`]), so φ_p is exactly the

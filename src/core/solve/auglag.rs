@@ -1,5 +1,7 @@
-//! The augmented-Lagrangian outer loop with the accelerated μ schedule of seed 002
-//! (procedure AUGMENTED-LAGRANGIAN-ACCEL).
+//! The augmented-Lagrangian outer loop with the accelerated μ schedule of Shtof,
+//! Agathos, Gingold, Shamir and Cohen-Or, *Geosemantic Snapping for Sketch-Based
+//! Modeling* (Eurographics 2013, optimisation details: procedure
+//! AUGMENTED-LAGRANGIAN-ACCEL).
 //!
 //! For min f(x) s.t. cᵢ(x) = 0, gⱼ(x) ≥ 0 each outer iteration minimises
 //!

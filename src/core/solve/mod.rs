@@ -1,5 +1,7 @@
 //! The constrained solver: min f(x) s.t. cᵢ(x) = 0, gⱼ(x) ≥ 0, by the augmented
-//! Lagrangian method with the accelerated μ schedule of seed 002 and L-BFGS inner solves.
+//! Lagrangian method with the accelerated μ schedule of Shtof et al. (*Geosemantic
+//! Snapping for Sketch-Based Modeling*, Eurographics 2013, optimisation details) and
+//! L-BFGS inner solves.
 //!
 //! Write the objective and constraints with [`ad`](crate::core::ad) expressions, compile
 //! them into a [`Problem`], and call [`solve`] (or [`Solver`] for a cancel flag, a clock,

@@ -45,8 +45,9 @@ pub enum InnerSolver {
     Argmin,
 }
 
-/// Settings of [`solve`](super::solve): the accelerated μ schedule of seed 002
-/// (AUGMENTED-LAGRANGIAN-ACCEL), tolerances and caps.
+/// Settings of [`solve`](super::solve): the accelerated μ schedule of Shtof et al.,
+/// *Geosemantic Snapping for Sketch-Based Modeling* (Eurographics 2013, optimisation
+/// details: AUGMENTED-LAGRANGIAN-ACCEL), tolerances and caps.
 ///
 /// Built from [`AugLagSettings::default`] with `with_*` methods, each of which checks its
 /// value.
@@ -79,7 +80,7 @@ pub struct AugLagSettings {
 }
 
 impl Default for AugLagSettings {
-    /// μ₀ = 10, `μ_max` = 1000, α = 0.5, β = 2 (seed 002); ‖c‖∞ ≤ 1e-9 and
+    /// μ₀ = 10, `μ_max` = 1000, α = 0.5, β = 2 (as Shtof et al.); ‖c‖∞ ≤ 1e-9 and
     /// ‖∇L‖∞ ≤ 1e-7; at most 200 outer iterations, 1000 inner iterations per outer
     /// iteration and 200 000 evaluations; no time limit; L-BFGS memory 10.
     fn default() -> Self {
