@@ -569,62 +569,43 @@ fn spine_curve(points: &[DVec2]) -> Option<[f64; 4]> {
             .map(|p| (p.y - (c[0] + p.x * (c[1] + p.x * (c[2] + p.x * c[3])))).powi(2))
             .sum::<f64>()
     };
-    let three = cubic(points)?;
-    let two = quadratic(points).map(|c| [c[0], c[1], c[2], 0.0]);
+    let three = polynomial::<4>(points)?;
+    let two = polynomial::<3>(points).map(|c| [c[0], c[1], c[2], 0.0]);
     match two {
         Some(two) if rss(&three) >= 0.5 * rss(&two) => Some(two),
         _ => Some(three),
     }
 }
 
-/// Least-squares y = c₀ + c₁·x + c₂·x².
-fn quadratic(points: &[DVec2]) -> Option<[f64; 3]> {
+/// Least-squares y = c₀ + c₁·x + … + c_{N−1}·x^{N−1} (x rescaled to [−1, 1] for the
+/// normal equations' conditioning).
+fn polynomial<const N: usize>(points: &[DVec2]) -> Option<[f64; N]> {
     let scale = points
         .iter()
         .fold(0.0f64, |m, p| m.max(p.x.abs()))
         .max(1e-300);
-    let mut a = [[0.0; 3]; 3];
-    let mut b = [0.0; 3];
+    let mut a = [[0.0; N]; N];
+    let mut b = [0.0; N];
     for p in points {
         let x = p.x / scale;
-        let row = [1.0, x, x * x];
-        for i in 0..3 {
-            for j in 0..3 {
+        let mut row = [1.0; N];
+        for k in 1..N {
+            row[k] = row[k - 1] * x;
+        }
+        for i in 0..N {
+            for j in 0..N {
                 a[i][j] += row[i] * row[j];
             }
             b[i] += row[i] * p.y;
         }
     }
-    let c = solve(a, b)?;
-    Some([c[0], c[1] / scale, c[2] / (scale * scale)])
-}
-
-/// Least-squares y = c₀ + c₁·x + c₂·x² + c₃·x³: a C (one bend) or an S (a bend one
-/// way, then the other) over its chord.
-fn cubic(points: &[DVec2]) -> Option<[f64; 4]> {
-    let scale = points
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p.x.abs()))
-        .max(1e-300);
-    let mut a = [[0.0; 4]; 4];
-    let mut b = [0.0; 4];
-    for p in points {
-        let x = p.x / scale;
-        let row = [1.0, x, x * x, x * x * x];
-        for i in 0..4 {
-            for j in 0..4 {
-                a[i][j] += row[i] * row[j];
-            }
-            b[i] += row[i] * p.y;
-        }
+    let mut c = solve(a, b)?;
+    let mut power = 1.0;
+    for ck in &mut c {
+        *ck /= power;
+        power *= scale;
     }
-    let c = solve(a, b)?;
-    Some([
-        c[0],
-        c[1] / scale,
-        c[2] / (scale * scale),
-        c[3] / (scale * scale * scale),
-    ])
+    Some(c)
 }
 
 /// Least-squares y = c₀ + c₁·x.

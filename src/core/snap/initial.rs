@@ -778,6 +778,12 @@ pub(super) mod tests {
 
     /// The visible edges of `truth` as straight strokes (sketch space, y down).
     pub(in crate::core::snap) fn drawn(truth: &Cuboid) -> SnapContext {
+        drawn_past_corners(truth, 0.0)
+    }
+
+    /// `truth`'s visible edges as strokes, each carried `past` of its length beyond both
+    /// corners (a hand's overshoot).
+    pub(in crate::core::snap) fn drawn_past_corners(truth: &Cuboid, past: f64) -> SnapContext {
         let shape = Primitive::Cuboid(truth.clone()).current_shape();
         let strokes: Vec<Vec<DVec2>> = shape
             .curves
@@ -786,6 +792,7 @@ pub(super) mod tests {
             .filter_map(|c| match &c.curve {
                 Curve2::Polyline(p) => {
                     let (a, b) = (p[0].to_dvec2(), p[1].to_dvec2());
+                    let (a, b) = (a - (b - a) * past, b + (b - a) * past);
                     Some(
                         (0..=20)
                             .map(|i| {

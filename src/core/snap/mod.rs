@@ -812,33 +812,7 @@ mod tests {
         // Every visible edge carried a tenth of its length past both corners, as a quick
         // hand does: the sizes come from where the edges lie, not from how far they run.
         let truth = initial::tests::turned_box();
-        let shape = Primitive::Cuboid(truth.clone()).current_shape();
-        let strokes: Vec<Vec<DVec2>> = shape
-            .curves
-            .iter()
-            .filter(|c| c.visible)
-            .filter_map(|c| match &c.curve {
-                crate::core::primitive::Curve2::Polyline(p) => {
-                    let (a, b) = (p[0].to_dvec2(), p[1].to_dvec2());
-                    let (a, b) = (a - (b - a) * 0.1, b + (b - a) * 0.1);
-                    Some(
-                        (0..=24)
-                            .map(|i| {
-                                let q = a.lerp(b, f64::from(i) / 24.0);
-                                DVec2::new(q.x, -q.y)
-                            })
-                            .collect(),
-                    )
-                }
-                crate::core::primitive::Curve2::Ellipse { .. } => None,
-            })
-            .collect();
-        let context = SnapContext::new(
-            strokes
-                .iter()
-                .enumerate()
-                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
-        );
+        let context = initial::tests::drawn_past_corners(&truth, 0.1);
         let result = super::snap(
             &context,
             &Primitive::Cuboid(truth.clone()),
