@@ -212,8 +212,7 @@ fn edge_run<'g>(points: &[Vec2<Expr<'g>>]) -> Option<Curve2<Expr<'g>>> {
 /// the fit starts: all its samples on the side away from the other end. From then on a
 /// sample that lies on the body's side of the end, past a margin of half the ellipse's
 /// extent, is charged its squared depth there on top of its distance, which leaves a
-/// correct fit untouched. (On the synthetic assemblies this took the tables' recall from
-/// 0.82 to 0.85 and their snaps' mean axis error from 3.0° to 2.5°.)
+/// correct fit untouched (docs/decisions.md gives what it was measured to gain).
 struct FarHalf<'g> {
     /// The end ellipse's centre.
     center: Vec2<Expr<'g>>,
