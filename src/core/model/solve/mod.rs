@@ -62,8 +62,8 @@ use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
 use crate::core::snap::{fit_rms, fit_terms, Assignment, Frame};
 use crate::core::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, Problem, SolveObserver, SolveReport, Solver,
-    Start, Termination,
+    AugLagSettings, Clock, Multipliers, Problem, SolveContext, SolveReport, Solver, Start,
+    Termination,
 };
 
 /// A part's fit may worsen freely up to this fraction of its size (RMS), whatever its own
@@ -197,26 +197,9 @@ pub struct GlobalOutcome {
     pub reverted: bool,
 }
 
-/// Where the solver stands, for a status bar or a log: the companions of a solve.
-#[derive(Default)]
-pub struct Companions<'a> {
-    /// Stops the solve when raised.
-    pub cancel: Option<&'a CancelFlag>,
-    /// Measures time and enforces the time cap.
-    pub clock: Option<&'a dyn Clock>,
-    /// Receives the intermediate iterates.
-    pub observer: Option<&'a mut dyn SolveObserver>,
-}
-
-impl std::fmt::Debug for Companions<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Companions")
-            .field("cancel", &self.cancel)
-            .field("clock", &self.clock.is_some())
-            .field("observer", &self.observer.is_some())
-            .finish()
-    }
-}
+/// The companions of a global solve (cancel flag, clock, observer): the solver's own
+/// [`SolveContext`], under the name the model's API gives it.
+pub type Companions<'a> = SolveContext<'a>;
 
 /// A clock that starts when it is made, over another clock: the solver reads time from
 /// its own start.
@@ -574,20 +557,15 @@ impl Document {
             let parts = self.parts(&ids, &held);
             let mut compiled = compile(&parts, &relations, settings);
             let (start, keys) = self.warm_start(&parts, &compiled.problem);
-            let mut solver = Solver::new(&settings.solver);
-            if let Some(flag) = companions.cancel {
-                solver = solver.cancel(flag);
-            }
             let since = companions.clock.map(|clock| Since {
                 clock,
                 start: clock.elapsed(),
             });
+            let mut context = companions.reborrow();
             if let Some(clock) = &since {
-                solver = solver.clock(clock);
+                context.clock = Some(clock);
             }
-            if let Some(observer) = companions.observer.as_deref_mut() {
-                solver = solver.observer(observer);
-            }
+            let solver = Solver::with_context(&settings.solver, context);
             outcome.solves += 1;
             let Ok(report) = solver.solve(&mut compiled.problem, &start) else {
                 outcome.reverted = true;
