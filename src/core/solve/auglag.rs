@@ -571,6 +571,7 @@ mod tests {
         let mut stepped = Vec::new();
         let mut record = |i: &Iterate<'_>| stepped.push(i.x.to_vec());
         let context = SolveContext::default().with_observer(&mut record);
+        let g = Graph::new();
         let mut p = problem(&g);
         let mut state = AugLag::new(&mut p, &start, &settings, context).expect("valid start");
         let mut steps = 0;
