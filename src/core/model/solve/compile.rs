@@ -2,11 +2,12 @@
 //! features mapped into the common frame, relations and dimensions as constraints.
 
 use std::collections::BTreeSet;
+use std::ops::Range;
 
 use glam::DVec3;
 
 use super::conflicts::describe;
-use super::{Document, GlobalSettings, PrimitiveId, Quantity, Relation};
+use super::{Document, GlobalSettings, PrimitiveId, Quantity, Relation, RelationKey};
 use crate::core::ad::{Expr, Graph, Vec3};
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
@@ -68,21 +69,84 @@ pub(super) struct Part<'d> {
     pub(super) own_rms: Option<f64>,
     pub(super) frame: Frame,
     pub(super) local: Primitive,
-    /// Its variables' range in the solve's x (empty when held).
-    pub(super) start: usize,
-    pub(super) len: usize,
     /// Whether it is held where it is (beyond the reach of the change).
     pub(super) held: bool,
     /// Its dimensions (quantity, value in model space), held exactly.
     pub(super) dimensions: Vec<(Quantity, f64)>,
 }
 
-/// The compiled problem of a set of parts and relations, with where each relation's
-/// equations are.
+/// What a group of constraints of the global problem stands for: a part's own
+/// constraints (those of its shape), a dimension the user typed, or a hard relation.
+/// Warm-start multipliers are stored under it, whatever the constraints' labels say.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(crate) enum GroupKey {
+    /// The constraints of the part's shape.
+    Part(PrimitiveId),
+    /// A dimension of the part, held exactly.
+    Dimension(PrimitiveId, Quantity),
+    /// The residuals of a hard relation.
+    Relation(RelationKey),
+}
+
+/// A group of constraints: what it stands for and where its constraints are among the
+/// problem's equalities and inequalities.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) struct Group {
+    pub(super) key: GroupKey,
+    pub(super) equalities: Range<usize>,
+    pub(super) inequalities: Range<usize>,
+}
+
+/// The compiled problem of a set of parts and relations, with the groups its
+/// constraints form and where each part's variables are.
 pub(super) struct Compiled {
     pub(super) problem: Problem,
-    /// (relation index, range of its equalities among the problem's equalities).
-    pub(super) hard: Vec<(usize, std::ops::Range<usize>)>,
+    /// The groups, in the order their constraints were added.
+    pub(super) groups: Vec<Group>,
+    /// Each part's variables among the problem's (in the order of the parts; empty when
+    /// held).
+    pub(super) variables: Vec<Range<usize>>,
+}
+
+impl Compiled {
+    /// The hard relations with the range of their equalities.
+    pub(super) fn hard_relations(&self) -> Vec<(RelationKey, Range<usize>)> {
+        self.groups
+            .iter()
+            .filter_map(|g| match g.key {
+                GroupKey::Relation(index) => Some((index, g.equalities.clone())),
+                GroupKey::Part(_) | GroupKey::Dimension(..) => None,
+            })
+            .collect()
+    }
+}
+
+/// The terms of the global problem as they are gathered: the objective's terms, and
+/// the constraints, labelled and in groups.
+struct Terms<'g> {
+    objective: Vec<Expr<'g>>,
+    equalities: Vec<(String, Expr<'g>)>,
+    inequalities: Vec<(String, Expr<'g>)>,
+    groups: Vec<Group>,
+}
+
+impl<'g> Terms<'g> {
+    /// Adds a group of constraints under `key`.
+    fn group(
+        &mut self,
+        key: GroupKey,
+        equalities: impl IntoIterator<Item = (String, Expr<'g>)>,
+        inequalities: impl IntoIterator<Item = (String, Expr<'g>)>,
+    ) {
+        let (e, i) = (self.equalities.len(), self.inequalities.len());
+        self.equalities.extend(equalities);
+        self.inequalities.extend(inequalities);
+        self.groups.push(Group {
+            key,
+            equalities: e..self.equalities.len(),
+            inequalities: i..self.inequalities.len(),
+        });
+    }
 }
 
 /// A feature mapped from a part's frame into the common frame (see the module docs).
@@ -124,12 +188,13 @@ pub(super) fn to_common<'g>(
     }
 }
 
-/// The equalities holding a free part's dimensions, in its frame: sizes map by 1/s.
-pub(super) fn dimension_equalities<'g>(
+/// The equalities holding a free part's dimensions, in its frame (sizes map by 1/s),
+/// each with its quantity.
+fn dimension_equalities<'g>(
     part: &Part<'_>,
     name: &str,
     x: &[Expr<'g>],
-) -> Vec<(String, Expr<'g>)> {
+) -> Vec<(Quantity, String, Expr<'g>)> {
     part.dimensions
         .iter()
         .filter_map(|(quantity, target)| {
@@ -137,6 +202,7 @@ pub(super) fn dimension_equalities<'g>(
                 .param_index(part.primitive.kind())
                 .and_then(|i| x.get(i))?;
             Some((
+                *quantity,
                 format!("{name}: {quantity} = {target}"),
                 *v - *target / part.frame.scale,
             ))
@@ -144,67 +210,74 @@ pub(super) fn dimension_equalities<'g>(
         .collect()
 }
 
-/// Builds the global problem of `parts` with the `relations` (index, relation) whose
-/// members are all among them.
-pub(super) fn compile(
-    parts: &[Part<'_>],
-    relations: &[(usize, &Relation)],
-    settings: &GlobalSettings,
-) -> Compiled {
-    let g = Graph::new();
+/// The common frame of `parts`: their mean centre O and median size S.
+fn common_frame(parts: &[Part<'_>]) -> (DVec3, f64) {
     let origin = parts.iter().map(|p| p.frame.origin).sum::<DVec3>() / parts.len() as f64;
     let mut sizes: Vec<f64> = parts.iter().map(|p| p.frame.scale).collect();
     sizes.sort_by(f64::total_cmp);
-    let unit = sizes[sizes.len() / 2];
-    let mut objective = Vec::new();
-    let mut equalities: Vec<(String, Expr<'_>)> = Vec::new();
-    let mut inequalities: Vec<(String, Expr<'_>)> = Vec::new();
-    let mut features = Vec::with_capacity(parts.len());
-    for part in parts {
-        let scale = part.frame.scale / unit;
-        let offset = (part.frame.origin - origin) / unit;
-        if part.held {
-            // Held where it is: its features are constants.
-            let x: Vec<Expr<'_>> = part.local.params().iter().map(|v| g.constant(*v)).collect();
-            let shape = part.local.shape(&x);
-            features.push(
-                shape
-                    .features
-                    .iter()
-                    .map(|f| to_common(f, scale, offset))
-                    .collect::<Vec<_>>(),
-            );
-            continue;
-        }
-        let x = g.vars(part.len);
-        let name = format!("{} {}", part.primitive.kind().name(), part.id.0);
-        // The squared distance from where the part stands.
-        let now = part.local.params();
-        let moved = g.sum(x.iter().zip(&now).map(|(v, n)| (*v - *n).square()));
-        let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
-            let assignment = thinned(assignment, SOLVE_SAMPLES);
-            let t = fit_terms(&g, &x, &part.local, &assignment, &part.frame);
-            let value = t.objective + moved * PROXIMAL_WEIGHT;
-            (value, t.equalities, t.inequalities, t.features)
-        } else {
-            let shape = part.local.shape(&x);
-            let (eqs, ineqs) = (shape.equalities, shape.inequalities);
-            (moved * ANCHOR_WEIGHT, eqs, ineqs, shape.features)
-        };
-        objective.push(value);
-        equalities.extend(eqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
-        // The user's dimensions come before the relations, so the relations' ranges
-        // below are unaffected, and `blame` never sees them.
-        equalities.extend(dimension_equalities(part, &name, &x));
-        inequalities.extend(ineqs.into_iter().map(|(l, e)| (format!("{name}: {l}"), e)));
-        features.push(
-            feats
-                .iter()
-                .map(|f| to_common(f, scale, offset))
-                .collect::<Vec<_>>(),
-        );
+    (origin, sizes[sizes.len() / 2])
+}
+
+/// Adds `part`'s terms (its fit or anchor, its shape's constraints and its dimensions,
+/// unless held) and returns its features in the common frame, with its variables.
+fn part_terms<'g>(
+    g: &'g Graph,
+    part: &Part<'_>,
+    (origin, unit): (DVec3, f64),
+    terms: &mut Terms<'g>,
+) -> (Vec<FeatureCurve<Expr<'g>>>, Range<usize>) {
+    let scale = part.frame.scale / unit;
+    let offset = (part.frame.origin - origin) / unit;
+    let now = part.local.params();
+    if part.held {
+        // Held where it is: its features are constants.
+        let x: Vec<Expr<'_>> = now.iter().map(|v| g.constant(*v)).collect();
+        let shape = part.local.shape(&x);
+        let features = shape
+            .features
+            .iter()
+            .map(|f| to_common(f, scale, offset))
+            .collect();
+        return (features, 0..0);
     }
-    let mut hard = Vec::new();
+    let first = g.var_count();
+    let x = g.vars(now.len());
+    let name = format!("{} {}", part.primitive.kind().name(), part.id.0);
+    // The squared distance from where the part stands.
+    let moved = g.sum(x.iter().zip(&now).map(|(v, n)| (*v - *n).square()));
+    let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
+        let assignment = thinned(assignment, SOLVE_SAMPLES);
+        let t = fit_terms(g, &x, &part.local, &assignment, &part.frame);
+        let value = t.objective + moved * PROXIMAL_WEIGHT;
+        (value, t.equalities, t.inequalities, t.features)
+    } else {
+        let shape = part.local.shape(&x);
+        let (eqs, ineqs) = (shape.equalities, shape.inequalities);
+        (moved * ANCHOR_WEIGHT, eqs, ineqs, shape.features)
+    };
+    terms.objective.push(value);
+    let label = |(l, e): (&str, Expr<'g>)| (format!("{name}: {l}"), e);
+    terms.group(
+        GroupKey::Part(part.id),
+        eqs.into_iter().map(label),
+        ineqs.into_iter().map(label),
+    );
+    for (quantity, label, e) in dimension_equalities(part, &name, &x) {
+        terms.group(GroupKey::Dimension(part.id, quantity), [(label, e)], []);
+    }
+    let features = feats.iter().map(|f| to_common(f, scale, offset)).collect();
+    (features, first..g.var_count())
+}
+
+/// Adds the `relations`' terms: a group of equalities per hard relation, a weighted
+/// square per soft residual (returned, to end the objective).
+fn relation_terms<'g>(
+    parts: &[Part<'_>],
+    features: &[Vec<FeatureCurve<Expr<'g>>>],
+    relations: &[(RelationKey, &Relation)],
+    settings: &GlobalSettings,
+    terms: &mut Terms<'g>,
+) -> Vec<Expr<'g>> {
     let mut soft = Vec::new();
     for (index, relation) in relations {
         let members: Option<Vec<Member<'_, Expr<'_>>>> = relation
@@ -225,39 +298,64 @@ pub(super) fn compile(
         };
         match relation.mode {
             Mode::Hard => {
-                let first = equalities.len();
                 let label = describe(*index, relation);
-                equalities.extend(psi.into_iter().map(|e| (label.clone(), e)));
-                hard.push((*index, first..equalities.len()));
+                let eqs = psi.into_iter().map(|e| (label.clone(), e));
+                terms.group(GroupKey::Relation(*index), eqs, []);
             }
-            Mode::Soft => soft.extend(psi.into_iter().map(|e| e.square() * settings.soft_weight)),
+            Mode::Soft => soft.extend(psi.into_iter().map(|e| e.square() * settings.soft_weight())),
             Mode::Off => {}
         }
     }
-    objective.extend(soft);
-    let total = g.sum(objective);
+    soft
+}
+
+/// Builds the global problem of `parts` with the `relations` (index, relation) whose
+/// members are all among them.
+pub(super) fn compile(
+    parts: &[Part<'_>],
+    relations: &[(RelationKey, &Relation)],
+    settings: &GlobalSettings,
+) -> Compiled {
+    let g = Graph::new();
+    let common = common_frame(parts);
+    let mut terms = Terms {
+        objective: Vec::new(),
+        equalities: Vec::new(),
+        inequalities: Vec::new(),
+        groups: Vec::new(),
+    };
+    let mut features = Vec::with_capacity(parts.len());
+    let mut variables = Vec::with_capacity(parts.len());
+    for part in parts {
+        let (feats, vars) = part_terms(&g, part, common, &mut terms);
+        features.push(feats);
+        variables.push(vars);
+    }
+    let soft = relation_terms(parts, &features, relations, settings, &mut terms);
+    terms.objective.extend(soft);
+    let total = g.sum(terms.objective);
     let mut builder = Problem::builder(&g, total);
-    for (label, e) in equalities {
+    for (label, e) in terms.equalities {
         builder = builder.equality(label, e);
     }
-    for (label, e) in inequalities {
+    for (label, e) in terms.inequalities {
         builder = builder.inequality(label, e);
     }
     Compiled {
         problem: builder.build(),
-        hard,
+        groups: terms.groups,
+        variables,
     }
 }
 
 impl Document {
-    /// The parts of a solve of `ids`, with their frames and variable ranges.
+    /// The parts of a solve of `ids`, with their frames.
     pub(super) fn parts(
         &self,
         ids: &BTreeSet<PrimitiveId>,
         held: &BTreeSet<PrimitiveId>,
     ) -> Vec<Part<'_>> {
         let mut parts = Vec::with_capacity(ids.len());
-        let mut start = 0;
         for id in ids {
             let Some(placed) = self.primitives.get(id) else {
                 continue;
@@ -266,7 +364,6 @@ impl Document {
             let frame = Frame::of(&placed.primitive);
             let local = frame.into_frame(&placed.primitive);
             let is_held = held.contains(id);
-            let len = if is_held { 0 } else { local.params().len() };
             parts.push(Part {
                 id: *id,
                 primitive: &placed.primitive,
@@ -274,15 +371,12 @@ impl Document {
                 own_rms: record.map(|r| r.rms),
                 frame,
                 local,
-                start,
-                len,
                 held: is_held,
                 dimensions: self
                     .dimensions_of(*id)
                     .map(|d| (d.quantity, d.value))
                     .collect(),
             });
-            start += len;
         }
         parts
     }

@@ -1,12 +1,12 @@
 //! Finding the relation responsible for a broken solve, and naming it.
 
 use super::compile::Part;
-use super::{Conflict, GlobalSettings, PrimitiveId, Relation, WORSENING_FLOOR};
+use super::{Conflict, GlobalSettings, PrimitiveId, Relation, RelationKey, WORSENING_FLOOR};
 use crate::core::primitive::Primitive;
 use crate::core::solve::SolveReport;
 
 /// A relation in words: `relation 3 (coaxial: cylinder 0 top, cone 2 bottom)`.
-pub(super) fn describe(index: usize, relation: &Relation) -> String {
+pub(super) fn describe(index: RelationKey, relation: &Relation) -> String {
     let members: Vec<String> = relation
         .members
         .iter()
@@ -29,13 +29,13 @@ pub(super) fn describe(index: usize, relation: &Relation) -> String {
 pub(super) fn blame(
     parts: &[Part<'_>],
     solved: &[(PrimitiveId, Primitive, f64)],
-    hard: &[(usize, std::ops::Range<usize>)],
+    hard: &[(RelationKey, std::ops::Range<usize>)],
     values: &[f64],
     report: &SolveReport,
-    relations: &[(usize, &Relation)],
+    relations: &[(RelationKey, &Relation)],
     settings: &GlobalSettings,
 ) -> Option<Conflict> {
-    let relation = |index: usize| relations.iter().find(|(i, _)| *i == index).map(|r| r.1);
+    let relation = |index: RelationKey| relations.iter().find(|(i, _)| *i == index).map(|r| r.1);
     // Infeasible: the hard relation with the largest residual.
     let residual = |range: &std::ops::Range<usize>| {
         range
@@ -48,7 +48,7 @@ pub(super) fn blame(
         .map(|(index, range)| (*index, residual(range)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((index, value)) = worst {
-        if value > settings.violation_tol {
+        if value > settings.violation_tol() {
             let r = relation(index)?;
             return Some(Conflict {
                 relation: index,
@@ -70,7 +70,8 @@ pub(super) fn blame(
                 return None;
             }
             let own = part.own_rms?;
-            let allowed = settings.max_worsening * own.max(WORSENING_FLOOR * part.primitive.size());
+            let allowed =
+                settings.max_worsening() * own.max(WORSENING_FLOOR * part.primitive.size());
             (*rms > allowed && primitive.is_finite()).then_some((part.id, own, *rms))
         })
         .collect();

@@ -58,18 +58,26 @@ mod settings;
 mod warm;
 
 use std::collections::BTreeSet;
+use std::ops::ControlFlow;
 use std::time::Duration;
 
 use super::{Document, PrimitiveId, Quantity, Relation};
 use crate::core::primitive::Primitive;
 use crate::core::relation::Mode;
 use crate::core::snap::fit_rms;
-use crate::core::solve::{Clock, Problem, SolveContext, SolveReport, Solver, Termination};
-use compile::compile;
+use crate::core::solve::{
+    Clock, Problem, SolveContext, SolveError, SolveReport, Solver, Start, Termination,
+};
+use compile::{compile, Compiled, Part};
 use conflicts::blame;
 use reach::{component, held_beyond};
 
 pub use settings::GlobalSettings;
+pub(crate) use warm::WarmStarts;
+
+/// What a relation's constraint group is keyed by: its index in
+/// [`Document::relations`].
+pub(crate) type RelationKey = usize;
 
 /// A part's fit may worsen freely up to this fraction of its size (RMS), whatever its own
 /// snap achieved.
@@ -161,10 +169,6 @@ impl Document {
     /// assert!(axis(a).cross(axis(b)).length() < 1e-4);
     /// # Ok::<(), anyhow::Error>(())
     /// ```
-    #[expect(
-        clippy::too_many_lines,
-        reason = "one loop of solve, blame and retry reads best whole"
-    )]
     pub fn solve(
         &mut self,
         changed: Option<&[PrimitiveId]>,
@@ -172,8 +176,8 @@ impl Document {
         mut companions: Companions<'_>,
     ) -> GlobalOutcome {
         let all: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
-        let mut ids = component(self, changed.unwrap_or(&all));
-        let mut held = match (changed, settings.reach) {
+        let ids = component(self, changed.unwrap_or(&all));
+        let held = match (changed, settings.reach()) {
             (Some(changed), Some(reach)) => held_beyond(self, &ids, changed, reach),
             _ => BTreeSet::new(),
         };
@@ -184,94 +188,126 @@ impl Document {
         if ids.is_empty() {
             return outcome;
         }
-        loop {
-            let relations = self.relations_between(&ids, &held);
-            outcome.relations = relations.len();
-            if relations.is_empty() {
-                // Unrelated parts are at their own snaps' optimum already, unless the
-                // user dimensioned them: those are refitted with their dimensions held.
-                ids = self.dimensioned(&ids, &held);
-                if ids.is_empty() {
-                    return outcome;
-                }
-                held.clear();
-                outcome.solved = ids.iter().copied().collect();
-            }
-            let parts = self.parts(&ids, &held);
-            let mut compiled = compile(&parts, &relations, settings);
-            let (start, keys) = self.warm_start(&parts, &compiled.problem);
-            let since = companions.clock.map(|clock| Since {
-                clock,
-                start: clock.elapsed(),
-            });
-            let mut context = companions.reborrow();
-            if let Some(clock) = &since {
-                context.clock = Some(clock);
-            }
-            let solver = Solver::with_context(&settings.solver, context);
-            outcome.solves += 1;
-            let Ok(report) = solver.solve(&mut compiled.problem, &start) else {
-                outcome.reverted = true;
-                return outcome;
-            };
-            log_report(parts.len(), relations.len(), &report, &compiled.problem);
-            let solved: Vec<(PrimitiveId, Primitive, f64)> = parts
-                .iter()
-                .filter(|p| !p.held)
-                .map(|p| {
-                    let local = p.local.with_params(&report.x[p.start..p.start + p.len]);
-                    // The dimensions held to the solver's tolerance, stored exactly.
-                    let primitive = p.dimensions.iter().fold(
-                        p.frame.out_of_frame(&local),
-                        |primitive, (quantity, value)| {
-                            primitive
-                                .with_quantity(*quantity, *value)
-                                .unwrap_or(primitive)
-                        },
-                    );
-                    let rms = p.assignment.map_or(0.0, |a| fit_rms(&primitive, a));
-                    (p.id, primitive, rms)
-                })
-                .collect();
-            let blamed = if report.termination == Termination::Cancelled
-                || !solved.iter().all(|(_, p, _)| p.is_finite())
-            {
-                outcome.report = Some(report);
-                outcome.reverted = true;
-                return outcome;
-            } else {
-                let values = compiled.problem.constraints(&report.x);
-                blame(
-                    &parts,
-                    &solved,
-                    &compiled.hard,
-                    &values,
-                    &report,
-                    &relations,
-                    settings,
-                )
-            };
-            match blamed {
-                None => {
-                    self.accept(solved, keys, &report);
-                    outcome.report = Some(report);
-                    return outcome;
-                }
-                Some(conflict) => {
-                    outcome.report = Some(report);
-                    let exhausted = outcome.conflicts.len() >= settings.max_conflicts;
-                    if exhausted {
-                        outcome.reverted = true;
-                        return outcome;
-                    }
-                    if let Some(r) = self.relations.get_mut(conflict.relation) {
-                        r.mode = Mode::Off;
-                    }
-                    outcome.conflicts.push(conflict);
-                }
-            }
-        }
+        let mut scope = Scope { ids, held };
+        while let ControlFlow::Continue(()) =
+            self.solve_round(&mut scope, settings, &mut companions, &mut outcome)
+        {}
+        outcome
     }
+
+    /// One round of the global solve: compile, solve, blame. `Continue` when a
+    /// conflicting relation was switched off and the scope must be solved again; `Break`
+    /// when the solve is stored or put back (as `outcome` says).
+    fn solve_round(
+        &mut self,
+        scope: &mut Scope,
+        settings: &GlobalSettings,
+        companions: &mut Companions<'_>,
+        outcome: &mut GlobalOutcome,
+    ) -> ControlFlow<()> {
+        let relations = self.relations_between(&scope.ids, &scope.held);
+        outcome.relations = relations.len();
+        if relations.is_empty() {
+            // Unrelated parts are at their own snaps' optimum already, unless the user
+            // dimensioned them: those are refitted with their dimensions held.
+            scope.ids = self.dimensioned(&scope.ids, &scope.held);
+            if scope.ids.is_empty() {
+                return ControlFlow::Break(());
+            }
+            scope.held.clear();
+            outcome.solved = scope.ids.iter().copied().collect();
+        }
+        let parts = self.parts(&scope.ids, &scope.held);
+        let mut compiled = compile(&parts, &relations, settings);
+        let (start, keys) = self.warm_start(&parts, &compiled);
+        outcome.solves += 1;
+        let Ok(report) = run_solver(&mut compiled.problem, &start, settings, companions) else {
+            outcome.reverted = true;
+            return ControlFlow::Break(());
+        };
+        log_report(parts.len(), relations.len(), &report, &compiled.problem);
+        let solved = solved_parts(&parts, &compiled, &report);
+        if report.termination == Termination::Cancelled
+            || !solved.iter().all(|(_, p, _)| p.is_finite())
+        {
+            outcome.report = Some(report);
+            outcome.reverted = true;
+            return ControlFlow::Break(());
+        }
+        let values = compiled.problem.constraints(&report.x);
+        let hard = compiled.hard_relations();
+        let blamed = blame(
+            &parts, &solved, &hard, &values, &report, &relations, settings,
+        );
+        let Some(conflict) = blamed else {
+            self.accept(solved, keys, &report);
+            outcome.report = Some(report);
+            return ControlFlow::Break(());
+        };
+        outcome.report = Some(report);
+        if outcome.conflicts.len() >= settings.max_conflicts() {
+            outcome.reverted = true;
+            return ControlFlow::Break(());
+        }
+        if let Some(r) = self.relations.get_mut(conflict.relation) {
+            r.mode = Mode::Off;
+        }
+        outcome.conflicts.push(conflict);
+        ControlFlow::Continue(())
+    }
+}
+
+/// The parts a global solve takes (`ids`) and those of them it holds where they are.
+struct Scope {
+    ids: BTreeSet<PrimitiveId>,
+    held: BTreeSet<PrimitiveId>,
+}
+
+/// Runs the solver on `problem` from `start`, with the companions and a clock that starts
+/// now.
+fn run_solver(
+    problem: &mut Problem,
+    start: &Start,
+    settings: &GlobalSettings,
+    companions: &mut Companions<'_>,
+) -> Result<SolveReport, SolveError> {
+    let since = companions.clock.map(|clock| Since {
+        clock,
+        start: clock.elapsed(),
+    });
+    let mut context = companions.reborrow();
+    if let Some(clock) = &since {
+        context.clock = Some(clock);
+    }
+    Solver::with_context(settings.solver(), context).solve(problem, start)
+}
+
+/// The free parts as solved (in model space, dimensions stored exactly), with their fits'
+/// RMS.
+fn solved_parts(
+    parts: &[Part<'_>],
+    compiled: &Compiled,
+    report: &SolveReport,
+) -> Vec<(PrimitiveId, Primitive, f64)> {
+    parts
+        .iter()
+        .zip(&compiled.variables)
+        .filter(|(p, _)| !p.held)
+        .map(|(p, vars)| {
+            let local = p.local.with_params(&report.x[vars.clone()]);
+            // The dimensions held to the solver's tolerance, stored exactly.
+            let primitive = p.dimensions.iter().fold(
+                p.frame.out_of_frame(&local),
+                |primitive, (quantity, value)| {
+                    primitive
+                        .with_quantity(*quantity, *value)
+                        .unwrap_or(primitive)
+                },
+            );
+            let rms = p.assignment.map_or(0.0, |a| fit_rms(&primitive, a));
+            (p.id, primitive, rms)
+        })
+        .collect()
 }
 
 impl Document {
@@ -370,6 +406,38 @@ mod tests {
             RelationKind::Parallel => assert!(d.abs() > 1.0 - 1e-6, "parallel: {d}"),
             _ => assert!(d.abs() < 1e-3, "orthogonal: {d}"),
         }
+    }
+
+    #[test]
+    fn multipliers_stay_with_their_group_when_a_group_is_added_before_it() {
+        use std::collections::BTreeSet;
+
+        use super::compile::compile;
+
+        let mut doc = Document::new();
+        let a = doc.add(cylinder(0.0, DVec3::Y));
+        let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.1)));
+        relate(&mut doc, RelationKind::Parallel, a, b);
+        let settings = GlobalSettings::default();
+        doc.solve(None, &settings, Companions::default());
+        // The warm start of the relation's equalities, and where they are.
+        let warm = |doc: &Document| {
+            let ids: BTreeSet<PrimitiveId> = doc.primitives.keys().copied().collect();
+            let parts = doc.parts(&ids, &BTreeSet::new());
+            let relations = doc.relations_between(&ids, &BTreeSet::new());
+            let compiled = compile(&parts, &relations, &settings);
+            let (start, _) = doc.warm_start(&parts, &compiled);
+            let range = compiled.hard_relations()[0].1.clone();
+            let equality = start.multipliers.expect("warm").equality;
+            (equality[range.clone()].to_vec(), range)
+        };
+        let (before, at) = warm(&doc);
+        assert!(before.iter().any(|m| *m != 0.0), "{before:?}");
+        // A dimension of the first part: its group comes before the relation's.
+        doc.set_dimension(a, Quantity::Radius, 2.0).expect("valid");
+        let (after, moved) = warm(&doc);
+        assert_eq!(moved.start, at.start + 1, "the relation's equalities moved");
+        assert_eq!(after, before, "its multipliers moved with them");
     }
 
     #[test]
