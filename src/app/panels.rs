@@ -532,15 +532,27 @@ impl GeosnapApp {
                 ui.separator();
                 ui.heading("Global solve");
                 let global = &mut self.editor.settings.global;
-                ui.add(
-                    egui::Slider::new(&mut global.soft_weight, 0.01..=100.0)
+                let mut soft_weight = global.soft_weight();
+                let soft = ui.add(
+                    egui::Slider::new(&mut soft_weight, 0.01..=100.0)
                         .logarithmic(true)
                         .text("soft relation weight"),
                 );
-                ui.add(
-                    egui::Slider::new(&mut global.max_worsening, 1.2..=20.0)
+                if soft.changed() {
+                    if let Ok(changed) = global.clone().with_soft_weight(soft_weight) {
+                        *global = changed;
+                    }
+                }
+                let mut max_worsening = global.max_worsening();
+                let worsening = ui.add(
+                    egui::Slider::new(&mut max_worsening, 1.2..=20.0)
                         .text("largest fit worsening (×)"),
                 );
+                if worsening.changed() {
+                    if let Ok(changed) = global.clone().with_max_worsening(max_worsening) {
+                        *global = changed;
+                    }
+                }
             });
         self.show_settings = open;
     }

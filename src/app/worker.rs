@@ -379,8 +379,7 @@ pub fn resolve(
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
     let clock = MonotonicClock::start();
-    let mut global = settings.global.clone();
-    global.reach = None;
+    let global = settings.global.clone().with_reach(None);
     let mut observe = |it: &Iterate<'_>| observer(it);
     let outcome = document.solve(
         changed,

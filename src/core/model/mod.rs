@@ -133,9 +133,9 @@ pub struct Document {
     /// The snaps of parts placed in this session (parts loaded from a model file have
     /// none and are held where they are).
     snaps: BTreeMap<PrimitiveId, SnapRecord>,
-    /// The multipliers of the last global solves by constraint (label, occurrence), to
-    /// warm-start the next one.
-    multipliers: BTreeMap<(String, usize), f64>,
+    /// The multipliers of the last global solves by constraint, to warm-start the next
+    /// one.
+    multipliers: solve::WarmStarts,
 }
 
 impl Document {
@@ -247,16 +247,14 @@ impl Document {
     /// occurrence of that label, in key order. They only speed solves up, but a saved
     /// session keeps them so that a re-solve after reopening follows the same path.
     pub fn warm_multipliers(&self) -> impl Iterator<Item = (&str, usize, f64)> {
-        self.multipliers
-            .iter()
-            .map(|((label, n), value)| (label.as_str(), *n, *value))
+        self.multipliers.named().into_iter()
     }
 
     /// Sets the warm-start multiplier of the `occurrence`-th constraint labelled
     /// `label` (see [`Document::warm_multipliers`]); non-finite values are ignored.
     pub fn set_warm_multiplier(&mut self, label: String, occurrence: usize, value: f64) {
         if value.is_finite() {
-            self.multipliers.insert((label, occurrence), value);
+            self.multipliers.set_named(label, occurrence, value);
         }
     }
 
@@ -268,6 +266,9 @@ impl Document {
 
     /// Removes a primitive with the relations it takes part in and its dimensions.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
+        if let Some(first) = self.relations.iter().position(|r| r.members.contains(&id)) {
+            self.multipliers.renumbered_relations_from(first);
+        }
         self.relations.retain(|r| !r.members.contains(&id));
         self.dimensions.retain(|d| d.primitive != id);
         self.snaps.remove(&id);
@@ -326,7 +327,10 @@ impl Document {
 
     /// Removes relation `index` (later relations move down by one).
     pub fn remove_relation(&mut self, index: usize) -> Option<Relation> {
-        (index < self.relations.len()).then(|| self.relations.remove(index))
+        (index < self.relations.len()).then(|| {
+            self.multipliers.renumbered_relations_from(index);
+            self.relations.remove(index)
+        })
     }
 
     /// The primitive with this id.

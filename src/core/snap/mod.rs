@@ -28,7 +28,8 @@ pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
 use crate::core::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::core::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, SolveReport, Solver, Start, Termination,
+    AugLagSettings, CancelFlag, Clock, Multipliers, SolveContext, SolveReport, Solver, Start,
+    Termination,
 };
 
 /// Why a primitive could not be snapped.
@@ -308,14 +309,13 @@ fn fit(
             .cloned(),
         penalty: None,
     };
-    let mut solver = Solver::new(&settings.solver);
-    if let Some(flag) = cancel {
-        solver = solver.cancel(flag);
-    }
-    if let Some(clock) = clock {
-        solver = solver.clock(clock);
-    }
-    if let Ok(report) = solver.solve(&mut problem, &start) {
+    let context = SolveContext {
+        cancel,
+        clock,
+        observer: None,
+    };
+    if let Ok(report) = Solver::with_context(&settings.solver, context).solve(&mut problem, &start)
+    {
         let fitted = frame.out_of_frame(&local.with_params(&report.x));
         return (fitted, report);
     }

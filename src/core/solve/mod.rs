@@ -46,7 +46,8 @@ use thiserror::Error;
 
 pub use problem::{Problem, ProblemBuilder};
 pub use report::{
-    CancelFlag, Clock, Iterate, Multipliers, SolveObserver, SolveReport, Start, Termination,
+    CancelFlag, Clock, Iterate, Multipliers, SolveContext, SolveObserver, SolveReport, Start,
+    Termination,
 };
 pub use settings::{AugLagSettings, InnerSolver, SettingsError};
 
@@ -82,8 +83,8 @@ pub enum SolveError {
     NonFiniteMultipliers,
 }
 
-/// A solve with its optional companions: a cancel flag, a clock (for the time limit and
-/// the reported time) and an observer of intermediate iterates.
+/// A solve with its optional companions, a [`SolveContext`]: a cancel flag, a clock (for
+/// the time limit and the reported time) and an observer of intermediate iterates.
 ///
 /// # Examples
 ///
@@ -111,18 +112,14 @@ pub enum SolveError {
 /// ```
 pub struct Solver<'a> {
     settings: &'a AugLagSettings,
-    cancel: Option<&'a CancelFlag>,
-    clock: Option<&'a dyn Clock>,
-    observer: Option<&'a mut dyn SolveObserver>,
+    context: SolveContext<'a>,
 }
 
 impl std::fmt::Debug for Solver<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Solver")
             .field("settings", self.settings)
-            .field("cancel", &self.cancel)
-            .field("clock", &self.clock.is_some())
-            .field("observer", &self.observer.is_some())
+            .field("context", &self.context)
             .finish()
     }
 }
@@ -130,18 +127,18 @@ impl std::fmt::Debug for Solver<'_> {
 impl<'a> Solver<'a> {
     /// A solver with these settings and no companions.
     pub fn new(settings: &'a AugLagSettings) -> Self {
-        Self {
-            settings,
-            cancel: None,
-            clock: None,
-            observer: None,
-        }
+        Self::with_context(settings, SolveContext::default())
+    }
+
+    /// A solver with these settings and companions.
+    pub fn with_context(settings: &'a AugLagSettings, context: SolveContext<'a>) -> Self {
+        Self { settings, context }
     }
 
     /// Stops the solve within one inner iteration once `flag` is raised.
     #[must_use]
     pub fn cancel(mut self, flag: &'a CancelFlag) -> Self {
-        self.cancel = Some(flag);
+        self.context = self.context.with_cancel(flag);
         self
     }
 
@@ -149,14 +146,14 @@ impl<'a> Solver<'a> {
     /// [`SolveReport::elapsed`].
     #[must_use]
     pub fn clock(mut self, clock: &'a dyn Clock) -> Self {
-        self.clock = Some(clock);
+        self.context = self.context.with_clock(clock);
         self
     }
 
     /// Gives every outer iterate to `observer`.
     #[must_use]
     pub fn observer(mut self, observer: &'a mut dyn SolveObserver) -> Self {
-        self.observer = Some(observer);
+        self.context = self.context.with_observer(observer);
         self
     }
 
@@ -168,19 +165,7 @@ impl<'a> Solver<'a> {
     /// not finite. Everything that happens during the solve is reported through
     /// [`SolveReport::termination`] instead.
     pub fn solve(self, problem: &mut Problem, start: &Start) -> Result<SolveReport, SolveError> {
-        let mut nothing = ();
-        let observer = match self.observer {
-            Some(o) => o,
-            None => &mut nothing,
-        };
-        auglag::run(
-            problem,
-            start,
-            self.settings,
-            self.cancel,
-            self.clock,
-            observer,
-        )
+        auglag::run(problem, start, self.settings, self.context)
     }
 }
 

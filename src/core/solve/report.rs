@@ -1,4 +1,5 @@
-//! What goes into a solve besides the problem (start point, clock, cancel flag, observer)
+//! What goes into a solve besides the problem (start point, and the [`SolveContext`] of
+//! clock, cancel flag and observer)
 //! and what comes out of it (the report and why it stopped).
 
 use std::fmt;
@@ -170,6 +171,84 @@ impl SolveObserver for () {
 impl<F: FnMut(&Iterate<'_>)> SolveObserver for F {
     fn iterate(&mut self, iterate: &Iterate<'_>) {
         self(iterate);
+    }
+}
+
+/// What travels with every solve besides its problem and settings: a cancel flag, a
+/// clock (for the time limit and the reported time) and an observer of intermediate
+/// iterates, each optional. The default has none of them.
+///
+/// # Examples
+///
+/// ```
+/// use geosnap::core::solve::{CancelFlag, Iterate, SolveContext};
+///
+/// let cancel = CancelFlag::new();
+/// let mut seen = 0;
+/// let mut count = |_: &Iterate<'_>| seen += 1;
+/// let mut context = SolveContext::default().with_cancel(&cancel).with_observer(&mut count);
+/// // Each solve of a sequence borrows the same companions.
+/// let first = context.reborrow();
+/// assert!(first.cancel.is_some() && first.observer.is_some() && first.clock.is_none());
+/// ```
+#[derive(Default)]
+pub struct SolveContext<'a> {
+    /// Stops the solve when raised.
+    pub cancel: Option<&'a CancelFlag>,
+    /// Measures time and enforces the time cap.
+    pub clock: Option<&'a dyn Clock>,
+    /// Receives the intermediate iterates.
+    pub observer: Option<&'a mut dyn SolveObserver>,
+}
+
+impl<'a> SolveContext<'a> {
+    /// Stops the solve within one inner iteration once `flag` is raised.
+    #[must_use]
+    pub fn with_cancel(mut self, flag: &'a CancelFlag) -> Self {
+        self.cancel = Some(flag);
+        self
+    }
+
+    /// Measures time with `clock`: enforces the settings' time limit and fills
+    /// [`SolveReport::elapsed`].
+    #[must_use]
+    pub fn with_clock(mut self, clock: &'a dyn Clock) -> Self {
+        self.clock = Some(clock);
+        self
+    }
+
+    /// Gives every outer iterate to `observer`.
+    #[must_use]
+    pub fn with_observer(mut self, observer: &'a mut dyn SolveObserver) -> Self {
+        self.observer = Some(observer);
+        self
+    }
+
+    /// The same companions for one solve of several, borrowed for its length.
+    pub fn reborrow(&mut self) -> SolveContext<'_> {
+        SolveContext {
+            cancel: self.cancel,
+            clock: self.clock,
+            observer: self
+                .observer
+                .as_deref_mut()
+                .map(|o| o as &mut dyn SolveObserver),
+        }
+    }
+
+    /// Whether the cancel flag is raised.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.is_some_and(CancelFlag::is_cancelled)
+    }
+}
+
+impl fmt::Debug for SolveContext<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("SolveContext")
+            .field("cancel", &self.cancel)
+            .field("clock", &self.clock.is_some())
+            .field("observer", &self.observer.is_some())
+            .finish()
     }
 }
 

@@ -64,6 +64,7 @@ pub enum InnerSolver {
 /// # Ok::<(), geosnap::core::solve::SettingsError>(())
 /// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "AugLagFields")]
 pub struct AugLagSettings {
     mu0: f64,
     mu_max: f64,
@@ -97,6 +98,46 @@ impl Default for AugLagSettings {
             time_limit: None,
             lbfgs_memory: 10,
             inner_solver: InnerSolver::default(),
+        }
+    }
+}
+
+/// The fields of [`AugLagSettings`] as read, before they are checked: deserialising goes
+/// through [`TryFrom`], which sets each one with its checking `with_*` method.
+#[derive(Deserialize)]
+struct AugLagFields {
+    mu0: f64,
+    mu_max: f64,
+    alpha: f64,
+    beta: f64,
+    constraint_tol: f64,
+    gradient_tol: f64,
+    max_outer_iterations: usize,
+    max_inner_iterations: u64,
+    max_evaluations: u64,
+    time_limit: Option<Duration>,
+    lbfgs_memory: usize,
+    inner_solver: InnerSolver,
+}
+
+impl TryFrom<AugLagFields> for AugLagSettings {
+    type Error = SettingsError;
+
+    fn try_from(f: AugLagFields) -> Result<Self, SettingsError> {
+        let settings = Self::default()
+            .with_penalty(f.mu0, f.mu_max)?
+            .with_alpha(f.alpha)?
+            .with_beta(f.beta)?
+            .with_constraint_tol(f.constraint_tol)?
+            .with_gradient_tol(f.gradient_tol)?
+            .with_max_outer_iterations(f.max_outer_iterations)?
+            .with_max_inner_iterations(f.max_inner_iterations)?
+            .with_max_evaluations(f.max_evaluations)?
+            .with_lbfgs_memory(f.lbfgs_memory)?
+            .with_inner_solver(f.inner_solver);
+        match f.time_limit {
+            Some(limit) => settings.with_time_limit(limit),
+            None => Ok(settings),
         }
     }
 }
@@ -346,6 +387,28 @@ mod tests {
             }
         ));
         assert!(err.to_string().contains("constraint_tol"), "{err}");
+    }
+
+    #[test]
+    fn settings_read_from_json_are_checked() {
+        let good = AugLagSettings::default()
+            .with_time_limit(Duration::from_secs(3))
+            .unwrap();
+        let json = serde_json::to_value(&good).unwrap();
+        let back: AugLagSettings = serde_json::from_value(json.clone()).unwrap();
+        assert_eq!(back, good, "a valid file round-trips");
+        for (field, bad) in [
+            ("constraint_tol", serde_json::json!(-1.0)),
+            ("beta", serde_json::json!(0.5)),
+            ("mu0", serde_json::json!(1e9)),
+            ("lbfgs_memory", serde_json::json!(0)),
+            ("time_limit", serde_json::json!({ "secs": 0, "nanos": 0 })),
+        ] {
+            let mut value = json.clone();
+            value[field] = bad;
+            let err = serde_json::from_value::<AugLagSettings>(value).unwrap_err();
+            assert!(err.to_string().contains(field), "{field}: {err}");
+        }
     }
 
     #[test]
