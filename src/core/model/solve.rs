@@ -56,7 +56,7 @@ use std::time::Duration;
 
 use glam::DVec3;
 
-use super::{Document, PrimitiveId, Quantity, Relation};
+use super::{Document, PrimitiveId, Quantity, Relation, RelationId};
 use crate::core::ad::{Expr, Graph, Vec3};
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
@@ -172,8 +172,8 @@ impl Default for GlobalSettings {
 /// A relation switched off because it conflicted, with the reason in words.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conflict {
-    /// Its index in [`Document::relations`].
-    pub relation: usize,
+    /// The relation.
+    pub relation: RelationId,
     /// A message naming it and saying why.
     pub message: String,
 }
@@ -286,7 +286,7 @@ fn to_common<'g>(f: &FeatureCurve<Expr<'g>>, scale: f64, offset: DVec3) -> Featu
         },
     };
     FeatureCurve {
-        name: f.name,
+        feature: f.feature,
         geometry,
     }
 }
@@ -382,7 +382,7 @@ fn compile(
                 let i = parts.iter().position(|p| p.id == *id)?;
                 Some(Member {
                     features: &features[i],
-                    feature: relation.features.get(k).and_then(|f| f.as_deref()),
+                    feature: relation.features.get(k).copied().flatten(),
                 })
             })
             .collect();
@@ -423,7 +423,7 @@ fn describe(index: usize, relation: &Relation) -> String {
         .iter()
         .enumerate()
         .map(
-            |(k, id)| match relation.features.get(k).and_then(|f| f.as_deref()) {
+            |(k, id)| match relation.features.get(k).copied().flatten() {
                 Some(f) => format!("#{} {f}", id.0),
                 None => format!("#{}", id.0),
             },
@@ -504,7 +504,7 @@ impl Document {
     /// ```
     /// use glam::DVec3;
     /// use geosnap::core::model::{Companions, Document, Fit, GlobalSettings, Placed, Relation};
-    /// use geosnap::core::primitive::{Cylinder, Primitive};
+    /// use geosnap::core::primitive::{Cylinder, Feature, Primitive};
     /// use geosnap::core::relation::{Mode, RelationKind};
     ///
     /// let tilted = |x: f64, axis: DVec3| Placed {
@@ -522,10 +522,9 @@ impl Document {
     /// doc.add_relation(Relation {
     ///     kind: RelationKind::Parallel,
     ///     members: vec![a, b],
-    ///     features: vec![Some("top".into()), Some("top".into())],
+    ///     features: vec![Some(Feature::Top), Some(Feature::Top)],
     ///     mode: Mode::Hard,
-    /// })
-    /// .map_err(anyhow::Error::msg)?;
+    /// })?;
     /// let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
     /// assert!(outcome.conflicts.is_empty());
     /// let axis = |id| match &doc.get(id).unwrap().primitive {
@@ -636,17 +635,19 @@ impl Document {
                     outcome.report = Some(report);
                     return outcome;
                 }
-                Some(conflict) => {
+                Some((index, message)) => {
                     outcome.report = Some(report);
                     let exhausted = outcome.conflicts.len() >= settings.max_conflicts;
                     if exhausted {
                         outcome.reverted = true;
                         return outcome;
                     }
-                    if let Some(r) = self.relations.get_mut(conflict.relation) {
+                    if let Some(r) = self.relations.get_mut(index) {
                         r.mode = Mode::Off;
                     }
-                    outcome.conflicts.push(conflict);
+                    if let Some(&relation) = self.relation_ids.get(index) {
+                        outcome.conflicts.push(Conflict { relation, message });
+                    }
                 }
             }
         }
@@ -743,16 +744,16 @@ impl Document {
 }
 
 impl Document {
-    /// Sets the mode of relation `index` and re-solves the parts it touches (and those
+    /// Sets the mode of relation `id` and re-solves the parts it touches (and those
     /// related to them); `None` when there is no such relation.
     pub fn set_relation_mode(
         &mut self,
-        index: usize,
+        id: RelationId,
         mode: Mode,
         settings: &GlobalSettings,
         companions: Companions<'_>,
     ) -> Option<GlobalOutcome> {
-        let relation = self.relations.get_mut(index)?;
+        let relation = self.relation_mut(id)?;
         relation.mode = mode;
         let members = relation.members.clone();
         Some(self.solve(Some(&members), settings, companions))
@@ -815,7 +816,8 @@ fn constraint_keys(problem: &Problem) -> Vec<(String, usize)> {
         .collect()
 }
 
-/// The relation responsible for a broken solve, or `None` when the solve is fine.
+/// The relation responsible for a broken solve (its index in [`Document::relations`],
+/// with a message naming it and saying why), or `None` when the solve is fine.
 fn blame(
     parts: &[Part<'_>],
     solved: &[(PrimitiveId, Primitive, f64)],
@@ -824,7 +826,7 @@ fn blame(
     report: &SolveReport,
     relations: &[(usize, &Relation)],
     settings: &GlobalSettings,
-) -> Option<Conflict> {
+) -> Option<(usize, String)> {
     let relation = |index: usize| relations.iter().find(|(i, _)| *i == index).map(|r| r.1);
     // Infeasible: the hard relation with the largest residual.
     let residual = |range: &std::ops::Range<usize>| {
@@ -840,13 +842,13 @@ fn blame(
     if let Some((index, value)) = worst {
         if value > settings.violation_tol {
             let r = relation(index)?;
-            return Some(Conflict {
-                relation: index,
-                message: format!(
+            return Some((
+                index,
+                format!(
                     "{} switched off: the hard relations cannot all hold (its residual stays at {value:.2e})",
                     describe(index, r)
                 ),
-            });
+            ));
         }
     }
     // A fit got much worse: the strongest pull among the relations of those parts.
@@ -883,15 +885,15 @@ fn blame(
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     let r = relation(index)?;
     let (id, own, rms) = worse[0];
-    Some(Conflict {
-        relation: index,
-        message: format!(
+    Some((
+        index,
+        format!(
             "{} switched off: with it, part #{} fits its strokes {:.1}× worse (RMS {rms:.3} against {own:.3})",
             describe(index, r),
             id.0,
             rms / own.max(f64::MIN_POSITIVE)
         ),
-    })
+    ))
 }
 
 #[cfg(test)]
@@ -899,8 +901,8 @@ mod tests {
     use glam::DVec3;
 
     use super::{Companions, GlobalSettings, Mode};
-    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Quantity, Relation};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Quantity, Relation, RelationId};
+    use crate::core::primitive::{Cylinder, Feature, Primitive};
     use crate::core::relation::RelationKind;
 
     fn cylinder(x: f64, axis: DVec3) -> Placed {
@@ -915,14 +917,19 @@ mod tests {
         }
     }
 
-    fn relate(doc: &mut Document, kind: RelationKind, a: PrimitiveId, b: PrimitiveId) {
+    fn relate(
+        doc: &mut Document,
+        kind: RelationKind,
+        a: PrimitiveId,
+        b: PrimitiveId,
+    ) -> RelationId {
         doc.add_relation(Relation {
             kind,
             members: vec![a, b],
-            features: vec![Some("top".into()), Some("top".into())],
+            features: vec![Some(Feature::Top), Some(Feature::Top)],
             mode: Mode::Hard,
         })
-        .expect("the relation suits its members");
+        .expect("the relation suits its members")
     }
 
     fn axis(doc: &Document, id: PrimitiveId) -> DVec3 {
@@ -937,21 +944,28 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.1)));
-        relate(&mut doc, RelationKind::Parallel, a, b);
-        relate(&mut doc, RelationKind::Orthogonal, a, b);
+        let parallel = relate(&mut doc, RelationKind::Parallel, a, b);
+        let orthogonal = relate(&mut doc, RelationKind::Orthogonal, a, b);
         let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
         assert!(!outcome.reverted, "the rest is solved: {outcome:?}");
         let off = outcome.conflicts[0].relation;
-        assert_eq!(doc.relations()[off].mode, Mode::Off);
+        let relation = doc.relation(off).expect("the conflict names a relation");
+        assert_eq!(relation.mode, Mode::Off);
         let message = &outcome.conflicts[0].message;
+        let index = doc.relation_position(off).expect("a relation");
         assert!(
-            message.contains(&format!("relation {off} ("))
-                && message.contains(doc.relations()[off].kind.name()),
+            message.contains(&format!("relation {index} ("))
+                && message.contains(relation.kind.name()),
             "the message names the relation: {message}"
         );
         // The relation left on holds.
-        let kept = doc.relations()[1 - off].kind;
+        let other = if off == parallel {
+            orthogonal
+        } else {
+            parallel
+        };
+        let kept = doc.relation(other).expect("kept").kind;
         let d = axis(&doc, a).dot(axis(&doc, b));
         match kept {
             RelationKind::Parallel => assert!(d.abs() > 1.0 - 1e-6, "parallel: {d}"),
@@ -1014,7 +1028,7 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.0)));
-        relate(&mut doc, RelationKind::Parallel, a, b);
+        let parallel = relate(&mut doc, RelationKind::Parallel, a, b);
         doc.relations_mut()[0].mode = Mode::Off;
         let before = doc.clone();
         doc.solve(None, &GlobalSettings::default(), Companions::default());
@@ -1024,10 +1038,10 @@ mod tests {
             "off: nothing moves"
         );
         let settings = GlobalSettings::default();
-        doc.set_relation_mode(0, Mode::Soft, &settings, Companions::default());
+        doc.set_relation_mode(parallel, Mode::Soft, &settings, Companions::default());
         let soft = angle(&doc);
         assert!(soft < 0.5 * angle(&before), "soft: closer ({soft})");
-        doc.set_relation_mode(0, Mode::Hard, &settings, Companions::default());
+        doc.set_relation_mode(parallel, Mode::Hard, &settings, Companions::default());
         assert!(angle(&doc) < 1e-3, "hard: parallel ({})", angle(&doc));
     }
 
@@ -1118,12 +1132,12 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::Y));
-        relate(&mut doc, RelationKind::SameRadius, a, b);
+        let same = relate(&mut doc, RelationKind::SameRadius, a, b);
         doc.set_dimension(a, Quantity::Radius, 2.0).expect("valid");
         doc.set_dimension(b, Quantity::Radius, 3.0).expect("valid");
         let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
-        assert_eq!(outcome.conflicts[0].relation, 0);
+        assert_eq!(outcome.conflicts[0].relation, same);
         assert!(!outcome.reverted, "{outcome:?}");
         assert_eq!(doc.relations()[0].mode, Mode::Off);
         assert_eq!(doc.dimensions().len(), 2, "dimensions are never dropped");
