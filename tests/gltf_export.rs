@@ -12,7 +12,7 @@ use base64::Engine as _;
 use geosnap::core::model::{
     run_steps, Document, Fit, Placed, PrimitiveId, Relation, SessionSettings,
 };
-use geosnap::core::primitive::{Bgc, Primitive, Sphere};
+use geosnap::core::primitive::{Bgc, Feature, Primitive, Sphere};
 use geosnap::core::relation::{Mode, RelationKind};
 use geosnap::io::gltf::{
     export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, ROOT_NAME,
@@ -50,12 +50,14 @@ fn sample_models() -> Vec<(String, Document)> {
             assert!(!document.is_empty(), "{}", script_path.display());
             let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();
             if let [a, b, ..] = ids[..] {
+                // The feature of that name of a part, if its kind has one.
+                let named = |id: PrimitiveId, name: &str| {
+                    let kind = document.get(id).expect("placed").primitive.kind();
+                    Feature::from_name(kind, name)
+                };
+                let (top, bottom) = (named(a, "top"), named(b, "bottom"));
                 for (kind, features, mode) in [
-                    (
-                        RelationKind::Parallel,
-                        vec![Some("top".to_owned()), Some("bottom".to_owned())],
-                        Mode::Hard,
-                    ),
+                    (RelationKind::Parallel, vec![top, bottom], Mode::Hard),
                     (RelationKind::SameRadius, Vec::new(), Mode::Soft),
                 ] {
                     document

@@ -8,7 +8,7 @@ use geosnap::core::model::{
     run_steps, Companions, Document, GlobalSettings, PrimitiveId, Quantity, Relation,
     SessionSettings,
 };
-use geosnap::core::primitive::Primitive;
+use geosnap::core::primitive::{Feature, Primitive};
 use geosnap::core::relation::{Mode, RelationKind};
 use geosnap::core::sketch::StrokeId;
 use geosnap::io::script::{load_script, parse_script};
@@ -70,7 +70,12 @@ fn sample_session(name: &str) -> Session {
             .add_relation(Relation {
                 kind: RelationKind::Parallel,
                 members: vec![ids[0], ids[1]],
-                features: vec![Some("top".into()), Some("top".into())],
+                features: [ids[0], ids[1]]
+                    .map(|id| {
+                        let kind = document.get(id).expect("placed").primitive.kind();
+                        Feature::from_name(kind, "top")
+                    })
+                    .to_vec(),
                 mode: Mode::Soft,
             })
             .expect("both parts have a top");

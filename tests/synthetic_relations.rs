@@ -68,7 +68,7 @@ use std::time::{Duration, Instant};
 
 use geosnap::clock::MonotonicClock;
 use geosnap::core::model::{run_steps, Document, PrimitiveId, SessionSettings, StepOutcome};
-use geosnap::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
+use geosnap::core::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive};
 use geosnap::core::relation::{residuals, Member, Mode, RelationKind};
 use glam::DVec3;
 use support::assemblies::{assembly, AssemblyKind, Designed, PERMUTATIONS};
@@ -164,10 +164,10 @@ fn matching_feature(
     to: &[FeatureCurve<f64>],
     name: &str,
 ) -> Option<&'static str> {
-    let n = normal(from.iter().find(|f| f.name == name)?);
+    let n = normal(from.iter().find(|f| f.feature.name() == name)?);
     to.iter()
         .max_by(|a, b| n.dot(normal(a)).total_cmp(&n.dot(normal(b))))
-        .map(|f| f.name)
+        .map(|f| f.feature.name())
 }
 
 /// ‖ψ‖ of a relation over (features, feature name) members.
@@ -176,7 +176,12 @@ fn psi(kind: RelationKind, members: &[(&[FeatureCurve<f64>], Option<&str>)]) -> 
         .iter()
         .map(|(features, feature)| Member {
             features,
-            feature: *feature,
+            feature: feature.and_then(|name| {
+                features
+                    .iter()
+                    .find(|f| f.feature.name() == name)
+                    .map(|f| f.feature)
+            }),
         })
         .collect();
     residuals(kind, &members)
@@ -506,9 +511,10 @@ fn explain(
             fin.map(Primitive::params),
         ));
         for &r in relations {
-            let r = &doc.relations()[r];
+            let r = doc.relation(r).expect("an inferred relation");
             let parts: Vec<usize> = r.members.iter().map(|m| index_of[m]).collect();
-            let names: Vec<Option<&str>> = r.features.iter().map(|f| f.as_deref()).collect();
+            let names: Vec<Option<&str>> =
+                r.features.iter().map(|f| f.map(Feature::name)).collect();
             lines.push(format!(
                 "      inferred {} [{}] ({:?})",
                 r.kind.name(),
@@ -546,7 +552,7 @@ fn precision(
         out.inferred += 1;
         let parts: Vec<usize> = r.members.iter().map(|m| index_of[m]).collect();
         let doc_names: Vec<Option<&str>> = (0..parts.len())
-            .map(|k| r.features.get(k).and_then(|f| f.as_deref()))
+            .map(|k| r.features.get(k).copied().flatten().map(Feature::name))
             .collect();
         let truth_names: Vec<Option<&str>> = parts
             .iter()

@@ -488,8 +488,8 @@ impl GeosnapApp {
     /// the members' centres, labelled with the kind.
     fn paint_relations(&self, painter: &egui::Painter) {
         let document = &self.editor.document;
-        for (index, relation) in document.relations().iter().enumerate() {
-            let shown = self.hovered_relation == Some(index)
+        for (index, (id, relation)) in document.relations_with_ids().enumerate() {
+            let shown = self.hovered_relation == Some(id)
                 || self
                     .selection
                     .is_some_and(|id| relation.members.contains(&id));

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use glam::DVec2;
 
-use crate::core::model::{Document, PrimitiveId, SessionSettings};
+use crate::core::model::{Document, PrimitiveId, RelationId, SessionSettings};
 use crate::core::relation::Mode;
 use crate::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 
@@ -180,19 +180,19 @@ impl Editor {
 
     /// Sets a relation's mode without solving (the caller re-solves in the background
     /// and applies the result with [`Self::apply_document`] when it wants one step).
-    pub fn relation_mode_changed(&self, index: usize, mode: Mode) -> Option<Document> {
+    pub fn relation_mode_changed(&self, id: RelationId, mode: Mode) -> Option<Document> {
         let mut document = self.document.clone();
-        document.relations_mut().get_mut(index)?.mode = mode;
+        document.relation_mut(id)?.mode = mode;
         Some(document)
     }
 
-    /// Deletes relation `index`.
-    pub fn delete_relation(&mut self, index: usize) -> bool {
-        if index >= self.document.relations().len() {
+    /// Deletes relation `id`.
+    pub fn delete_relation(&mut self, id: RelationId) -> bool {
+        if self.document.relation(id).is_none() {
             return false;
         }
         self.checkpoint("Delete relation");
-        self.document.remove_relation(index);
+        self.document.remove_relation(id);
         true
     }
 
@@ -322,6 +322,44 @@ mod tests {
             "a different change is not the saved state"
         );
         assert_eq!(editor.redo(), None, "a new action drops the redo steps");
+    }
+
+    #[test]
+    fn a_deleted_relation_comes_back_under_its_id_on_undo() {
+        use crate::core::model::{PrimitiveId, Relation};
+        use crate::core::primitive::Feature;
+        use crate::core::relation::{Mode, RelationKind};
+
+        let mut editor = Editor::default();
+        let mut doc = editor.document.clone();
+        let [a, b, c] = [0.0, 8.0, 16.0].map(|x| {
+            let mut part = ball();
+            part.primitive = part.primitive.transformed(DVec3::X * x, 1.0);
+            doc.add(part)
+        });
+        let on = |m: PrimitiveId, n: PrimitiveId| Relation {
+            kind: RelationKind::Concentric,
+            members: vec![m, n],
+            features: vec![Some(Feature::Outline), Some(Feature::Outline)],
+            mode: Mode::Soft,
+        };
+        let first = doc.add_relation(on(a, b)).expect("valid");
+        let second = doc.add_relation(on(b, c)).expect("valid");
+        editor.apply_document("Relate", doc);
+        assert!(editor.delete_relation(first));
+        assert!(!editor.delete_relation(first), "deleted already");
+        assert_eq!(
+            editor.document.relation(second).map(|r| r.members.clone()),
+            Some(vec![b, c]),
+            "the other relation keeps its id"
+        );
+        assert_eq!(editor.undo().as_deref(), Some("Delete relation"));
+        assert_eq!(
+            editor.document.relation(first).map(|r| r.members.clone()),
+            Some(vec![a, b]),
+            "undo brings the relation back under its id"
+        );
+        assert_eq!(editor.document.relation_position(second), Some(1));
     }
 
     #[test]

@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 use anyhow::anyhow;
 use glam::DVec2;
 
-use crate::core::model::PrimitiveId;
+use crate::core::model::{PrimitiveId, RelationId};
 use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use crate::core::snap::{SnapContext, SnapResult};
 use crate::io::svg::{import_svg, SvgOptions};
@@ -236,7 +236,7 @@ pub struct GeosnapApp {
     /// The selected part.
     pub selection: Option<PrimitiveId>,
     /// The relation under the cursor in the relations panel.
-    pub hovered_relation: Option<usize>,
+    pub hovered_relation: Option<RelationId>,
     /// The canvas's pan and zoom.
     pub canvas: CanvasView,
     view3d: View3d,
@@ -705,7 +705,7 @@ impl GeosnapApp {
         }
         if self
             .hovered_relation
-            .is_some_and(|i| i >= self.editor.document.relations().len())
+            .is_some_and(|id| self.editor.document.relation(id).is_none())
         {
             self.hovered_relation = None;
         }
@@ -740,12 +740,16 @@ impl GeosnapApp {
         self.selection = Some(copy);
     }
 
-    /// Sets relation `index`'s mode and re-solves in the background (one undo step).
-    pub fn set_relation_mode(&mut self, index: usize, mode: crate::core::relation::Mode) {
-        let Some(document) = self.editor.relation_mode_changed(index, mode) else {
+    /// Sets relation `id`'s mode and re-solves in the background (one undo step).
+    pub fn set_relation_mode(&mut self, id: RelationId, mode: crate::core::relation::Mode) {
+        let Some(document) = self.editor.relation_mode_changed(id, mode) else {
             return;
         };
-        let members = document.relations()[index].members.clone();
+        let (Some(index), Some(relation)) = (document.relation_position(id), document.relation(id))
+        else {
+            return;
+        };
+        let members = relation.members.clone();
         self.resolve_in_background(
             &format!("Relation {index} {}", mode_name(mode)),
             document,
@@ -840,7 +844,7 @@ impl GeosnapApp {
             selected: self.selection,
             related: self
                 .hovered_relation
-                .and_then(|i| self.editor.document.relations().get(i))
+                .and_then(|id| self.editor.document.relation(id))
                 .map(|r| r.members.clone())
                 .unwrap_or_default(),
         }

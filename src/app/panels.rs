@@ -319,12 +319,12 @@ impl GeosnapApp {
         let mut change = None;
         let mut delete = None;
         egui::Grid::new("relations").striped(true).num_columns(4).show(ui, |ui| {
-            for (index, relation) in self.editor.document.relations().iter().enumerate() {
+            for (index, (id, relation)) in self.editor.document.relations_with_ids().enumerate() {
                 let members: Vec<String> = relation
                     .members
                     .iter()
                     .zip(relation.features.iter().map(Some).chain(std::iter::repeat(None)))
-                    .map(|(id, f)| match f.and_then(|f| f.as_deref()) {
+                    .map(|(id, f)| match f.copied().flatten() {
                         Some(f) => format!("#{} {f}", id.0),
                         None => format!("#{}", id.0),
                     })
@@ -345,23 +345,23 @@ impl GeosnapApp {
                     .response
                     .on_hover_text(format!("Mode of relation {index}: hard (a constraint), soft (a weighted term) or off"));
                 if mode != relation.mode {
-                    change = Some((index, mode));
+                    change = Some((id, mode));
                 }
                 let r4 = ui.add_enabled(!self.busy(), egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
                 if r4.clicked() {
-                    delete = Some(index);
+                    delete = Some(id);
                 }
                 if r1.hovered() || r2.hovered() || r3.hovered() || r4.hovered() {
-                    self.hovered_relation = Some(index);
+                    self.hovered_relation = Some(id);
                 }
                 ui.end_row();
             }
         });
-        if let Some((index, mode)) = change {
-            self.set_relation_mode(index, mode);
+        if let Some((id, mode)) = change {
+            self.set_relation_mode(id, mode);
         }
-        if let Some(index) = delete {
-            self.editor.delete_relation(index);
+        if let Some(id) = delete {
+            self.editor.delete_relation(id);
         }
     }
 

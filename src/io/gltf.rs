@@ -1025,8 +1025,10 @@ pub fn parse_gltf_extras(data: &[u8]) -> Result<ImportedModel, ImportError> {
         Some(_) => return Err(bad("`relations` is not a list".to_owned())),
     };
     for (index, r) in relations.iter().enumerate() {
-        let relation = parse_relation_with(r, |m| m.as_str().and_then(|n| ids.get(n).copied()))
-            .map_err(|e| bad(format!("relation {index}: {e}")))?;
+        let relation = parse_relation_with(r, &document, |m| {
+            m.as_str().and_then(|n| ids.get(n).copied())
+        })
+        .map_err(|e| bad(format!("relation {index}: {e}")))?;
         document
             .add_relation(relation)
             .map_err(|e| bad(format!("relation {index}: {e}")))?;
@@ -1047,7 +1049,7 @@ mod tests {
         ExportError, ExportSettings, GltfFormat, Origin, Part,
     };
     use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
-    use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
+    use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, Sgc, Sphere};
     use crate::core::relation::{Mode, RelationKind};
 
     /// One primitive of every kind, tilted, off the origin, with three relations.
@@ -1097,23 +1099,23 @@ mod tests {
                 fit: Fit::default(),
             });
         }
-        let relation = |kind, members: &[u32], features: &[Option<&str>], mode| Relation {
+        let relation = |kind, members: &[u32], features: &[Option<Feature>], mode| Relation {
             kind,
             members: members.iter().map(|m| PrimitiveId(*m)).collect(),
-            features: features.iter().map(|f| f.map(str::to_owned)).collect(),
+            features: features.to_vec(),
             mode,
         };
         let relations = [
             relation(
                 RelationKind::Parallel,
                 &[0, 4],
-                &[Some("top"), Some("bottom")],
+                &[Some(Feature::Top), Some(Feature::Bottom)],
                 Mode::Hard,
             ),
             relation(
                 RelationKind::CollinearCenters,
                 &[0, 1, 4],
-                &[Some("top"), None, Some("bottom")],
+                &[Some(Feature::Top), None, Some(Feature::Bottom)],
                 Mode::Soft,
             ),
             relation(RelationKind::EqualLength, &[0, 1], &[], Mode::Off),

@@ -10,7 +10,7 @@ use glam::{DMat3, DQuat, DVec3};
 use serde_json::{json, Map, Value};
 
 use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, Skipped};
-use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, Sgc, Sphere};
+use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, Sgc, Sphere};
 use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
 use crate::core::snap::Verdict;
@@ -109,7 +109,8 @@ pub(crate) fn relation_json(r: &Relation, member: impl Fn(PrimitiveId) -> Value)
     let members: Vec<Value> = r.members.iter().map(|m| member(*m)).collect();
     map.insert("members".into(), Value::Array(members));
     if r.features.iter().any(Option::is_some) {
-        map.insert("features".into(), json!(r.features));
+        let names: Vec<Option<&str>> = r.features.iter().map(|f| f.map(Feature::name)).collect();
+        map.insert("features".into(), json!(names));
     }
     map.insert("mode".into(), json!(r.mode));
     Value::Object(map)
@@ -469,16 +470,18 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
     if let Some(relations) = v.get("relations").and_then(Value::as_array) {
         for (index, r) in relations.iter().enumerate() {
             let fail = |reason: String| ModelError::Relation { index, reason };
-            let relation = parse_relation(r).map_err(fail)?;
-            document.add_relation(relation).map_err(fail)?;
+            let relation = parse_relation(r, &document).map_err(fail)?;
+            document
+                .add_relation(relation)
+                .map_err(|e| fail(e.to_string()))?;
         }
     }
     Ok(LoadedModel { document, sketch })
 }
 
-/// One entry of `relations` (members are checked against the document by the caller).
-fn parse_relation(r: &Value) -> Result<Relation, String> {
-    parse_relation_with(r, |m| {
+/// One entry of `relations` (the caller adds it to `document`, which checks it).
+fn parse_relation(r: &Value, document: &Document) -> Result<Relation, String> {
+    parse_relation_with(r, document, |m| {
         m.as_u64()
             .and_then(|i| u32::try_from(i).ok())
             .map(PrimitiveId)
@@ -486,9 +489,11 @@ fn parse_relation(r: &Value) -> Result<Relation, String> {
 }
 
 /// One relation's JSON, its members read by `member` (an id here, a node name in glTF
-/// extras).
+/// extras). Feature names are read for the kinds of the members' primitives in
+/// `document`; a name the member's kind does not have is an error naming both.
 pub(crate) fn parse_relation_with(
     r: &Value,
+    document: &Document,
     member: impl Fn(&Value) -> Option<PrimitiveId>,
 ) -> Result<Relation, String> {
     let kind: RelationKind = serde_json::from_value(r.get("kind").cloned().unwrap_or_default())
@@ -504,9 +509,10 @@ pub(crate) fn parse_relation_with(
         None | Some(Value::Null) => Vec::new(),
         Some(Value::Array(names)) => names
             .iter()
-            .map(|n| match n {
+            .enumerate()
+            .map(|(k, n)| match n {
                 Value::Null => Ok(None),
-                Value::String(s) => Ok(Some(s.clone())),
+                Value::String(name) => parse_feature(document, members.get(k).copied(), name),
                 other => Err(format!("feature {other} is not a name")),
             })
             .collect::<Result<Vec<_>, _>>()?,
@@ -525,6 +531,25 @@ pub(crate) fn parse_relation_with(
     })
 }
 
+/// The feature called `name` of `member`'s primitive in `document`. A member that is
+/// missing (or a name beyond the members) is left to [`Document::add_relation`] to
+/// report, and reads as no feature here.
+fn parse_feature(
+    document: &Document,
+    member: Option<PrimitiveId>,
+    name: &str,
+) -> Result<Option<Feature>, String> {
+    let Some(kind) = member
+        .and_then(|m| document.get(m))
+        .map(|p| p.primitive.kind())
+    else {
+        return Ok(None);
+    };
+    Feature::from_name(kind, name)
+        .map(Some)
+        .ok_or_else(|| format!("unknown feature `{name}` for a {}", kind.name()))
+}
+
 #[cfg(test)]
 mod tests {
     use glam::DVec2;
@@ -538,6 +563,7 @@ mod tests {
     #[test]
     fn relations_round_trip_and_bad_ones_are_named() {
         use crate::core::model::{PrimitiveId, Relation};
+        use crate::core::primitive::Feature;
         use crate::core::relation::{Mode, RelationKind};
         let mut document = Document::new();
         for x in [0.0, 50.0] {
@@ -554,7 +580,7 @@ mod tests {
         let coaxial = Relation {
             kind: RelationKind::Coaxial,
             members: vec![PrimitiveId(0), PrimitiveId(1)],
-            features: vec![Some("top".into()), Some("bottom".into())],
+            features: vec![Some(Feature::Top), Some(Feature::Bottom)],
             mode: Mode::Soft,
         };
         let equal = Relation {
@@ -585,6 +611,14 @@ mod tests {
             (
                 r#"{"kind":"coaxial","members":[0,1],"mode":"maybe"}"#,
                 "unknown `mode`",
+            ),
+            (
+                r#"{"kind":"coaxial","members":[0,1],"features":["top","lid"]}"#,
+                "unknown feature `lid` for a cylinder",
+            ),
+            (
+                r#"{"kind":"coplanar","members":[0,1],"features":["front","top"]}"#,
+                "unknown feature `front` for a cylinder",
             ),
         ] {
             let text = text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1);

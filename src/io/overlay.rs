@@ -52,10 +52,12 @@ impl OverlayRelation {
                     .enumerate()
                     .filter_map(|(k, id)| {
                         let primitive = &document.get(*id)?.primitive;
-                        let feature = r.features.get(k).and_then(|f| f.as_deref());
+                        let feature = r.features.get(k).copied().flatten();
                         let shape = primitive.current_shape();
                         let centre = feature
-                            .and_then(|name| shape.features.iter().find(|f| f.name == name))
+                            .and_then(|feature| {
+                                shape.features.iter().find(|f| f.feature == feature)
+                            })
                             .map_or(primitive.center(), |f| match &f.geometry {
                                 FeatureGeometry::Circle { center, .. }
                                 | FeatureGeometry::Rectangle { center, .. } => center.to_dvec3(),

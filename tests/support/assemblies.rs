@@ -57,7 +57,7 @@ use std::f64::consts::TAU;
 use geosnap::core::geom::projection::sketch_from_view;
 use geosnap::core::model::Step;
 use geosnap::core::primitive::{
-    Cone, Cuboid, Cylinder, Placement, Primitive, PrimitiveKind, Sphere, FACE_NAMES,
+    Cone, Cuboid, Cylinder, Feature, Placement, Primitive, PrimitiveKind, Sphere,
 };
 use geosnap::core::relation::RelationKind;
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
@@ -684,7 +684,7 @@ fn box_pipes(rng: &mut Rng, view: DQuat) -> (Vec<Primitive>, Vec<Designed>) {
             length: l,
             radius: r,
         }));
-        let face = FACE_NAMES[2 * k + usize::from(*sign < 0.0)];
+        let face = Feature::FACES[2 * k + usize::from(*sign < 0.0)].name();
         let pipe = parts.len() - 1;
         designed.push(rel(RelationKind::Coplanar, (0, face), (pipe, "bottom")));
         designed.push(rel(RelationKind::Parallel, (0, face), (pipe, "top")));

@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
-use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use crate::core::primitive::{Feature, Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use crate::core::relation::{InferenceSettings, Mode, RelationKind};
 use crate::core::sketch::{Sketch, StrokeId};
 use crate::core::snap::{
@@ -33,6 +33,13 @@ pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_F
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct PrimitiveId(pub u32);
+
+/// Identifies a relation of a [`Document`]: it stays with its relation when others are
+/// added or removed, and an undo (which restores an earlier document) brings the
+/// relation back under the same id. Relation ids live in memory only: a document read
+/// from a file numbers its relations in file order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct RelationId(pub u32);
 
 /// How a primitive was snapped: the strokes it took, how closely it fits them, how sure
 /// the snap was and which script step placed it.
@@ -89,16 +96,56 @@ pub struct Placed {
 }
 
 /// A geosemantic relation between placed primitives (see [`crate::core::relation`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Relation {
     /// The kind.
     pub kind: RelationKind,
     /// The primitives it relates, in order.
     pub members: Vec<PrimitiveId>,
-    /// The feature of each member it uses (`None` for kinds about a whole solid).
-    pub features: Vec<Option<String>>,
+    /// The feature of each member it uses (`None` for kinds about a whole solid); empty
+    /// when no member names one.
+    pub features: Vec<Option<Feature>>,
     /// How it takes part in the global solve.
     pub mode: Mode,
+}
+
+/// Why [`Document::add_relation`] refused a relation.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum RelationError {
+    /// The relation has the wrong number of members for its kind.
+    #[error("a {} relation relates {expected} primitives, not {got}", .kind.name())]
+    Arity {
+        /// The kind.
+        kind: RelationKind,
+        /// The members it needs.
+        expected: usize,
+        /// The members it has.
+        got: usize,
+    },
+    /// The features are named for some members but not one per member.
+    #[error("{features} features for {members} members")]
+    FeatureCount {
+        /// The features given.
+        features: usize,
+        /// The members.
+        members: usize,
+    },
+    /// A member is not in the document.
+    #[error("there is no primitive {}", .id.0)]
+    MissingPrimitive {
+        /// The member's id.
+        id: PrimitiveId,
+    },
+    /// A member does not have the feature the relation names for it.
+    #[error("primitive {} is a {}, which has no feature `{feature}`", .member.0, .kind.name())]
+    ForeignFeature {
+        /// The member.
+        member: PrimitiveId,
+        /// Its kind.
+        kind: PrimitiveKind,
+        /// The feature it lacks.
+        feature: Feature,
+    },
 }
 
 /// A step that could not be placed, with the reason.
@@ -128,6 +175,9 @@ pub struct Document {
     /// Steps that were skipped.
     pub skipped: Vec<Skipped>,
     relations: Vec<Relation>,
+    /// The id of each relation, in the order of `relations`.
+    relation_ids: Vec<RelationId>,
+    next_relation: u32,
     /// Sizes the user typed, held exactly by every solve.
     dimensions: Vec<Dimension>,
     /// The snaps of parts placed in this session (parts loaded from a model file have
@@ -267,46 +317,82 @@ impl Document {
     /// Removes a primitive with the relations it takes part in and its dimensions.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
         if let Some(first) = self.relations.iter().position(|r| r.members.contains(&id)) {
-            self.multipliers.renumbered_relations_from(first);
+            self.multipliers.forget_relations(&self.relation_ids[first..]);
         }
+        let mut keep = self.relations.iter().map(|r| !r.members.contains(&id));
+        self.relation_ids.retain(|_| keep.next().unwrap_or(true));
         self.relations.retain(|r| !r.members.contains(&id));
         self.dimensions.retain(|d| d.primitive != id);
         self.snaps.remove(&id);
         self.primitives.remove(&id)
     }
 
-    /// Adds a relation between primitives of the document.
+    /// Adds a relation between primitives of the document and returns its new id.
     ///
     /// # Errors
     ///
-    /// A message when a member is not in the document or the number of members or
-    /// features does not suit the kind; the document is then unchanged.
-    pub fn add_relation(&mut self, relation: Relation) -> Result<(), String> {
+    /// [`RelationError`] when a member is not in the document, the number of members or
+    /// features does not suit the kind, or a member lacks the feature named for it; the
+    /// document is then unchanged.
+    pub fn add_relation(&mut self, relation: Relation) -> Result<RelationId, RelationError> {
         if relation.members.len() != relation.kind.arity() {
-            return Err(format!(
-                "a {} relation relates {} primitives, not {}",
-                relation.kind.name(),
-                relation.kind.arity(),
-                relation.members.len()
-            ));
+            return Err(RelationError::Arity {
+                kind: relation.kind,
+                expected: relation.kind.arity(),
+                got: relation.members.len(),
+            });
         }
         if !relation.features.is_empty() && relation.features.len() != relation.members.len() {
-            return Err(format!(
-                "{} features for {} members",
-                relation.features.len(),
-                relation.members.len()
-            ));
+            return Err(RelationError::FeatureCount {
+                features: relation.features.len(),
+                members: relation.members.len(),
+            });
         }
-        if let Some(missing) = relation.members.iter().find(|m| self.get(**m).is_none()) {
-            return Err(format!("there is no primitive {}", missing.0));
+        for (k, &member) in relation.members.iter().enumerate() {
+            let placed = self
+                .get(member)
+                .ok_or(RelationError::MissingPrimitive { id: member })?;
+            let kind = placed.primitive.kind();
+            if let Some(&Some(feature)) = relation.features.get(k) {
+                if !kind.has(feature) {
+                    return Err(RelationError::ForeignFeature {
+                        member,
+                        kind,
+                        feature,
+                    });
+                }
+            }
         }
+        let id = RelationId(self.next_relation);
+        self.next_relation += 1;
         self.relations.push(relation);
-        Ok(())
+        self.relation_ids.push(id);
+        Ok(id)
     }
 
     /// The relations, in the order they were added.
     pub fn relations(&self) -> &[Relation] {
         &self.relations
+    }
+
+    /// The relations with their ids, in the order they were added.
+    pub fn relations_with_ids(&self) -> impl Iterator<Item = (RelationId, &Relation)> {
+        self.relation_ids.iter().copied().zip(&self.relations)
+    }
+
+    /// The relation with this id.
+    pub fn relation(&self, id: RelationId) -> Option<&Relation> {
+        self.relation_position(id).map(|i| &self.relations[i])
+    }
+
+    /// The relation with this id, to change its mode.
+    pub fn relation_mut(&mut self, id: RelationId) -> Option<&mut Relation> {
+        self.relation_position(id).map(|i| &mut self.relations[i])
+    }
+
+    /// Where relation `id` stands in [`Document::relations`] (how messages number it).
+    pub fn relation_position(&self, id: RelationId) -> Option<usize> {
+        self.relation_ids.iter().position(|r| *r == id)
     }
 
     /// The relations, to change their modes.
@@ -325,12 +411,12 @@ impl Document {
         self.next_id = self.next_id.max(next.0);
     }
 
-    /// Removes relation `index` (later relations move down by one).
-    pub fn remove_relation(&mut self, index: usize) -> Option<Relation> {
-        (index < self.relations.len()).then(|| {
-            self.multipliers.renumbered_relations_from(index);
-            self.relations.remove(index)
-        })
+    /// Removes relation `id`; the other relations keep their ids.
+    pub fn remove_relation(&mut self, id: RelationId) -> Option<Relation> {
+        let index = self.relation_position(id)?;
+        self.multipliers.forget_relations(&self.relation_ids[index..]);
+        self.relation_ids.remove(index);
+        Some(self.relations.remove(index))
     }
 
     /// The primitive with this id.
@@ -383,9 +469,8 @@ pub enum StepOutcome {
         snap: Box<SnapResult>,
         /// How sure the snap is.
         confidence: Box<Confidence>,
-        /// The relations inferred on its release (indices into
-        /// [`Document::relations`]).
-        relations: Vec<usize>,
+        /// The relations inferred on its release.
+        relations: Vec<RelationId>,
         /// The global solve that followed.
         solve: Box<GlobalOutcome>,
     },
@@ -513,8 +598,112 @@ fn entry_whole(entry: &mut [Taken], part: u32) {
 mod tests {
     use glam::DVec3;
 
-    use super::{Document, Fit, Placed, PrimitiveId};
-    use crate::core::primitive::{Primitive, Sphere};
+    use super::{Document, Fit, Placed, PrimitiveId, Relation, RelationError, RelationId};
+    use crate::core::primitive::{Cylinder, Feature, Primitive, PrimitiveKind, Sphere};
+    use crate::core::relation::{Mode, RelationKind};
+
+    fn rod(x: f64) -> Placed {
+        Placed {
+            primitive: Primitive::Cylinder(Cylinder {
+                center: DVec3::new(x, 0.0, 0.0),
+                axis: DVec3::Y,
+                length: 10.0,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        }
+    }
+
+    fn parallel(a: PrimitiveId, b: PrimitiveId) -> Relation {
+        Relation {
+            kind: RelationKind::Parallel,
+            members: vec![a, b],
+            features: vec![Some(Feature::Top), Some(Feature::Top)],
+            mode: Mode::Hard,
+        }
+    }
+
+    /// A document of three rods related in a chain and once across.
+    fn related() -> (Document, [RelationId; 3]) {
+        let mut doc = Document::new();
+        let [a, b, c] = [0.0, 5.0, 10.0].map(|x| doc.add(rod(x)));
+        let ids =
+            [(a, b), (b, c), (a, c)].map(|(m, n)| doc.add_relation(parallel(m, n)).expect("valid"));
+        (doc, ids)
+    }
+
+    #[test]
+    fn removing_a_relation_leaves_the_others_ids_unchanged() {
+        let (mut doc, [ab, bc, ac]) = related();
+        assert_eq!([ab, bc, ac], [RelationId(0), RelationId(1), RelationId(2)]);
+        let kept = [ab, ac].map(|id| doc.relation(id).cloned());
+        assert!(doc.remove_relation(bc).is_some());
+        assert_eq!(doc.remove_relation(bc), None, "removed once");
+        assert_eq!(doc.relation(bc), None);
+        assert_eq!([ab, ac].map(|id| doc.relation(id).cloned()), kept);
+        assert_eq!(doc.relation_position(ac), Some(1), "listed second now");
+        let ids: Vec<RelationId> = doc.relations_with_ids().map(|(id, _)| id).collect();
+        assert_eq!(ids, [ab, ac]);
+        let (a, b) = (PrimitiveId(0), PrimitiveId(1));
+        assert_eq!(
+            doc.add_relation(parallel(a, b)).expect("valid"),
+            RelationId(3),
+            "ids are not reused"
+        );
+        // Removing a part removes its relations; the others keep their ids.
+        doc.remove(PrimitiveId(2));
+        let ids: Vec<RelationId> = doc.relations_with_ids().map(|(id, _)| id).collect();
+        assert_eq!(ids, [ab, RelationId(3)]);
+    }
+
+    #[test]
+    fn a_relation_id_survives_removal_and_undo() {
+        let (mut doc, [ab, bc, ac]) = related();
+        let snapshot = doc.clone();
+        doc.remove_relation(ab);
+        doc.relation_mut(ac).expect("kept").mode = Mode::Off;
+        // Undo restores the snapshot: every relation is back under its id.
+        doc = snapshot;
+        for (id, members) in [(ab, [0, 1]), (bc, [1, 2]), (ac, [0, 2])] {
+            let relation = doc.relation(id).expect("back");
+            assert_eq!(relation.members, members.map(PrimitiveId), "{id:?}");
+        }
+        assert_eq!(doc.relation(ac).expect("back").mode, Mode::Hard);
+    }
+
+    #[test]
+    fn a_relation_is_refused_with_a_typed_error() {
+        let mut doc = Document::new();
+        let a = doc.add(rod(0.0));
+        let ball = doc.add(Placed {
+            primitive: Primitive::Sphere(Sphere {
+                center: DVec3::ZERO,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        });
+        let mut r = parallel(a, ball);
+        assert_eq!(
+            doc.add_relation(r.clone()),
+            Err(RelationError::ForeignFeature {
+                member: ball,
+                kind: PrimitiveKind::Sphere,
+                feature: Feature::Top,
+            })
+        );
+        r.members[1] = PrimitiveId(9);
+        assert_eq!(
+            doc.add_relation(r.clone()),
+            Err(RelationError::MissingPrimitive { id: PrimitiveId(9) })
+        );
+        r.members.pop();
+        let error = doc.add_relation(r).expect_err("one member");
+        assert_eq!(
+            error.to_string(),
+            "a parallel relation relates 2 primitives, not 1"
+        );
+        assert!(doc.relations().is_empty(), "nothing was added");
+    }
 
     #[test]
     fn ids_are_stable_and_never_reused() {

@@ -18,7 +18,9 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::{Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation};
+use super::{
+    Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
+};
 use crate::core::primitive::{FeatureCurve, Primitive, PrimitiveKind};
 use crate::core::relation::infer::{infer, Part, Proposal};
 use crate::core::relation::{residuals, InferenceSettings, Member, Mode};
@@ -30,18 +32,17 @@ const DEPTH_STEPS: i32 = 40;
 /// from quadratic to logarithmic.
 const DEPTH_SCALE: f64 = 0.05;
 
-/// The feature of `features` named `name`, as the `'static` name inference uses.
-fn static_name(features: &[FeatureCurve<f64>], name: &str) -> Option<&'static str> {
-    features.iter().find(|f| f.name == name).map(|f| f.name)
-}
-
 impl Document {
     /// Infers the relations between part `id` and the other parts, adds them as hard
-    /// relations and returns their indices in [`Document::relations`]. The part may be
+    /// relations and returns their ids. The part may be
     /// replaced by its mirror image in depth when that one has more relations (see the
     /// module docs). Relations already in the model (not off) count as known, so nothing
     /// redundant is added.
-    pub fn infer_relations(&mut self, id: PrimitiveId, settings: &InferenceSettings) -> Vec<usize> {
+    pub fn infer_relations(
+        &mut self,
+        id: PrimitiveId,
+        settings: &InferenceSettings,
+    ) -> Vec<RelationId> {
         let ids: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
         let Some(new) = ids.iter().position(|i| *i == id) else {
             return Vec::new();
@@ -67,20 +68,22 @@ impl Document {
                     .map(|m| ids.iter().position(|i| i == m))
                     .collect();
                 let members = members?;
-                let names = members
+                // A feature the member lacks leaves the relation out.
+                let chosen = members
                     .iter()
                     .enumerate()
-                    .map(
-                        |(k, &i)| match r.features.get(k).and_then(|f| f.as_deref()) {
-                            Some(name) => static_name(&features[i], name).map(Some),
-                            None => Some(None),
-                        },
-                    )
+                    .map(|(k, &i)| match r.features.get(k).copied().flatten() {
+                        Some(feature) => features[i]
+                            .iter()
+                            .any(|f| f.feature == feature)
+                            .then_some(Some(feature)),
+                        None => Some(None),
+                    })
                     .collect::<Option<Vec<_>>>()?;
                 Some(Proposal {
                     kind: r.kind,
                     members,
-                    features: names,
+                    features: chosen,
                 })
             })
             .collect();
@@ -126,11 +129,11 @@ impl Document {
             let relation = Relation {
                 kind: p.kind,
                 members: p.members.iter().map(|&i| ids[i]).collect(),
-                features: p.features.iter().map(|f| f.map(str::to_owned)).collect(),
+                features: p.features,
                 mode: Mode::Hard,
             };
-            if self.add_relation(relation).is_ok() {
-                added.push(self.relations.len() - 1);
+            if let Ok(relation) = self.add_relation(relation) {
+                added.push(relation);
             }
         }
         added
@@ -167,7 +170,9 @@ impl Document {
     ///     &GlobalSettings::default(),
     ///     Companions::default(),
     /// );
-    /// assert!(added.iter().any(|&i| doc.relations()[i].kind == RelationKind::Parallel));
+    /// assert!(added
+    ///     .iter()
+    ///     .any(|&r| doc.relation(r).is_some_and(|r| r.kind == RelationKind::Parallel)));
     /// assert!(outcome.conflicts.is_empty());
     /// ```
     pub fn release(
@@ -176,7 +181,7 @@ impl Document {
         inference: &InferenceSettings,
         global: &GlobalSettings,
         companions: Companions<'_>,
-    ) -> (Vec<usize>, GlobalOutcome) {
+    ) -> (Vec<RelationId>, GlobalOutcome) {
         let added = self.infer_relations(id, inference);
         self.settle_depth(id);
         let outcome = self.solve(Some(&[id]), global, companions);
@@ -233,7 +238,7 @@ impl Document {
                             let features = if *m == id { &moved } else { others.get(m)? };
                             Some(Member {
                                 features,
-                                feature: f.as_deref(),
+                                feature: *f,
                             })
                         })
                         .collect();
@@ -289,7 +294,7 @@ mod tests {
     use glam::DVec3;
 
     use crate::core::model::{Document, Fit, Placed};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::primitive::{Cylinder, Feature, Primitive};
     use crate::core::relation::{InferenceSettings, Member, Mode, RelationKind};
 
     fn leg(x: f64, axis: DVec3) -> Placed {
@@ -312,7 +317,10 @@ mod tests {
         // depth: parallel to nothing as it is.
         let b = doc.add(leg(6.0, DVec3::new(0.0, 0.9, -0.44)));
         let added = doc.infer_relations(b, &InferenceSettings::default());
-        let kinds: Vec<RelationKind> = added.iter().map(|&i| doc.relations()[i].kind).collect();
+        let kinds: Vec<RelationKind> = added
+            .iter()
+            .map(|&r| doc.relation(r).expect("added").kind)
+            .collect();
         assert!(kinds.contains(&RelationKind::Parallel), "{kinds:?}");
         let Primitive::Cylinder(turned) = &doc.get(b).expect("placed").primitive else {
             unreachable!("a cylinder")
@@ -340,7 +348,7 @@ mod tests {
         doc.add_relation(Relation {
             kind: RelationKind::Coplanar,
             members: vec![a, b],
-            features: vec![Some("top".into()), Some("bottom".into())],
+            features: vec![Some(Feature::Top), Some(Feature::Bottom)],
             mode: Mode::Hard,
         })
         .expect("a coplanar pair of ends");
@@ -356,11 +364,11 @@ mod tests {
             let members = [
                 Member {
                     features: &fa,
-                    feature: Some("top"),
+                    feature: Some(Feature::Top),
                 },
                 Member {
                     features: &fb,
-                    feature: Some("bottom"),
+                    feature: Some(Feature::Bottom),
                 },
             ];
             residuals(RelationKind::Coplanar, &members)

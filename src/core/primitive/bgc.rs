@@ -39,7 +39,7 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::{orthonormal_basis, TriMesh};
 use super::{
-    circle_basis, circle_ellipse, quaternion_columns, Curve2, CurveClass, FeatureCurve,
+    circle_basis, circle_ellipse, quaternion_columns, Curve2, CurveClass, Feature, FeatureCurve,
     FeatureGeometry, Placement, ProjectedCurve, Shape, PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
@@ -421,7 +421,7 @@ impl Bgc {
             ],
             features: vec![
                 FeatureCurve {
-                    name: "top",
+                    feature: Feature::Top,
                     geometry: FeatureGeometry::Circle {
                         center: p1,
                         normal: top_normal,
@@ -429,7 +429,7 @@ impl Bgc {
                     },
                 },
                 FeatureCurve {
-                    name: "bottom",
+                    feature: Feature::Bottom,
                     geometry: FeatureGeometry::Circle {
                         center: p0,
                         normal: bottom_normal,

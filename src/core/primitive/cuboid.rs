@@ -11,7 +11,7 @@
 //! Projected curves: the 12 edges (matched to straight strokes of either class); an edge
 //! is *visible* when one of its two faces faces the viewer (outward normal z > 0),
 //! judged at the primitive's current orientation. Feature curves: the six faces
-//! [`FACE_NAMES`] as rectangles.
+//! [`Feature::FACES`] as rectangles.
 
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
@@ -19,14 +19,11 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::TriMesh;
 use super::{
-    quaternion_columns, Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement,
+    quaternion_columns, Curve2, CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement,
     ProjectedCurve, Shape,
 };
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;
-
-/// The faces of a cuboid: outward normals +x, −x, +y, −y, +z, −z of its local frame.
-pub const FACE_NAMES: [&str; 6] = ["right", "left", "top", "bottom", "front", "back"];
 
 /// A box in model space.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,7 +37,7 @@ pub struct Cuboid {
 }
 
 /// The edges as (axis along the edge, signs of the other two axes), with the two faces
-/// each edge borders as indices into [`FACE_NAMES`].
+/// each edge borders as indices into [`Feature::FACES`].
 fn edges() -> Vec<(usize, [f64; 3], [usize; 2])> {
     let mut out = Vec::with_capacity(12);
     for along in 0..3 {
@@ -146,15 +143,15 @@ impl Cuboid {
                 curve: Curve2::Polyline(vec![(mid - d).xy(), (mid + d).xy()]),
             });
         }
-        let features = FACE_NAMES
-            .iter()
+        let features = Feature::FACES
+            .into_iter()
             .enumerate()
-            .map(|(face, name)| {
+            .map(|(face, feature)| {
                 let axis = face / 2;
                 let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
                 let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
                 FeatureCurve {
-                    name,
+                    feature,
                     geometry: FeatureGeometry::Rectangle {
                         center: c + axes[axis] * (half[axis] * sign),
                         normal: axes[axis].scale(sign),

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, FeatureCurve,
+    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, Feature, FeatureCurve,
     FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
 };
 use crate::core::ad::{Real, Vec3};
@@ -142,7 +142,7 @@ pub(crate) fn revolved_shape<T: Real>(
         ],
         features: vec![
             FeatureCurve {
-                name: "top",
+                feature: Feature::Top,
                 geometry: FeatureGeometry::Circle {
                     center: top,
                     normal: a,
@@ -150,7 +150,7 @@ pub(crate) fn revolved_shape<T: Real>(
                 },
             },
             FeatureCurve {
-                name: "bottom",
+                feature: Feature::Bottom,
                 geometry: FeatureGeometry::Circle {
                     center: bottom,
                     normal: -a,

@@ -7,7 +7,7 @@
 //! - a [`Shape`], computed by one generic function for both `f64` and AD expressions
 //!   ([`Real`]): its projected 2D curves (view-plane coordinates, see
 //!   [`geom::projection`](crate::core::geom::projection)) that strokes are matched to,
-//!   its named 3D [`FeatureCurve`]s that relations refer to, and its internal constraints
+//!   its 3D [`FeatureCurve`]s ([`Feature`]s) that relations refer to, and its internal constraints
 //!   C_p (unit axes, orthonormal frames, positive sizes);
 //! - a triangle mesh ([`Primitive::mesh`]) for display and export.
 //!
@@ -19,6 +19,7 @@ mod bgc;
 mod cone;
 mod cuboid;
 mod cylinder;
+mod feature;
 mod mesh;
 mod sgc;
 mod sphere;
@@ -28,8 +29,9 @@ use serde::{Deserialize, Serialize};
 
 pub use bgc::Bgc;
 pub use cone::Cone;
-pub use cuboid::{Cuboid, FACE_NAMES};
+pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
+pub use feature::{Axis, Feature};
 pub use mesh::TriMesh;
 pub use sgc::Sgc;
 pub use sphere::Sphere;
@@ -155,7 +157,7 @@ impl<T> ProjectedCurve<T> {
     }
 }
 
-/// The geometry of a named 3D feature curve, which relations refer to.
+/// The geometry of a 3D feature curve, which relations refer to.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FeatureGeometry<T> {
     /// A circle: an end of a cylinder, cone or generalized cylinder.
@@ -178,11 +180,12 @@ pub enum FeatureGeometry<T> {
     },
 }
 
-/// A named feature curve (`top`, `bottom`, or a cuboid face name).
+/// A feature curve of a primitive (an end, a sphere's outline or a box face) with its
+/// geometry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureCurve<T> {
-    /// The name.
-    pub name: &'static str,
+    /// Which feature it is.
+    pub feature: Feature,
     /// The geometry.
     pub geometry: FeatureGeometry<T>,
 }
@@ -193,7 +196,7 @@ pub struct FeatureCurve<T> {
 pub struct Shape<T> {
     /// The projected curves strokes are matched to.
     pub curves: Vec<ProjectedCurve<T>>,
-    /// The named 3D feature curves.
+    /// The 3D feature curves, in the order of [`PrimitiveKind::features`].
     pub features: Vec<FeatureCurve<T>>,
     /// Equality constraints c = 0 of the parameterisation, labelled.
     pub equalities: Vec<(&'static str, T)>,
@@ -414,6 +417,11 @@ impl Primitive {
     /// A triangle mesh with about `segments` segments around each circle.
     pub fn mesh(&self, segments: usize) -> TriMesh {
         each_kind!(self, p => p.mesh(segments.max(3)))
+    }
+
+    /// The feature curves this primitive has (those of its kind).
+    pub fn features(&self) -> &'static [Feature] {
+        self.kind().features()
     }
 
     /// Whether every parameter is finite.

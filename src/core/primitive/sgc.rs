@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, FeatureCurve,
+    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, Feature, FeatureCurve,
     FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh, PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec3};
@@ -124,7 +124,7 @@ impl Sgc {
             ],
             features: vec![
                 FeatureCurve {
-                    name: "top",
+                    feature: Feature::Top,
                     geometry: FeatureGeometry::Circle {
                         center: top,
                         normal: a,
@@ -132,7 +132,7 @@ impl Sgc {
                     },
                 },
                 FeatureCurve {
-                    name: "bottom",
+                    feature: Feature::Bottom,
                     geometry: FeatureGeometry::Circle {
                         center: bottom,
                         normal: -a,

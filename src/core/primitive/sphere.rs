@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use super::cylinder::MIN_SIZE_FRACTION;
 use super::mesh::TriMesh;
-use super::{Curve2, CurveClass, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape};
+use super::{
+    Curve2, CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape,
+};
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::view_from_sketch;
 
@@ -76,7 +78,7 @@ impl Sphere {
                 },
             }],
             features: vec![FeatureCurve {
-                name: "outline",
+                feature: Feature::Outline,
                 geometry: FeatureGeometry::Circle {
                     center: c,
                     normal: Vec3::new(zero, zero, one),

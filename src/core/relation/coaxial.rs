@@ -45,7 +45,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::primitive::{Cylinder, Feature, Primitive};
 
     fn cylinder(center: DVec3, radius: f64) -> Primitive {
         let axis = DVec3::new(0.0, 0.94, 0.34);
@@ -63,20 +63,25 @@ mod tests {
         let axis = DVec3::new(0.0, 0.94, 0.34);
         let a = cylinder(DVec3::ZERO, 10.0);
         let b = cylinder(axis * 20.0, 5.0);
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&b, Some("bottom"))]) < 1e-12);
+        assert!(invariant_psi(k, &[(&a, Some(Feature::Top)), (&b, Some(Feature::Bottom))]) < 1e-12);
         let off = cylinder(axis * 20.0 + DVec3::X * 3.0, 5.0);
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&off, Some("bottom"))]) > 0.1);
+        assert!(
+            invariant_psi(
+                k,
+                &[(&a, Some(Feature::Top)), (&off, Some(Feature::Bottom))]
+            ) > 0.1
+        );
         let s = InferenceSettings::default();
         let (fa, fb, fo) = (features(&a), features(&b), features(&off));
         let m = |f| {
             [
                 Member {
                     features: &fa,
-                    feature: Some("top"),
+                    feature: Some(Feature::Top),
                 },
                 Member {
                     features: f,
-                    feature: Some("bottom"),
+                    feature: Some(Feature::Bottom),
                 },
             ]
         };

@@ -39,7 +39,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Primitive, Sphere};
+    use crate::core::primitive::{Feature, Primitive, Sphere};
 
     #[test]
     fn beads_on_a_string() {
@@ -56,9 +56,9 @@ mod tests {
             invariant_psi(
                 k,
                 &[
-                    (&a, Some("outline")),
-                    (&b, Some("outline")),
-                    (c, Some("outline")),
+                    (&a, Some(Feature::Outline)),
+                    (&b, Some(Feature::Outline)),
+                    (c, Some(Feature::Outline)),
                 ],
             )
         };
@@ -70,7 +70,7 @@ mod tests {
         let m = |i: usize| {
             [0, 1, i].map(|j| Member {
                 features: &f[j],
-                feature: Some("outline"),
+                feature: Some(Feature::Outline),
             })
         };
         assert!(holds(k, &m(2), &s));

@@ -29,7 +29,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cylinder, Primitive, Sphere};
+    use crate::core::primitive::{Cylinder, Feature, Primitive, Sphere};
 
     #[test]
     fn a_ring_on_a_ball() {
@@ -47,20 +47,33 @@ mod tests {
             })
         };
         let through = disc(DVec3::new(3.0, 3.0, 5.0)); // its top at the ball's centre
-        assert!(invariant_psi(k, &[(&ball, Some("outline")), (&through, Some("top"))]) < 1e-12);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&ball, Some(Feature::Outline)),
+                    (&through, Some(Feature::Top))
+                ]
+            ) < 1e-12
+        );
         let off = disc(DVec3::new(5.0, 3.0, 5.0));
-        assert!(invariant_psi(k, &[(&ball, Some("outline")), (&off, Some("top"))]) > 0.09);
+        assert!(
+            invariant_psi(
+                k,
+                &[(&ball, Some(Feature::Outline)), (&off, Some(Feature::Top))]
+            ) > 0.09
+        );
         let s = InferenceSettings::default();
         let (fb, ft, fo) = (features(&ball), features(&through), features(&off));
         let m = |f| {
             [
                 Member {
                     features: &fb,
-                    feature: Some("outline"),
+                    feature: Some(Feature::Outline),
                 },
                 Member {
                     features: f,
-                    feature: Some("top"),
+                    feature: Some(Feature::Top),
                 },
             ]
         };

@@ -72,7 +72,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cuboid, Cylinder, Primitive};
+    use crate::core::primitive::{Axis, Cuboid, Cylinder, Feature, Primitive};
 
     #[test]
     fn a_stud_on_a_brick() {
@@ -93,20 +93,36 @@ mod tests {
             })
         };
         let on = stud(up * 13.0 + view * DVec3::new(25.0, 0.0, 10.0));
-        assert!(invariant_psi(k, &[(&brick, Some("top")), (&on, Some("bottom"))]) < 1e-12);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&brick, Some(Feature::face(Axis::Y, true))),
+                    (&on, Some(Feature::Bottom))
+                ]
+            ) < 1e-12
+        );
         let floating = stud(up * 15.0 + view * DVec3::new(25.0, 0.0, 10.0));
-        assert!(invariant_psi(k, &[(&brick, Some("top")), (&floating, Some("bottom"))]) > 0.02);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&brick, Some(Feature::face(Axis::Y, true))),
+                    (&floating, Some(Feature::Bottom))
+                ]
+            ) > 0.02
+        );
         let s = InferenceSettings::default();
         let (fb, fs) = (features(&brick), features(&on));
         let m = |f| {
             [
                 Member {
                     features: &fb,
-                    feature: Some("top"),
+                    feature: Some(Feature::face(Axis::Y, true)),
                 },
                 Member {
                     features: f,
-                    feature: Some("bottom"),
+                    feature: Some(Feature::Bottom),
                 },
             ]
         };

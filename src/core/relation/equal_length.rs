@@ -4,21 +4,21 @@
 
 use super::{InferenceSettings, Member, RelationError, RelationKind};
 use crate::core::ad::Real;
-use crate::core::primitive::FeatureGeometry;
+use crate::core::primitive::{Feature, FeatureGeometry};
 
 const KIND: RelationKind = RelationKind::EqualLength;
 
 /// The distance between a member's end centres.
 fn length<T: Real>(m: &[Member<'_, T>], i: usize) -> Result<T, RelationError> {
-    let end = |name: &str| match m[i].get(name) {
+    let end = |feature: Feature| match m[i].get(feature) {
         Some(FeatureGeometry::Circle { center, .. }) => Ok(*center),
         _ => Err(RelationError::Unsuited {
             kind: KIND.name(),
             member: i,
-            what: format!("shape (it has no `{name}` end)"),
+            what: format!("shape (it has no `{feature}` end)"),
         }),
     };
-    Ok((end("top")? - end("bottom")?).norm())
+    Ok((end(Feature::Top)? - end(Feature::Bottom)?).norm())
 }
 
 pub(super) fn residuals<T: Real>(m: &[Member<'_, T>]) -> Result<Vec<T>, RelationError> {

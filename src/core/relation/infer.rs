@@ -24,7 +24,7 @@ use std::collections::{BTreeSet, HashMap};
 
 use super::{holds, InferenceSettings, Member, RelationKind};
 use crate::core::geom::segment_distance;
-use crate::core::primitive::{FeatureCurve, FeatureGeometry, PrimitiveKind};
+use crate::core::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
 
 /// A placed primitive as inference sees it.
 #[derive(Clone, Copy, Debug)]
@@ -44,61 +44,56 @@ pub struct Proposal {
     /// The parts, as indices into the slice given to [`infer`].
     pub members: Vec<usize>,
     /// The feature of each member.
-    pub features: Vec<Option<&'static str>>,
+    pub features: Vec<Option<Feature>>,
 }
 
+/// A box's directions: one face per axis.
+const BOX_DIRECTIONS: [Feature; 3] = [
+    Feature::face(Axis::X, true),
+    Feature::face(Axis::Y, true),
+    Feature::face(Axis::Z, true),
+];
+
 /// The features giving a part's directions, one per direction class.
-fn directions(part: &Part<'_>) -> &'static [&'static str] {
+fn directions(part: &Part<'_>) -> &'static [Feature] {
     match part.kind {
-        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => &["top"],
-        PrimitiveKind::Cuboid => &["right", "top", "front"],
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => &[Feature::Top],
+        PrimitiveKind::Cuboid => &BOX_DIRECTIONS,
         PrimitiveKind::Sphere | PrimitiveKind::Bgc => &[],
     }
 }
 
-/// The direction class of a feature: 0 for a solid of revolution, the axis of a face.
-fn direction_class(part: &Part<'_>, feature: &str) -> usize {
-    match part.kind {
-        PrimitiveKind::Cuboid => match feature {
-            "right" | "left" => 0,
-            "top" | "bottom" => 1,
-            _ => 2,
-        },
-        _ => 0,
-    }
-}
-
 /// The end circles of a part (a sphere's outline is not an end).
-fn ends(part: &Part<'_>) -> &'static [&'static str] {
+fn ends(part: &Part<'_>) -> &'static [Feature] {
     match part.kind {
         PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc | PrimitiveKind::Bgc => {
-            &["bottom", "top"]
+            &[Feature::Bottom, Feature::Top]
         }
         PrimitiveKind::Sphere | PrimitiveKind::Cuboid => &[],
     }
 }
 
 /// The circles of a part, the sphere's outline included.
-fn circles(part: &Part<'_>) -> &'static [&'static str] {
+fn circles(part: &Part<'_>) -> &'static [Feature] {
     match part.kind {
-        PrimitiveKind::Sphere => &["outline"],
+        PrimitiveKind::Sphere => &[Feature::Outline],
         _ => ends(part),
     }
 }
 
 /// The flat features of a part: end circles and box faces.
-fn planes(part: &Part<'_>) -> &'static [&'static str] {
+fn planes(part: &Part<'_>) -> &'static [Feature] {
     match part.kind {
-        PrimitiveKind::Cuboid => &crate::core::primitive::FACE_NAMES,
+        PrimitiveKind::Cuboid => &Feature::FACES,
         _ => ends(part),
     }
 }
 
-/// The projected centre and the unit normal of a part's flat feature `name`.
-fn plane_of(part: &Part<'_>, name: &str) -> Option<(glam::DVec2, glam::DVec3)> {
+/// The projected centre and the unit normal of a part's flat `feature`.
+fn plane_of(part: &Part<'_>, feature: Feature) -> Option<(glam::DVec2, glam::DVec3)> {
     part.features
         .iter()
-        .find(|f| f.name == name)
+        .find(|f| f.feature == feature)
         .map(|f| match &f.geometry {
             FeatureGeometry::Circle { center, normal, .. }
             | FeatureGeometry::Rectangle { center, normal, .. } => {
@@ -154,15 +149,15 @@ fn axis_segment(part: &Part<'_>) -> Option<(glam::DVec2, glam::DVec2, f64)> {
     ) {
         return None;
     }
-    let end = |name: &str| {
+    let end = |feature: Feature| {
         part.features.iter().find_map(|f| match &f.geometry {
-            FeatureGeometry::Circle { center, radius, .. } if f.name == name => {
+            FeatureGeometry::Circle { center, radius, .. } if f.feature == feature => {
                 Some((glam::DVec2::new(center.x, center.y), *radius))
             }
             _ => None,
         })
     };
-    let ((a, ra), (b, rb)) = (end("bottom")?, end("top")?);
+    let ((a, ra), (b, rb)) = (end(Feature::Bottom)?, end(Feature::Top)?);
     Some((a, b, ra.max(rb)))
 }
 
@@ -187,37 +182,47 @@ fn joined(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
         || end_on(b1, a0, a1, ra)
 }
 
-/// A union–find over entities named by (part, key).
+/// What of a part an entity of inference is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Slot {
+    /// The part as a whole: its axis line, its length, a cylinder's one radius.
+    Whole,
+    /// One of its features: a centre, a plane, a radius.
+    Feature(Feature),
+    /// One of its direction classes ([`Feature::direction_class`]).
+    Direction(usize),
+}
+
+/// An entity of inference: a part (by index) and what of it.
+type Entity = (usize, Slot);
+
+/// A union–find over entities.
 #[derive(Default)]
 struct Classes {
-    parent: HashMap<(usize, String), (usize, String)>,
+    parent: HashMap<Entity, Entity>,
 }
 
 impl Classes {
-    fn find(&mut self, x: (usize, String)) -> (usize, String) {
-        let mut root = x.clone();
-        while let Some(p) = self.parent.get(&root) {
-            if *p == root {
+    fn find(&mut self, x: Entity) -> Entity {
+        let mut root = x;
+        while let Some(&p) = self.parent.get(&root) {
+            if p == root {
                 break;
             }
-            root = p.clone();
+            root = p;
         }
         // Path compression.
         let mut cur = x;
         while cur != root {
-            let next = self
-                .parent
-                .get(&cur)
-                .cloned()
-                .unwrap_or_else(|| root.clone());
-            self.parent.insert(cur, root.clone());
+            let next = self.parent.get(&cur).copied().unwrap_or(root);
+            self.parent.insert(cur, root);
             cur = next;
         }
         root
     }
 
     /// Joins two entities; false when they were joined already.
-    fn union(&mut self, a: (usize, String), b: (usize, String)) -> bool {
+    fn union(&mut self, a: Entity, b: Entity) -> bool {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra == rb {
             return false;
@@ -236,27 +241,28 @@ struct Known {
     coplanar: Classes,
     radius: Classes,
     length: Classes,
-    orthogonal: BTreeSet<((usize, String), (usize, String))>,
+    orthogonal: BTreeSet<(Entity, Entity)>,
     others: Vec<Proposal>,
 }
 
 impl Known {
-    /// The direction entity of a member's feature.
-    fn direction(parts: &[Part<'_>], part: usize, feature: &str) -> (usize, String) {
-        (part, direction_class(&parts[part], feature).to_string())
-    }
-
     /// Records `p`; false when it follows from what is known.
     fn add(&mut self, parts: &[Part<'_>], p: &Proposal) -> bool {
-        let entity = |i: usize| (p.members[i], p.features[i].unwrap_or("").to_owned());
-        let direction =
-            |i: usize| Self::direction(parts, p.members[i], p.features[i].unwrap_or(""));
+        let entity = |i: usize| {
+            (
+                p.members[i],
+                p.features[i].map_or(Slot::Whole, Slot::Feature),
+            )
+        };
+        let direction = |i: usize| {
+            let class = p.features[i].map_or(0, Feature::direction_class);
+            (p.members[i], Slot::Direction(class))
+        };
+        let whole = |i: usize| (p.members[i], Slot::Whole);
         match p.kind {
             RelationKind::Parallel => self.parallel.union(direction(0), direction(1)),
             RelationKind::Coaxial => {
-                let new = self
-                    .coaxial
-                    .union((p.members[0], String::new()), (p.members[1], String::new()));
+                let new = self.coaxial.union(whole(0), whole(1));
                 self.parallel.union(direction(0), direction(1));
                 new
             }
@@ -265,14 +271,12 @@ impl Known {
             RelationKind::SameRadius => {
                 // A cylinder has one radius, whichever end names it.
                 let radius = |i: usize| match parts[p.members[i]].kind {
-                    PrimitiveKind::Cylinder => (p.members[i], String::new()),
+                    PrimitiveKind::Cylinder => whole(i),
                     _ => entity(i),
                 };
                 self.radius.union(radius(0), radius(1))
             }
-            RelationKind::EqualLength => self
-                .length
-                .union((p.members[0], String::new()), (p.members[1], String::new())),
+            RelationKind::EqualLength => self.length.union(whole(0), whole(1)),
             RelationKind::Orthogonal => {
                 let (a, b) = (
                     self.parallel.find(direction(0)),
@@ -294,7 +298,7 @@ impl Known {
 
     /// Whether two parts are on one axis already.
     fn coaxial(&mut self, a: usize, b: usize) -> bool {
-        self.coaxial.find((a, String::new())) == self.coaxial.find((b, String::new()))
+        self.coaxial.find((a, Slot::Whole)) == self.coaxial.find((b, Slot::Whole))
     }
 }
 
@@ -394,7 +398,7 @@ impl Inference<'_, '_> {
     }
 
     /// A relation between the new part's feature `a` and `other`'s feature `b`.
-    fn pair(&self, kind: RelationKind, other: usize, a: &'static str, b: &'static str) -> Proposal {
+    fn pair(&self, kind: RelationKind, other: usize, a: Feature, b: Feature) -> Proposal {
         Proposal {
             kind,
             members: vec![self.new, other],
@@ -444,7 +448,7 @@ impl Inference<'_, '_> {
         let mut centred = Vec::new();
         for &a in circles(&new_part) {
             for &b in circles(&other_part) {
-                if (a == "outline") != (b == "outline") {
+                if (a == Feature::Outline) != (b == Feature::Outline) {
                     continue; // a tube's end at a ball's centre is inside the ball
                 }
                 if let (Some((_, na)), Some((_, nb))) =
@@ -452,7 +456,8 @@ impl Inference<'_, '_> {
                 {
                     // Two ends sharing a centre and facing the same way put one solid
                     // inside the other: parts drawn one behind the other, not a stack.
-                    if a != "outline" && na.dot(nb) > self.settings.angle_degrees.to_radians().cos()
+                    if a != Feature::Outline
+                        && na.dot(nb) > self.settings.angle_degrees.to_radians().cos()
                     {
                         continue;
                     }
@@ -462,7 +467,7 @@ impl Inference<'_, '_> {
                     centred.push((a, b));
                 }
                 self.propose(p);
-                if a != "outline" && b != "outline" {
+                if a != Feature::Outline && b != Feature::Outline {
                     self.propose(self.pair(RelationKind::SameRadius, other, a, b));
                 }
             }
@@ -518,7 +523,7 @@ impl Inference<'_, '_> {
                 let p = Proposal {
                     kind: RelationKind::OnSphere,
                     members: vec![sphere, tube],
-                    features: vec![Some("outline"), Some(end)],
+                    features: vec![Some(Feature::Outline), Some(end)],
                 };
                 if self.propose(p) {
                     break;
@@ -569,7 +574,7 @@ mod tests {
     use glam::{DQuat, DVec3};
 
     use super::{infer, Part, Proposal};
-    use crate::core::primitive::{Cuboid, Cylinder, FeatureCurve, Primitive};
+    use crate::core::primitive::{Axis, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
     use crate::core::relation::{InferenceSettings, RelationKind};
 
     /// Relations inferred placing `primitives` one by one, as on release.
@@ -646,7 +651,10 @@ mod tests {
             .iter()
             .find(|p| p.kind == RelationKind::Concentric)
             .expect("concentric");
-        assert_eq!(first.features, vec![Some("bottom"), Some("top")]);
+        assert_eq!(
+            first.features,
+            vec![Some(Feature::Bottom), Some(Feature::Top)]
+        );
     }
 
     fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
@@ -695,6 +703,9 @@ mod tests {
             .find(|p| p.kind == RelationKind::Coplanar)
             .expect("coplanar");
         assert_eq!(on.members, vec![0, 1]);
-        assert_eq!(on.features, vec![Some("top"), Some("bottom")]);
+        assert_eq!(
+            on.features,
+            vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)]
+        );
     }
 }

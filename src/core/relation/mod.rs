@@ -1,9 +1,9 @@
 //! Geosemantic relations between primitives: what each kind means, how it is recognised
 //! in a snapped model, and the residual equations ψ_g = 0 that make it hold exactly.
 //!
-//! A relation refers to its members through their named feature curves (an end circle
-//! `top`/`bottom`, a sphere's `outline`, a box face such as `front`): a [`Member`] is one
-//! primitive's features with the one the relation uses. Every kind lives in its own file
+//! A relation refers to its members through their feature curves ([`Feature`]: an end
+//! circle, a sphere's outline, a box face): a [`Member`] is one primitive's features with
+//! the one the relation uses. Every kind lives in its own file
 //! with
 //! - its **residuals**, written once over [`Real`] so they serve plain numbers and the
 //!   solver's expressions alike, and scale-free: directions are unit normals, distances are
@@ -44,7 +44,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::core::ad::{Real, Vec3};
-use crate::core::primitive::{FeatureCurve, FeatureGeometry};
+use crate::core::primitive::{Feature, FeatureCurve, FeatureGeometry};
 
 /// The kinds of relation, named as in the model file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -127,16 +127,16 @@ pub enum Mode {
 pub struct Member<'a, T> {
     /// All feature curves of the primitive.
     pub features: &'a [FeatureCurve<T>],
-    /// The name of the feature the relation uses.
-    pub feature: Option<&'a str>,
+    /// The feature the relation uses.
+    pub feature: Option<Feature>,
 }
 
 impl<'a, T> Member<'a, T> {
-    /// The feature named `name`.
-    pub fn get(&self, name: &str) -> Option<&'a FeatureGeometry<T>> {
+    /// The geometry of `feature`, if the primitive has it.
+    pub fn get(&self, feature: Feature) -> Option<&'a FeatureGeometry<T>> {
         self.features
             .iter()
-            .find(|f| f.name == name)
+            .find(|f| f.feature == feature)
             .map(|f| &f.geometry)
     }
 
@@ -227,7 +227,7 @@ impl InferenceSettings {
 ///
 /// ```
 /// use glam::DVec3;
-/// use geosnap::core::primitive::{Cylinder, Primitive};
+/// use geosnap::core::primitive::{Cylinder, Feature, Primitive};
 /// use geosnap::core::relation::{residuals, Member, RelationKind};
 ///
 /// let upright = |x: f64| Primitive::Cylinder(Cylinder {
@@ -238,8 +238,8 @@ impl InferenceSettings {
 /// });
 /// let (a, b) = (upright(0.0).current_shape(), upright(5.0).current_shape());
 /// let members = [
-///     Member { features: &a.features, feature: Some("top") },
-///     Member { features: &b.features, feature: Some("bottom") },
+///     Member { features: &a.features, feature: Some(Feature::Top) },
+///     Member { features: &b.features, feature: Some(Feature::Bottom) },
 /// ];
 /// // Parallel holds; coaxial does not (the axes are 5 apart).
 /// let norm = |r: Vec<f64>| r.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -303,7 +303,7 @@ fn chosen<'a, T>(
         kind: kind.name(),
         member: i,
         what: match members[i].feature {
-            Some(name) => format!("feature `{name}` (it has none of that name)"),
+            Some(feature) => format!("feature `{feature}` (it has no such feature)"),
             None => "missing feature name".to_owned(),
         },
     })
@@ -371,7 +371,7 @@ pub(crate) mod testing {
 
     use super::{norm, residuals, Member, RelationKind};
     use crate::core::ad::Vec3;
-    use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
+    use crate::core::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive};
 
     /// The feature curves of a primitive.
     pub(crate) fn features(p: &Primitive) -> Vec<FeatureCurve<f64>> {
@@ -403,13 +403,13 @@ pub(crate) mod testing {
             },
         };
         FeatureCurve {
-            name: f.name,
+            feature: f.feature,
             geometry,
         }
     }
 
     /// ‖ψ‖ of `kind` between primitives with the named features.
-    pub(crate) fn psi(kind: RelationKind, parts: &[(&Primitive, Option<&str>)]) -> f64 {
+    pub(crate) fn psi(kind: RelationKind, parts: &[(&Primitive, Option<Feature>)]) -> f64 {
         psi_of(
             kind,
             &parts
@@ -419,7 +419,7 @@ pub(crate) mod testing {
         )
     }
 
-    fn psi_of(kind: RelationKind, parts: &[(Vec<FeatureCurve<f64>>, Option<&str>)]) -> f64 {
+    fn psi_of(kind: RelationKind, parts: &[(Vec<FeatureCurve<f64>>, Option<Feature>)]) -> f64 {
         let members: Vec<Member<'_, f64>> = parts
             .iter()
             .map(|(f, n)| Member {
@@ -432,7 +432,10 @@ pub(crate) mod testing {
 
     /// Checks ‖ψ‖ is the same after a rigid motion and a uniform scale of the whole
     /// model, and returns it.
-    pub(crate) fn invariant_psi(kind: RelationKind, parts: &[(&Primitive, Option<&str>)]) -> f64 {
+    pub(crate) fn invariant_psi(
+        kind: RelationKind,
+        parts: &[(&Primitive, Option<Feature>)],
+    ) -> f64 {
         let before = psi(kind, parts);
         let r = DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.5).normalize(), 1.1);
         for (t, s) in [
@@ -440,7 +443,7 @@ pub(crate) mod testing {
             (DVec3::ZERO, 7.5),
             (DVec3::X, 0.01),
         ] {
-            let after: Vec<(Vec<FeatureCurve<f64>>, Option<&str>)> = parts
+            let after: Vec<(Vec<FeatureCurve<f64>>, Option<Feature>)> = parts
                 .iter()
                 .map(|(p, n)| (features(p).iter().map(|f| moved(f, r, t, s)).collect(), *n))
                 .collect();

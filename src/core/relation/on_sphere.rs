@@ -10,6 +10,7 @@ use super::{
     circle, components, offset_2d, InferenceSettings, Member, RelationError, RelationKind,
 };
 use crate::core::ad::Real;
+use crate::core::primitive::Feature;
 
 const KIND: RelationKind = RelationKind::OnSphere;
 
@@ -24,7 +25,7 @@ pub(super) fn residuals<T: Real>(m: &[Member<'_, T>]) -> Result<Vec<T>, Relation
 }
 
 pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool {
-    if m[0].feature != Some("outline") {
+    if m[0].feature != Some(Feature::Outline) {
         return false;
     }
     let (Ok((centre, _, radius)), Ok((c, n, r))) = (circle(KIND, m, 0), circle(KIND, m, 1)) else {
@@ -52,7 +53,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cylinder, Primitive, Sphere};
+    use crate::core::primitive::{Cylinder, Feature, Primitive, Sphere};
 
     #[test]
     fn a_tube_on_a_ball() {
@@ -72,16 +73,32 @@ mod tests {
             })
         };
         let on = tube(20.0, DVec3::ZERO);
-        assert!(invariant_psi(k, &[(&ball, Some("outline")), (&on, Some("bottom"))]) < 1e-9);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&ball, Some(Feature::Outline)),
+                    (&on, Some(Feature::Bottom))
+                ]
+            ) < 1e-9
+        );
         let lifted = tube(24.0, DVec3::ZERO);
-        assert!(invariant_psi(k, &[(&ball, Some("outline")), (&lifted, Some("bottom"))]) > 0.1);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&ball, Some(Feature::Outline)),
+                    (&lifted, Some(Feature::Bottom))
+                ]
+            ) > 0.1
+        );
         let s = InferenceSettings::default();
         let (fb, fo) = (features(&ball), features(&on));
         let m = |f, n| {
             [
                 Member {
                     features: &fb,
-                    feature: Some("outline"),
+                    feature: Some(Feature::Outline),
                 },
                 Member {
                     features: f,
@@ -89,10 +106,10 @@ mod tests {
                 },
             ]
         };
-        assert!(holds(k, &m(&fo, "bottom"), &s));
+        assert!(holds(k, &m(&fo, Feature::Bottom), &s));
         let askew = features(&tube(20.0, DVec3::new(0.0, 0.8, 0.0)));
-        assert!(!holds(k, &m(&askew, "bottom"), &s));
+        assert!(!holds(k, &m(&askew, Feature::Bottom), &s));
         let far = features(&tube(40.0, DVec3::ZERO));
-        assert!(!holds(k, &m(&far, "bottom"), &s));
+        assert!(!holds(k, &m(&far, Feature::Bottom), &s));
     }
 }

@@ -22,7 +22,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::primitive::{Cylinder, Feature, Primitive};
 
     fn cylinder(axis: DVec3) -> Primitive {
         Primitive::Cylinder(Cylinder {
@@ -37,19 +37,19 @@ mod tests {
     fn perpendicular_axes() {
         let k = RelationKind::Orthogonal;
         let (a, b) = (cylinder(DVec3::Y), cylinder(DVec3::new(1.0, 0.0, 0.4)));
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&b, Some("top"))]) < 1e-12);
+        assert!(invariant_psi(k, &[(&a, Some(Feature::Top)), (&b, Some(Feature::Top))]) < 1e-12);
         let c = cylinder(DVec3::new(1.0, 0.5, 0.4));
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&c, Some("top"))]) > 0.3);
+        assert!(invariant_psi(k, &[(&a, Some(Feature::Top)), (&c, Some(Feature::Top))]) > 0.3);
         let s = InferenceSettings::default();
         let (fa, fb) = (features(&a), features(&cylinder(DVec3::new(1.0, 0.1, 0.0))));
         let m = [
             Member {
                 features: &fa,
-                feature: Some("top"),
+                feature: Some(Feature::Top),
             },
             Member {
                 features: &fb,
-                feature: Some("bottom"),
+                feature: Some(Feature::Bottom),
             },
         ];
         assert!(holds(k, &m, &s)); // 84.3°
@@ -57,11 +57,11 @@ mod tests {
         let m = [
             Member {
                 features: &fa,
-                feature: Some("top"),
+                feature: Some(Feature::Top),
             },
             Member {
                 features: &fc,
-                feature: Some("top"),
+                feature: Some(Feature::Top),
             },
         ];
         assert!(!holds(k, &m, &s));

@@ -26,7 +26,7 @@ mod tests {
     use super::super::testing::features;
     use super::super::testing::invariant_psi;
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cuboid, Cylinder, Primitive};
+    use crate::core::primitive::{Axis, Cuboid, Cylinder, Feature, Primitive};
 
     fn cylinder(center: DVec3, axis: DVec3) -> Primitive {
         Primitive::Cylinder(Cylinder {
@@ -42,9 +42,14 @@ mod tests {
         let k = RelationKind::Parallel;
         let a = cylinder(DVec3::ZERO, DVec3::new(0.2, 1.0, 0.3));
         let b = cylinder(DVec3::new(50.0, 5.0, -3.0), DVec3::new(0.2, 1.0, 0.3));
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&b, Some("bottom"))]) < 1e-12);
+        assert!(invariant_psi(k, &[(&a, Some(Feature::Top)), (&b, Some(Feature::Bottom))]) < 1e-12);
         let tilted = cylinder(DVec3::new(50.0, 5.0, -3.0), DVec3::new(0.3, 1.0, 0.3));
-        assert!(invariant_psi(k, &[(&a, Some("top")), (&tilted, Some("top"))]) > 0.05);
+        assert!(
+            invariant_psi(
+                k,
+                &[(&a, Some(Feature::Top)), (&tilted, Some(Feature::Top))]
+            ) > 0.05
+        );
         // A box's top face is parallel to an upright cylinder's ends.
         let upright = cylinder(DVec3::ZERO, DVec3::Y);
         let brick = Primitive::Cuboid(Cuboid {
@@ -52,8 +57,24 @@ mod tests {
             rotation: DQuat::IDENTITY,
             size: DVec3::new(40.0, 10.0, 20.0),
         });
-        assert!(invariant_psi(k, &[(&upright, Some("top")), (&brick, Some("top"))]) < 1e-12);
-        assert!(invariant_psi(k, &[(&upright, Some("top")), (&brick, Some("front"))]) > 0.99);
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&upright, Some(Feature::Top)),
+                    (&brick, Some(Feature::face(Axis::Y, true)))
+                ]
+            ) < 1e-12
+        );
+        assert!(
+            invariant_psi(
+                k,
+                &[
+                    (&upright, Some(Feature::Top)),
+                    (&brick, Some(Feature::face(Axis::Z, true)))
+                ]
+            ) > 0.99
+        );
     }
 
     #[test]
@@ -66,11 +87,11 @@ mod tests {
             [
                 Member {
                     features: &a,
-                    feature: Some("top"),
+                    feature: Some(Feature::Top),
                 },
                 Member {
                     features: b,
-                    feature: Some("top"),
+                    feature: Some(Feature::Top),
                 },
             ]
         };

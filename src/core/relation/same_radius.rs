@@ -22,7 +22,7 @@ mod tests {
 
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::core::primitive::{Cone, Primitive};
+    use crate::core::primitive::{Cone, Feature, Primitive};
 
     #[test]
     fn legs_of_one_thickness() {
@@ -37,15 +37,25 @@ mod tests {
             })
         };
         let (a, b, c) = (leg(0.0, 2.0), leg(40.0, 2.0), leg(40.0, 2.6));
-        assert!(invariant_psi(k, &[(&a, Some("bottom")), (&b, Some("bottom"))]) < 1e-12);
-        assert!(invariant_psi(k, &[(&a, Some("bottom")), (&c, Some("bottom"))]) > 0.1);
+        assert!(
+            invariant_psi(
+                k,
+                &[(&a, Some(Feature::Bottom)), (&b, Some(Feature::Bottom))]
+            ) < 1e-12
+        );
+        assert!(
+            invariant_psi(
+                k,
+                &[(&a, Some(Feature::Bottom)), (&c, Some(Feature::Bottom))]
+            ) > 0.1
+        );
         let s = InferenceSettings::default();
         let (fa, fb, fc) = (features(&a), features(&b), features(&c));
         let m = |f, n| {
             [
                 Member {
                     features: &fa,
-                    feature: Some("bottom"),
+                    feature: Some(Feature::Bottom),
                 },
                 Member {
                     features: f,
@@ -53,8 +63,8 @@ mod tests {
                 },
             ]
         };
-        assert!(holds(k, &m(&fb, "bottom"), &s));
-        assert!(!holds(k, &m(&fc, "bottom"), &s));
-        assert!(!holds(k, &m(&fb, "top"), &s));
+        assert!(holds(k, &m(&fb, Feature::Bottom), &s));
+        assert!(!holds(k, &m(&fc, Feature::Bottom), &s));
+        assert!(!holds(k, &m(&fb, Feature::Top), &s));
     }
 }

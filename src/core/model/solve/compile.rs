@@ -7,7 +7,7 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::conflicts::describe;
-use super::{Document, GlobalSettings, PrimitiveId, Quantity, Relation, RelationKey};
+use super::{Document, GlobalSettings, PrimitiveId, Quantity, RelationKey, Related};
 use crate::core::ad::{Expr, Graph, Vec3};
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};
@@ -114,7 +114,7 @@ impl Compiled {
         self.groups
             .iter()
             .filter_map(|g| match g.key {
-                GroupKey::Relation(index) => Some((index, g.equalities.clone())),
+                GroupKey::Relation(id) => Some((id, g.equalities.clone())),
                 GroupKey::Part(_) | GroupKey::Dimension(..) => None,
             })
             .collect()
@@ -183,7 +183,7 @@ pub(super) fn to_common<'g>(
         },
     };
     FeatureCurve {
-        name: f.name,
+        feature: f.feature,
         geometry,
     }
 }
@@ -274,12 +274,13 @@ fn part_terms<'g>(
 fn relation_terms<'g>(
     parts: &[Part<'_>],
     features: &[Vec<FeatureCurve<Expr<'g>>>],
-    relations: &[(RelationKey, &Relation)],
+    relations: &[Related<'_>],
     settings: &GlobalSettings,
     terms: &mut Terms<'g>,
 ) -> Vec<Expr<'g>> {
     let mut soft = Vec::new();
-    for (index, relation) in relations {
+    for related in relations {
+        let relation = related.relation;
         let members: Option<Vec<Member<'_, Expr<'_>>>> = relation
             .members
             .iter()
@@ -288,7 +289,7 @@ fn relation_terms<'g>(
                 let i = parts.iter().position(|p| p.id == *id)?;
                 Some(Member {
                     features: &features[i],
-                    feature: relation.features.get(k).and_then(|f| f.as_deref()),
+                    feature: relation.features.get(k).copied().flatten(),
                 })
             })
             .collect();
@@ -298,9 +299,9 @@ fn relation_terms<'g>(
         };
         match relation.mode {
             Mode::Hard => {
-                let label = describe(*index, relation);
+                let label = describe(related.position, relation);
                 let eqs = psi.into_iter().map(|e| (label.clone(), e));
-                terms.group(GroupKey::Relation(*index), eqs, []);
+                terms.group(GroupKey::Relation(related.id), eqs, []);
             }
             Mode::Soft => soft.extend(psi.into_iter().map(|e| e.square() * settings.soft_weight())),
             Mode::Off => {}
@@ -309,11 +310,11 @@ fn relation_terms<'g>(
     soft
 }
 
-/// Builds the global problem of `parts` with the `relations` (index, relation) whose
-/// members are all among them.
+/// Builds the global problem of `parts` with the `relations` whose members are all
+/// among them.
 pub(super) fn compile(
     parts: &[Part<'_>],
-    relations: &[(RelationKey, &Relation)],
+    relations: &[Related<'_>],
     settings: &GlobalSettings,
 ) -> Compiled {
     let g = Graph::new();

@@ -1,18 +1,19 @@
 //! Finding the relation responsible for a broken solve, and naming it.
 
 use super::compile::Part;
-use super::{Conflict, GlobalSettings, PrimitiveId, Relation, RelationKey, WORSENING_FLOOR};
+use super::{Conflict, GlobalSettings, PrimitiveId, Related, Relation, RelationKey, WORSENING_FLOOR};
 use crate::core::primitive::Primitive;
 use crate::core::solve::SolveReport;
 
-/// A relation in words: `relation 3 (coaxial: cylinder 0 top, cone 2 bottom)`.
-pub(super) fn describe(index: RelationKey, relation: &Relation) -> String {
+/// A relation in words, named by its place in the document's list:
+/// `relation 3 (coaxial of #0 top, #2 bottom)`.
+pub(super) fn describe(index: usize, relation: &Relation) -> String {
     let members: Vec<String> = relation
         .members
         .iter()
         .enumerate()
         .map(
-            |(k, id)| match relation.features.get(k).and_then(|f| f.as_deref()) {
+            |(k, id)| match relation.features.get(k).copied().flatten() {
                 Some(f) => format!("#{} {f}", id.0),
                 None => format!("#{}", id.0),
             },
@@ -32,10 +33,10 @@ pub(super) fn blame(
     hard: &[(RelationKey, std::ops::Range<usize>)],
     values: &[f64],
     report: &SolveReport,
-    relations: &[(RelationKey, &Relation)],
+    relations: &[Related<'_>],
     settings: &GlobalSettings,
 ) -> Option<Conflict> {
-    let relation = |index: RelationKey| relations.iter().find(|(i, _)| *i == index).map(|r| r.1);
+    let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
     // Infeasible: the hard relation with the largest residual.
     let residual = |range: &std::ops::Range<usize>| {
         range
@@ -54,7 +55,7 @@ pub(super) fn blame(
                 relation: index,
                 message: format!(
                     "{} switched off: the hard relations cannot all hold (its residual stays at {value:.2e})",
-                    describe(index, r)
+                    describe(r.position, r.relation)
                 ),
             });
         }
@@ -87,8 +88,12 @@ pub(super) fn blame(
     let (index, _) = hard
         .iter()
         .filter(|(index, _)| {
-            relation(*index)
-                .is_some_and(|r| r.members.iter().any(|m| worse.iter().any(|w| w.0 == *m)))
+            relation(*index).is_some_and(|r| {
+                r.relation
+                    .members
+                    .iter()
+                    .any(|m| worse.iter().any(|w| w.0 == *m))
+            })
         })
         .map(|(index, range)| (*index, pull(range)))
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
@@ -98,7 +103,7 @@ pub(super) fn blame(
         relation: index,
         message: format!(
             "{} switched off: with it, part #{} fits its strokes {:.1}× worse (RMS {rms:.3} against {own:.3})",
-            describe(index, r),
+            describe(r.position, r.relation),
             id.0,
             rms / own.max(f64::MIN_POSITIVE)
         ),

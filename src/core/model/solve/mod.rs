@@ -61,7 +61,7 @@ use std::collections::BTreeSet;
 use std::ops::ControlFlow;
 use std::time::Duration;
 
-use super::{Document, PrimitiveId, Quantity, Relation};
+use super::{Document, PrimitiveId, Quantity, Relation, RelationId};
 use crate::core::primitive::Primitive;
 use crate::core::relation::Mode;
 use crate::core::snap::fit_rms;
@@ -75,9 +75,17 @@ use reach::{component, held_beyond};
 pub use settings::GlobalSettings;
 pub(crate) use warm::WarmStarts;
 
-/// What a relation's constraint group is keyed by: its index in
-/// [`Document::relations`].
-pub(crate) type RelationKey = usize;
+/// What a relation's constraint group is keyed by.
+pub(crate) type RelationKey = RelationId;
+
+/// A relation taking part in a solve: its id, its place in [`Document::relations`]
+/// (which messages and constraint labels name it by) and the relation.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Related<'d> {
+    pub(super) id: RelationId,
+    pub(super) position: usize,
+    pub(super) relation: &'d Relation,
+}
 
 /// A part's fit may worsen freely up to this fraction of its size (RMS), whatever its own
 /// snap achieved.
@@ -86,8 +94,8 @@ pub const WORSENING_FLOOR: f64 = 0.005;
 /// A relation switched off because it conflicted, with the reason in words.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conflict {
-    /// Its index in [`Document::relations`].
-    pub relation: usize,
+    /// The relation.
+    pub relation: RelationId,
     /// A message naming it and saying why.
     pub message: String,
 }
@@ -138,7 +146,7 @@ impl Document {
     /// ```
     /// use glam::DVec3;
     /// use geosnap::core::model::{Companions, Document, Fit, GlobalSettings, Placed, Relation};
-    /// use geosnap::core::primitive::{Cylinder, Primitive};
+    /// use geosnap::core::primitive::{Cylinder, Feature, Primitive};
     /// use geosnap::core::relation::{Mode, RelationKind};
     ///
     /// let tilted = |x: f64, axis: DVec3| Placed {
@@ -156,10 +164,9 @@ impl Document {
     /// doc.add_relation(Relation {
     ///     kind: RelationKind::Parallel,
     ///     members: vec![a, b],
-    ///     features: vec![Some("top".into()), Some("top".into())],
+    ///     features: vec![Some(Feature::Top), Some(Feature::Top)],
     ///     mode: Mode::Hard,
-    /// })
-    /// .map_err(anyhow::Error::msg)?;
+    /// })?;
     /// let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
     /// assert!(outcome.conflicts.is_empty());
     /// let axis = |id| match &doc.get(id).unwrap().primitive {
@@ -249,7 +256,7 @@ impl Document {
             outcome.reverted = true;
             return ControlFlow::Break(());
         }
-        if let Some(r) = self.relations.get_mut(conflict.relation) {
+        if let Some(r) = self.relation_mut(conflict.relation) {
             r.mode = Mode::Off;
         }
         outcome.conflicts.push(conflict);
@@ -311,16 +318,16 @@ fn solved_parts(
 }
 
 impl Document {
-    /// Sets the mode of relation `index` and re-solves the parts it touches (and those
+    /// Sets the mode of relation `id` and re-solves the parts it touches (and those
     /// related to them); `None` when there is no such relation.
     pub fn set_relation_mode(
         &mut self,
-        index: usize,
+        id: RelationId,
         mode: Mode,
         settings: &GlobalSettings,
         companions: Companions<'_>,
     ) -> Option<GlobalOutcome> {
-        let relation = self.relations.get_mut(index)?;
+        let relation = self.relation_mut(id)?;
         relation.mode = mode;
         let members = relation.members.clone();
         Some(self.solve(Some(&members), settings, companions))
@@ -348,8 +355,8 @@ mod tests {
     use glam::DVec3;
 
     use super::{Companions, GlobalSettings, Mode};
-    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Quantity, Relation};
-    use crate::core::primitive::{Cylinder, Primitive};
+    use crate::core::model::{Document, Fit, Placed, PrimitiveId, Quantity, Relation, RelationId};
+    use crate::core::primitive::{Cylinder, Feature, Primitive};
     use crate::core::relation::RelationKind;
 
     fn cylinder(x: f64, axis: DVec3) -> Placed {
@@ -364,14 +371,19 @@ mod tests {
         }
     }
 
-    fn relate(doc: &mut Document, kind: RelationKind, a: PrimitiveId, b: PrimitiveId) {
+    fn relate(
+        doc: &mut Document,
+        kind: RelationKind,
+        a: PrimitiveId,
+        b: PrimitiveId,
+    ) -> RelationId {
         doc.add_relation(Relation {
             kind,
             members: vec![a, b],
-            features: vec![Some("top".into()), Some("top".into())],
+            features: vec![Some(Feature::Top), Some(Feature::Top)],
             mode: Mode::Hard,
         })
-        .expect("the relation suits its members");
+        .expect("the relation suits its members")
     }
 
     fn axis(doc: &Document, id: PrimitiveId) -> DVec3 {
@@ -386,21 +398,28 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.1)));
-        relate(&mut doc, RelationKind::Parallel, a, b);
-        relate(&mut doc, RelationKind::Orthogonal, a, b);
+        let parallel = relate(&mut doc, RelationKind::Parallel, a, b);
+        let orthogonal = relate(&mut doc, RelationKind::Orthogonal, a, b);
         let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
         assert!(!outcome.reverted, "the rest is solved: {outcome:?}");
         let off = outcome.conflicts[0].relation;
-        assert_eq!(doc.relations()[off].mode, Mode::Off);
+        let relation = doc.relation(off).expect("the conflict names a relation");
+        assert_eq!(relation.mode, Mode::Off);
         let message = &outcome.conflicts[0].message;
+        let index = doc.relation_position(off).expect("a relation");
         assert!(
-            message.contains(&format!("relation {off} ("))
-                && message.contains(doc.relations()[off].kind.name()),
+            message.contains(&format!("relation {index} ("))
+                && message.contains(relation.kind.name()),
             "the message names the relation: {message}"
         );
         // The relation left on holds.
-        let kept = doc.relations()[1 - off].kind;
+        let other = if off == parallel {
+            orthogonal
+        } else {
+            parallel
+        };
+        let kept = doc.relation(other).expect("kept").kind;
         let d = axis(&doc, a).dot(axis(&doc, b));
         match kept {
             RelationKind::Parallel => assert!(d.abs() > 1.0 - 1e-6, "parallel: {d}"),
@@ -495,7 +514,7 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::new(0.3, 1.0, 0.0)));
-        relate(&mut doc, RelationKind::Parallel, a, b);
+        let parallel = relate(&mut doc, RelationKind::Parallel, a, b);
         doc.relations_mut()[0].mode = Mode::Off;
         let before = doc.clone();
         doc.solve(None, &GlobalSettings::default(), Companions::default());
@@ -505,10 +524,10 @@ mod tests {
             "off: nothing moves"
         );
         let settings = GlobalSettings::default();
-        doc.set_relation_mode(0, Mode::Soft, &settings, Companions::default());
+        doc.set_relation_mode(parallel, Mode::Soft, &settings, Companions::default());
         let soft = angle(&doc);
         assert!(soft < 0.5 * angle(&before), "soft: closer ({soft})");
-        doc.set_relation_mode(0, Mode::Hard, &settings, Companions::default());
+        doc.set_relation_mode(parallel, Mode::Hard, &settings, Companions::default());
         assert!(angle(&doc) < 1e-3, "hard: parallel ({})", angle(&doc));
     }
 
@@ -599,12 +618,12 @@ mod tests {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
         let b = doc.add(cylinder(8.0, DVec3::Y));
-        relate(&mut doc, RelationKind::SameRadius, a, b);
+        let same = relate(&mut doc, RelationKind::SameRadius, a, b);
         doc.set_dimension(a, Quantity::Radius, 2.0).expect("valid");
         doc.set_dimension(b, Quantity::Radius, 3.0).expect("valid");
         let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
         assert_eq!(outcome.conflicts.len(), 1, "{outcome:?}");
-        assert_eq!(outcome.conflicts[0].relation, 0);
+        assert_eq!(outcome.conflicts[0].relation, same);
         assert!(!outcome.reverted, "{outcome:?}");
         assert_eq!(doc.relations()[0].mode, Mode::Off);
         assert_eq!(doc.dimensions().len(), 2, "dimensions are never dropped");

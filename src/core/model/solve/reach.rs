@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use super::{Document, PrimitiveId, Relation};
+use super::{Document, PrimitiveId, Related, Relation};
 use crate::core::relation::Mode;
 
 /// Whether a relation takes part in solves.
@@ -77,20 +77,23 @@ impl Document {
             .collect()
     }
 
-    /// The active relations among `ids` that reach a part not `held`, with their
-    /// indices.
+    /// The active relations among `ids` that reach a part not `held`.
     pub(super) fn relations_between(
         &self,
         ids: &BTreeSet<PrimitiveId>,
         held: &BTreeSet<PrimitiveId>,
-    ) -> Vec<(usize, &Relation)> {
-        self.relations
-            .iter()
+    ) -> Vec<Related<'_>> {
+        self.relations_with_ids()
             .enumerate()
-            .filter(|(_, r)| {
+            .filter(|(_, (_, r))| {
                 active(r)
                     && r.members.iter().all(|m| ids.contains(m))
                     && r.members.iter().any(|m| !held.contains(m))
+            })
+            .map(|(position, (id, relation))| Related {
+                id,
+                position,
+                relation,
             })
             .collect()
     }

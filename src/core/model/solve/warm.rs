@@ -59,11 +59,11 @@ impl WarmStarts {
         self.loaded.insert((label, occurrence), value);
     }
 
-    /// Forgets the multipliers of relations from index `first` on, whose indices have
-    /// changed (a relation before them was removed).
-    pub(crate) fn renumbered_relations_from(&mut self, first: RelationKey) {
+    /// Forgets the multipliers of `relations`: removed ones, and those whose place in
+    /// the document's list (which their constraints' labels name) has changed.
+    pub(crate) fn forget_relations(&mut self, relations: &[RelationKey]) {
         self.solved.retain(|key, _| match key.group {
-            GroupKey::Relation(index) => index < first,
+            GroupKey::Relation(id) => !relations.contains(&id),
             GroupKey::Part(_) | GroupKey::Dimension(..) => true,
         });
     }
