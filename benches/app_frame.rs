@@ -36,11 +36,11 @@ fn main() {
         .with_size(egui::vec2(1280.0, 800.0))
         .build_eframe(move |cc| GeosnapApp::new(cc, options));
     harness.run_steps(5);
-    let strokes = harness.state().editor.sketch.strokes.len();
+    let strokes = harness.state().editor().sketch().strokes.len();
     let (lo, hi) = harness
         .state()
-        .editor
-        .sketch
+        .editor()
+        .sketch()
         .bounds()
         .expect("the sheet has strokes");
     let from = harness.get_by_label("Cylinder").rect().center();
@@ -62,7 +62,7 @@ fn main() {
         let c = (lo + hi) / 2.0;
         let r = (hi - lo) * 0.3;
         let at = c + glam::DVec2::new(r.x * t.sin(), r.y * (2.0 * t).sin() * 0.5);
-        let pos = harness.state().canvas.to_screen(at);
+        let pos = harness.state().canvas_view().to_screen(at);
         harness.hover_at(pos);
         let (count, time) = timed(|| {
             harness.step();
@@ -78,10 +78,10 @@ fn main() {
                 .sum::<usize>()
         });
         triangles = count;
-        if let Some(drag) = &harness.state().drag {
-            if drag.preview_generation != last_generation {
+        if let Some(drag) = harness.state().drag() {
+            if drag.preview_generation() != last_generation {
                 previews += 1;
-                last_generation = drag.preview_generation;
+                last_generation = drag.preview_generation();
             }
         }
         // The frame rate of a display: the preview thread gets its time between frames.
@@ -89,7 +89,7 @@ fn main() {
         time
     });
     assert!(
-        harness.state().drag.is_some(),
+        harness.state().drag().is_some(),
         "the drag went on throughout"
     );
     table.row(

@@ -55,7 +55,7 @@ fn step_until(
         assert!(
             start.elapsed() < Duration::from_mins(2),
             "timed out waiting for {what}; messages: {:?}",
-            harness.state().messages
+            harness.state().messages()
         );
         harness.step();
         std::thread::sleep(Duration::from_millis(10));
@@ -67,7 +67,7 @@ fn step_until(
 /// waits for the snapped preview, drops it and waits for the solve.
 fn drag_from_palette(harness: &mut Harness<'static, GeosnapApp>, label: &str, at: DVec2) {
     let from = harness.get_by_label(label).rect().center();
-    let to = harness.state().canvas.to_screen(at);
+    let to = harness.state().canvas_view().to_screen(at);
     harness.hover_at(from);
     harness.step();
     harness.drag_at(from);
@@ -77,24 +77,22 @@ fn drag_from_palette(harness: &mut Harness<'static, GeosnapApp>, label: &str, at
         harness.hover_at(from + (to - from) * t);
         harness.step();
     }
-    assert!(harness.state().drag.is_some(), "the palette drag started");
+    assert!(harness.state().drag().is_some(), "the palette drag started");
     step_until(harness, "the snapped preview", |app| {
-        app.drag
-            .as_ref()
-            .is_some_and(|d| d.preview_generation == d.generation)
+        app.drag()
+            .is_some_and(|d| d.preview_generation() == d.generation())
     });
-    let drag = harness.state().drag.as_ref().expect("still dragging");
+    let drag = harness.state().drag().expect("still dragging");
     let preview = drag
-        .preview
-        .as_ref()
-        .unwrap_or_else(|| panic!("the preview snapped: {:?}", drag.preview_error));
+        .preview()
+        .unwrap_or_else(|| panic!("the preview snapped: {:?}", drag.preview_error()));
     assert!(
         !preview.assignment.stroke_ids().is_empty(),
         "the preview takes strokes"
     );
     harness.drop_at(to);
     harness.step();
-    step_until(harness, "the placement's solve", |app| app.job.is_none());
+    step_until(harness, "the placement's solve", |app| app.job().is_none());
 }
 
 /// A primary click at `at` on the canvas: hover, press, release.
@@ -118,37 +116,42 @@ fn a_palette_drag_snaps_a_part_and_undo_redo_take_it_back_and_again() {
     let dir = scratch("drag");
     let mut harness = app(&dir, None);
     assert!(
-        !harness.state().editor.sketch.strokes.is_empty(),
+        !harness.state().editor().sketch().strokes.is_empty(),
         "the sample is open"
     );
     let (lo, hi) = harness
         .state()
-        .editor
-        .sketch
+        .editor()
+        .sketch()
         .bounds()
         .expect("the sample has strokes");
     drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
 
     let app = harness.state();
-    assert_eq!(app.editor.document.len(), 1, "{:?}", app.messages);
-    let (id, placed) = app.editor.document.primitives().next().expect("one part");
+    assert_eq!(app.editor().document().len(), 1, "{:?}", app.messages());
+    let (id, placed) = app
+        .editor()
+        .document()
+        .primitives()
+        .next()
+        .expect("one part");
     assert!(placed.fit.strokes.len() >= 3, "it took the vase's strokes");
     assert!(
-        app.editor.document.snap_record(id).is_some(),
+        app.editor().document().snap_record(id).is_some(),
         "with its assignment"
     );
-    assert_eq!(app.selection, Some(id), "the new part is selected");
+    assert_eq!(app.selection(), Some(id), "the new part is selected");
 
     press(&mut harness, Modifiers::COMMAND, Key::Z);
-    assert!(harness.state().editor.document.is_empty(), "undo");
+    assert!(harness.state().editor().document().is_empty(), "undo");
     press(&mut harness, Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
-    assert_eq!(harness.state().editor.document.len(), 1, "redo");
+    assert_eq!(harness.state().editor().document().len(), 1, "redo");
     // Delete is one more step, and undoable.
-    harness.state_mut().selection = Some(id);
+    harness.state_mut().select(Some(id));
     press(&mut harness, Modifiers::NONE, Key::Delete);
-    assert!(harness.state().editor.document.is_empty(), "delete");
+    assert!(harness.state().editor().document().is_empty(), "delete");
     press(&mut harness, Modifiers::COMMAND, Key::Z);
-    assert_eq!(harness.state().editor.document.len(), 1, "undo delete");
+    assert_eq!(harness.state().editor().document().len(), 1, "undo delete");
 }
 
 /// The two-cone sample with both parts dropped by palette drags.
@@ -163,7 +166,7 @@ fn two_cones(dir: &Path) -> Harness<'static, GeosnapApp> {
         drag_from_palette(&mut harness, "Cone", placement.at);
     }
     assert_eq!(
-        harness.state().editor.document.len(),
+        harness.state().editor().document().len(),
         2,
         "both cones placed"
     );
@@ -174,7 +177,7 @@ fn two_cones(dir: &Path) -> Harness<'static, GeosnapApp> {
 fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model() {
     let dir = scratch("relations");
     let mut harness = two_cones(&dir);
-    let relations = harness.state().editor.document.relations().to_vec();
+    let relations = harness.state().editor().document().relations().to_vec();
     assert!(!relations.is_empty(), "relations are inferred on release");
     assert_eq!(relations[0].mode, Mode::Hard);
 
@@ -187,14 +190,14 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     harness.run_steps(3);
     harness.get_by_label("soft").click();
     harness.step();
-    step_until(&mut harness, "the re-solve", |app| app.job.is_none());
+    step_until(&mut harness, "the re-solve", |app| app.job().is_none());
     assert_eq!(
-        harness.state().editor.document.relations()[0].mode,
+        harness.state().editor().document().relations()[0].mode,
         Mode::Soft
     );
     press(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(
-        harness.state().editor.document.relations()[0].mode,
+        harness.state().editor().document().relations()[0].mode,
         Mode::Hard,
         "the mode change is one undo step"
     );
@@ -204,10 +207,10 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     let session = dir.join("two.geosnap.json");
     let ctx = harness.ctx.clone();
     assert!(harness.state_mut().save_to(&ctx, &session));
-    assert!(!harness.state().editor.is_dirty());
-    let before = harness.state().editor.document.clone();
+    assert!(!harness.state().editor().is_dirty());
+    let before = harness.state().editor().document().clone();
     let reopened = app(&dir, Some(session.clone()));
-    let after = &reopened.state().editor.document;
+    let after = reopened.state().editor().document();
     assert_eq!(after.relations(), before.relations());
     let parts = |d: &geosnap::core::model::Document| {
         d.primitives()
@@ -216,14 +219,14 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     };
     assert_eq!(parts(after), parts(&before));
     assert_eq!(
-        reopened.state().editor.sketch.strokes.len(),
-        harness.state().editor.sketch.strokes.len()
+        reopened.state().editor().sketch().strokes.len(),
+        harness.state().editor().sketch().strokes.len()
     );
 
     // Export glTF and validate it.
     let glb = dir.join("two.glb");
     harness.state_mut().export_to(&glb);
-    assert!(glb.is_file(), "{:?}", harness.state().messages);
+    assert!(glb.is_file(), "{:?}", harness.state().messages());
     validate(&glb);
 }
 
@@ -259,32 +262,35 @@ fn validate(file: &Path) {
 fn esc_drops_a_drag_and_a_typed_dimension_holds_after_the_solve() {
     let dir = scratch("esc");
     let mut harness = app(&dir, None);
-    let (lo, hi) = harness.state().editor.sketch.bounds().expect("strokes");
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
     let from = harness.get_by_label("Cylinder").rect().center();
-    let to = harness.state().canvas.to_screen((lo + hi) / 2.0);
+    let to = harness.state().canvas_view().to_screen((lo + hi) / 2.0);
     harness.drag_at(from);
     harness.step();
     for k in 1..=8 {
         harness.hover_at(from + (to - from) * (k as f32 / 8.0));
         harness.step();
     }
-    assert!(harness.state().drag.is_some(), "dragging");
+    assert!(harness.state().drag().is_some(), "dragging");
     press(&mut harness, Modifiers::NONE, Key::Escape);
-    assert!(harness.state().drag.is_none(), "Esc drops the drag");
+    assert!(harness.state().drag().is_none(), "Esc drops the drag");
     harness.drop_at(to);
     harness.run_steps(3);
     assert!(
-        harness.state().job.is_none() && harness.state().editor.document.is_empty(),
+        harness.state().job().is_none() && harness.state().editor().document().is_empty(),
         "releasing after Esc places nothing"
     );
 
     // Place the vase, then type its length in the properties panel.
     drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
-    let id = harness.state().selection.expect("the new part is selected");
+    let id = harness
+        .state()
+        .selection()
+        .expect("the new part is selected");
     let length = harness
         .state()
-        .editor
-        .document
+        .editor()
+        .document()
         .get(id)
         .expect("placed")
         .primitive
@@ -302,11 +308,11 @@ fn esc_drops_a_drag_and_a_typed_dimension_holds_after_the_solve() {
     harness.step();
     press(&mut harness, Modifiers::NONE, Key::Enter);
     step_until(&mut harness, "the dimension's solve", |app| {
-        app.job.is_none()
+        app.job().is_none()
     });
-    let doc = &harness.state().editor.document;
+    let doc = harness.state().editor().document();
     let dims: Vec<_> = doc.dimensions().to_vec();
-    assert_eq!(dims.len(), 1, "{:?}", harness.state().messages);
+    assert_eq!(dims.len(), 1, "{:?}", harness.state().messages());
     assert!(
         (dims[0].value - typed).abs() < 1e-9,
         "the typed value is kept"
@@ -326,11 +332,11 @@ fn esc_drops_a_drag_and_a_typed_dimension_holds_after_the_solve() {
 fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
     let dir = scratch("strokes");
     let mut harness = app(&dir, None);
-    let before = harness.state().editor.sketch.strokes.len();
-    let (lo, hi) = harness.state().editor.sketch.bounds().expect("strokes");
+    let before = harness.state().editor().sketch().strokes.len();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
     // Draw a gentle arc in empty paper to the right of the vase.
     press(&mut harness, Modifiers::NONE, Key::B);
-    let view = harness.state().canvas.clone();
+    let view = harness.state().canvas_view().clone();
     let at = |t: f64| {
         let x = hi.x + 40.0 + 120.0 * t;
         let y = f64::midpoint(lo.y, hi.y) + 30.0 * (std::f64::consts::PI * t).sin();
@@ -348,8 +354,13 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
     }
     harness.drop_at(at(1.0));
     harness.run_steps(3);
-    let strokes = &harness.state().editor.sketch.strokes;
-    assert_eq!(strokes.len(), before + 1, "{:?}", harness.state().messages);
+    let strokes = &harness.state().editor().sketch().strokes;
+    assert_eq!(
+        strokes.len(),
+        before + 1,
+        "{:?}",
+        harness.state().messages()
+    );
     let drawn = strokes.last().expect("the new stroke").clone();
     assert!(drawn.points.len() >= 10, "resampled along its length");
 
@@ -359,8 +370,8 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
     click_at(&mut harness, middle);
     let reclassified = harness
         .state()
-        .editor
-        .sketch
+        .editor()
+        .sketch()
         .stroke(drawn.id)
         .expect("still there")
         .class_override;
@@ -368,14 +379,14 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
     press(&mut harness, Modifiers::NONE, Key::E);
     click_at(&mut harness, middle);
     assert!(
-        harness.state().editor.sketch.stroke(drawn.id).is_none(),
+        harness.state().editor().sketch().stroke(drawn.id).is_none(),
         "erased"
     );
     for _ in 0..3 {
         press(&mut harness, Modifiers::COMMAND, Key::Z);
     }
     assert_eq!(
-        harness.state().editor.sketch.strokes.len(),
+        harness.state().editor().sketch().strokes.len(),
         before,
         "three undo steps take the drawing back"
     );
@@ -385,10 +396,10 @@ fn strokes_are_drawn_erased_and_reclassified_with_the_pointer() {
 fn bad_files_give_a_message_and_leave_the_work_untouched() {
     let dir = scratch("bad");
     let mut harness = app(&dir, None);
-    let (lo, hi) = harness.state().editor.sketch.bounds().expect("strokes");
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
     drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
-    let before = harness.state().editor.document.clone();
-    let strokes = harness.state().editor.sketch.strokes.clone();
+    let before = harness.state().editor().document().clone();
+    let strokes = harness.state().editor().sketch().strokes.clone();
 
     let corrupt = dir.join("corrupt.geosnap.json");
     std::fs::write(
@@ -410,12 +421,12 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
         (&empty_svg, "no strokes"),
     ] {
         let ctx = harness.ctx.clone();
-        let messages = harness.state().messages.len();
+        let messages = harness.state().messages().len();
         harness.state_mut().open_path(&ctx, file);
         harness.step();
         harness.step();
         let app = harness.state();
-        let new: Vec<&str> = app.messages[messages..]
+        let new: Vec<&str> = app.messages()[messages..]
             .iter()
             .filter(|m| m.warning)
             .map(|m| m.text.as_str())
@@ -425,8 +436,8 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
             "{}: {new:?}",
             file.display()
         );
-        assert_eq!(app.editor.document, before, "{}", file.display());
-        assert_eq!(app.editor.sketch.strokes, strokes, "{}", file.display());
+        assert_eq!(*app.editor().document(), before, "{}", file.display());
+        assert_eq!(app.editor().sketch().strokes, strokes, "{}", file.display());
         // The error is shown in a window, closed with OK.
         harness.get_by_label("OK").click();
         harness.step();
@@ -437,16 +448,16 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
 fn unsaved_work_is_autosaved_and_offered_back_after_a_crash() {
     let dir = scratch("autosave");
     let mut harness = app(&dir, None);
-    let (lo, hi) = harness.state().editor.sketch.bounds().expect("strokes");
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
     drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
     harness.state_mut().autosave_now();
-    let parts = harness.state().editor.document.len();
+    let parts = harness.state().editor().document().len();
     // A crash: the app is dropped without its clean exit.
     drop(harness);
     let mut next = app(&dir, None);
-    assert!(next.state().editor.document.is_empty());
+    assert!(next.state().editor().document().is_empty());
     next.get_by_label("Recover").click();
     next.step();
     next.step();
-    assert_eq!(next.state().editor.document.len(), parts, "recovered");
+    assert_eq!(next.state().editor().document().len(), parts, "recovered");
 }

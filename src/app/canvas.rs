@@ -4,20 +4,178 @@
 //! wheel, F fits the drawing.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke as Pen, Ui, Vec2};
 use glam::DVec2;
 
 use super::view3d::part_color;
-use super::{GeosnapApp, Tool};
-use crate::core::primitive::{Primitive, PrimitiveKind};
+use super::GeosnapApp;
+use crate::core::primitive::Primitive;
 use crate::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass, StrokeId};
 use crate::core::snap::Verdict;
 
 const FEATURE: Color32 = Color32::from_rgb(40, 110, 220);
 const SILHOUETTE: Color32 = Color32::from_rgb(45, 45, 50);
 const PREVIEW: Color32 = Color32::from_rgb(240, 130, 20);
+
+/// The tools of the canvas.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tool {
+    /// Click a part to select it; drag a part to move and re-snap it.
+    Select,
+    /// Draw strokes.
+    Draw,
+    /// Click or drag over strokes to erase them.
+    Erase,
+    /// Click a stroke to switch it between feature and silhouette.
+    Reclassify,
+}
+
+/// The canvas's state: its pan and zoom, the tool, the stroke being drawn, the
+/// reference image shown under the strokes, and the strokes' classes.
+#[derive(Debug)]
+pub(crate) struct Canvas {
+    view: CanvasView,
+    tool: Tool,
+    /// The stroke being drawn (sketch space).
+    drawing: Option<Vec<DVec2>>,
+    image: ReferenceImage,
+    /// The strokes' automatic classes, with the strokes' revision they were found for.
+    classes: Option<(u64, Vec<(StrokeId, StrokeClass)>)>,
+}
+
+impl Default for Canvas {
+    fn default() -> Self {
+        Self {
+            view: CanvasView::default(),
+            tool: Tool::Select,
+            drawing: None,
+            image: ReferenceImage::default(),
+            classes: None,
+        }
+    }
+}
+
+impl Canvas {
+    /// The pan and zoom.
+    pub(crate) fn view(&self) -> &CanvasView {
+        &self.view
+    }
+
+    /// Fits the drawing at the next frame.
+    pub(crate) fn request_fit(&mut self) {
+        self.view.request_fit();
+    }
+
+    /// The tool, to show or pick.
+    pub(crate) fn tool_mut(&mut self) -> &mut Tool {
+        &mut self.tool
+    }
+
+    /// Drops the stroke being drawn; whether there was one.
+    pub(crate) fn cancel_stroke(&mut self) -> bool {
+        self.drawing.take().is_some()
+    }
+
+    /// The reference image.
+    pub(crate) fn image(&self) -> &ReferenceImage {
+        &self.image
+    }
+
+    /// The reference image, to change.
+    pub(crate) fn image_mut(&mut self) -> &mut ReferenceImage {
+        &mut self.image
+    }
+}
+
+/// The reference image shown under the strokes: the editor names the file, this holds
+/// its texture.
+pub(crate) struct ReferenceImage {
+    /// The file shown, its texture and its size in pixels.
+    shown: Option<(PathBuf, egui::TextureHandle, [usize; 2])>,
+    /// A file that could not be read (not tried again).
+    failed: Option<PathBuf>,
+    /// The opacity it is drawn with.
+    opacity: f32,
+}
+
+impl std::fmt::Debug for ReferenceImage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ReferenceImage")
+            .field(
+                "shown",
+                &self.shown.as_ref().map(|(path, _, size)| (path, size)),
+            )
+            .field("failed", &self.failed)
+            .field("opacity", &self.opacity)
+            .finish()
+    }
+}
+
+impl Default for ReferenceImage {
+    fn default() -> Self {
+        Self {
+            shown: None,
+            failed: None,
+            opacity: 0.5,
+        }
+    }
+}
+
+impl ReferenceImage {
+    /// Whether an image is shown.
+    pub(crate) fn is_shown(&self) -> bool {
+        self.shown.is_some()
+    }
+
+    /// The opacity, to show or set.
+    pub(crate) fn opacity_mut(&mut self) -> &mut f32 {
+        &mut self.opacity
+    }
+
+    /// Shows `texture`, read from `path`.
+    pub(crate) fn show(&mut self, path: PathBuf, texture: egui::TextureHandle) {
+        let size = texture.size();
+        self.shown = Some((path, texture, size));
+    }
+
+    /// Shows nothing; with `forget_failed`, a file that could not be read is tried again.
+    pub(crate) fn clear(&mut self, forget_failed: bool) {
+        self.shown = None;
+        if forget_failed {
+            self.failed = None;
+        }
+    }
+
+    /// Shows the image at `wanted` (the editor's, after undo, redo or opening), once per
+    /// change; why it cannot be shown, once.
+    pub(crate) fn sync(&mut self, ctx: &egui::Context, wanted: Option<&PathBuf>) -> Option<String> {
+        let shown = self.shown.as_ref().map(|(p, _, _)| p);
+        if shown == wanted || (wanted.is_some() && wanted == self.failed.as_ref()) {
+            return None;
+        }
+        self.shown = None;
+        let path = wanted?.clone();
+        match std::fs::read(&path)
+            .map_err(anyhow::Error::from)
+            .and_then(|bytes| super::files::load_texture(ctx, &path, &bytes))
+        {
+            Ok(texture) => {
+                self.show(path, texture);
+                None
+            }
+            Err(error) => {
+                let warning = format!(
+                    "The reference image {} could not be shown: {error:#}",
+                    path.display()
+                );
+                // Not again every frame; the path stays in the work.
+                self.failed = Some(path);
+                Some(warning)
+            }
+        }
+    }
+}
 
 /// The canvas's pan and zoom: the sketch point at the view's centre and the points per
 /// sketch unit.
@@ -29,7 +187,6 @@ pub struct CanvasView {
     pub zoom: f64,
     fit_pending: bool,
     rect: Rect,
-    classes: Option<(u64, Vec<(StrokeId, StrokeClass)>)>,
 }
 
 impl Default for CanvasView {
@@ -39,7 +196,6 @@ impl Default for CanvasView {
             zoom: 1.0,
             fit_pending: true,
             rect: Rect::from_min_size(Pos2::ZERO, Vec2::splat(1.0)),
-            classes: None,
         }
     }
 }
@@ -92,44 +248,6 @@ impl CanvasView {
         let after = self.to_sketch(anchor);
         self.center += before - after;
     }
-}
-
-/// The simulated drag of the frame-time measurement.
-#[derive(Debug)]
-pub(crate) struct DragBenchmark {
-    frames: usize,
-    out: PathBuf,
-    frame: usize,
-    intervals: Vec<Duration>,
-    cpu: Vec<Duration>,
-    snaps: Vec<Duration>,
-    last: Option<Instant>,
-    last_generation: u64,
-}
-
-impl DragBenchmark {
-    pub(crate) fn new(frames: usize, out: PathBuf) -> Self {
-        Self {
-            frames: frames.max(10),
-            out,
-            frame: 0,
-            intervals: Vec::new(),
-            cpu: Vec::new(),
-            snaps: Vec::new(),
-            last: None,
-            last_generation: 0,
-        }
-    }
-}
-
-fn percentile(values: &[Duration], q: f64) -> f64 {
-    let mut ms: Vec<f64> = values.iter().map(|d| d.as_secs_f64() * 1e3).collect();
-    if ms.is_empty() {
-        return f64::NAN;
-    }
-    ms.sort_by(f64::total_cmp);
-    let k = ((ms.len() - 1) as f64 * q).round() as usize;
-    ms[k]
 }
 
 /// How far (in pixels) a painted polyline may stray from the true one.
@@ -254,7 +372,7 @@ impl GeosnapApp {
             .as_ref()
             .is_none_or(|(r, _)| *r != revision);
         if stale {
-            let classes = classify_sketch(&self.editor.sketch, &ClassifyOptions::default())
+            let classes = classify_sketch(self.editor.sketch(), &ClassifyOptions::default())
                 .into_iter()
                 .map(|c| (c.id, c.class))
                 .collect();
@@ -270,7 +388,7 @@ impl GeosnapApp {
     /// The stroke nearest to a sketch point within `reach` sketch units.
     fn stroke_at(&self, p: DVec2, reach: f64) -> Option<StrokeId> {
         self.editor
-            .sketch
+            .sketch()
             .strokes
             .iter()
             .map(|s| (s.id, distance_to_polyline(p, &s.points)))
@@ -282,7 +400,7 @@ impl GeosnapApp {
     /// The part whose outline (or inside of its outline's bounds) is nearest to `p`.
     fn part_at(&self, p: DVec2, reach: f64) -> Option<crate::core::model::PrimitiveId> {
         self.editor
-            .document
+            .document()
             .primitives()
             .filter_map(|(id, placed)| {
                 let lines = outlines(&placed.primitive);
@@ -304,22 +422,24 @@ impl GeosnapApp {
 
     pub(crate) fn canvas_ui(&mut self, ui: &mut Ui) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-        self.canvas.rect = rect;
-        if self.canvas.fit_pending {
+        self.canvas.view.rect = rect;
+        if self.canvas.view.fit_pending {
             let bounds = self
                 .editor
-                .sketch
+                .sketch()
                 .view_box
                 .map(|(o, s)| (o, o + s))
                 .or_else(|| {
-                    self.image
+                    self.canvas
+                        .image
+                        .shown
                         .as_ref()
                         .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
                 });
-            let bounds = bounds.or_else(|| self.editor.sketch.bounds());
+            let bounds = bounds.or_else(|| self.editor.sketch().bounds());
             match bounds {
-                Some((lo, hi)) => self.canvas.fit(lo, hi),
-                None => self.canvas.fit(DVec2::ZERO, DVec2::new(1000.0, 800.0)),
+                Some((lo, hi)) => self.canvas.view.fit(lo, hi),
+                None => self.canvas.view.fit(DVec2::ZERO, DVec2::new(1000.0, 800.0)),
             }
         }
         // The canvas's paper is the window's clear colour (see `App::clear_color`): a
@@ -335,14 +455,15 @@ impl GeosnapApp {
             || (space && response.dragged_by(egui::PointerButton::Primary))
         {
             let d = response.drag_delta();
-            self.canvas.center -= DVec2::new(f64::from(d.x), f64::from(d.y)) / self.canvas.zoom;
+            self.canvas.view.center -=
+                DVec2::new(f64::from(d.x), f64::from(d.y)) / self.canvas.view.zoom;
         }
         if self.drag.is_none() {
             if let Some(at) = over {
                 let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
                 let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
                 if (factor - 1.0).abs() > 1e-6 {
-                    self.canvas.zoom_about(at, factor);
+                    self.canvas.view.zoom_about(at, factor);
                 }
             }
         }
@@ -356,11 +477,11 @@ impl GeosnapApp {
             self.canvas_tools(ui, &response, over);
         }
         self.paint_drag(&painter);
-        if let Some(points) = &self.drawing {
-            let line = self.canvas.screen_line(points);
+        if let Some(points) = &self.canvas.drawing {
+            let line = self.canvas.view.screen_line(points);
             painter.add(egui::Shape::line(line, Pen::new(2.0, SILHOUETTE)));
         }
-        if self.editor.sketch.strokes.is_empty() && self.image.is_none() {
+        if self.editor.sketch().strokes.is_empty() && self.canvas.image.shown.is_none() {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -369,7 +490,7 @@ impl GeosnapApp {
                 Color32::from_gray(120),
             );
         }
-        let hint = match self.tool {
+        let hint = match self.canvas.tool {
             Tool::Select => "Select: click a part; drag it to move and re-snap",
             Tool::Draw => "Draw: drag to draw a stroke",
             Tool::Erase => "Erase: click or drag over strokes",
@@ -385,12 +506,12 @@ impl GeosnapApp {
     }
 
     fn paint_image(&self, painter: &egui::Painter) {
-        let Some((_, texture, [w, h])) = &self.image else {
+        let Some((_, texture, [w, h])) = &self.canvas.image.shown else {
             return;
         };
-        let lo = self.canvas.to_screen(DVec2::ZERO);
-        let hi = self.canvas.to_screen(DVec2::new(*w as f64, *h as f64));
-        let alpha = (self.image_opacity.clamp(0.0, 1.0) * 255.0) as u8;
+        let lo = self.canvas.view.to_screen(DVec2::ZERO);
+        let hi = self.canvas.view.to_screen(DVec2::new(*w as f64, *h as f64));
+        let alpha = (self.canvas.image.opacity.clamp(0.0, 1.0) * 255.0) as u8;
         painter.image(
             texture.id(),
             Rect::from_min_max(lo, hi),
@@ -406,20 +527,20 @@ impl GeosnapApp {
         let mut assigned: std::collections::HashMap<StrokeId, usize> =
             std::collections::HashMap::new();
         if let Some(id) = self.selection {
-            if let Some(record) = self.editor.document.snap_record(id) {
+            if let Some(record) = self.editor.document().snap_record(id) {
                 for (k, strokes) in record.assignment.curves.iter().enumerate() {
                     for s in strokes {
                         assigned.insert(s.stroke, k);
                     }
                 }
-            } else if let Some(placed) = self.editor.document.get(id) {
+            } else if let Some(placed) = self.editor.document().get(id) {
                 for s in &placed.fit.strokes {
                     assigned.insert(*s, 0);
                 }
             }
         }
-        for stroke in &self.editor.sketch.strokes {
-            let points = self.canvas.screen_line(&stroke.points);
+        for stroke in &self.editor.sketch().strokes {
+            let points = self.canvas.view.screen_line(&stroke.points);
             let class = classes
                 .get(&stroke.id)
                 .copied()
@@ -440,7 +561,7 @@ impl GeosnapApp {
 
     fn paint_parts(&self, painter: &egui::Painter) {
         let related = self.emphasis().related;
-        for (index, (id, placed)) in self.editor.document.primitives().enumerate() {
+        for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
             if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
                 continue;
             }
@@ -454,7 +575,7 @@ impl GeosnapApp {
             let width = if selected || highlighted { 5.0 } else { 3.5 };
             let color = color.gamma_multiply(if selected || highlighted { 0.8 } else { 0.55 });
             for (visible, points) in outlines(&placed.primitive) {
-                let line = self.canvas.screen_line(&points);
+                let line = self.canvas.view.screen_line(&points);
                 let pen = if visible {
                     Pen::new(width, color)
                 } else {
@@ -463,7 +584,7 @@ impl GeosnapApp {
                 painter.add(egui::Shape::line(line, pen));
             }
             let c = placed.primitive.center();
-            let at = self.canvas.to_screen(DVec2::new(c.x, -c.y));
+            let at = self.canvas.view.to_screen(DVec2::new(c.x, -c.y));
             let label = painter.text(
                 at,
                 egui::Align2::CENTER_CENTER,
@@ -487,7 +608,7 @@ impl GeosnapApp {
     /// The relations of the selected part (or the hovered one): a dashed link between
     /// the members' centres, labelled with the kind.
     fn paint_relations(&self, painter: &egui::Painter) {
-        let document = &self.editor.document;
+        let document = self.editor.document();
         for (index, (id, relation)) in document.relations_with_ids().enumerate() {
             let shown = self.hovered_relation == Some(id)
                 || self
@@ -502,7 +623,7 @@ impl GeosnapApp {
                 .filter_map(|id| document.get(*id))
                 .map(|p| {
                     let c = p.primitive.center();
-                    self.canvas.to_screen(DVec2::new(c.x, -c.y))
+                    self.canvas.view.to_screen(DVec2::new(c.x, -c.y))
                 })
                 .collect();
             if centres.is_empty() {
@@ -544,7 +665,7 @@ impl GeosnapApp {
         if let Some(dragged) = self.dragged_primitive() {
             for (visible, points) in outlines(&dragged) {
                 if visible {
-                    let line = self.canvas.screen_line(&points);
+                    let line = self.canvas.view.screen_line(&points);
                     painter.add(egui::Shape::dashed_line(
                         &line,
                         Pen::new(1.2, Color32::from_gray(140)),
@@ -554,10 +675,10 @@ impl GeosnapApp {
                 }
             }
         }
-        if let Some(preview) = &drag.preview {
+        if let Some(preview) = drag.preview() {
             for id in preview.assignment.stroke_ids() {
-                if let Some(stroke) = self.editor.sketch.stroke(id) {
-                    let line = self.canvas.screen_line(&stroke.points);
+                if let Some(stroke) = self.editor.sketch().stroke(id) {
+                    let line = self.canvas.view.screen_line(&stroke.points);
                     painter.add(egui::Shape::line(
                         line,
                         Pen::new(5.0, PREVIEW.gamma_multiply(0.35)),
@@ -566,12 +687,12 @@ impl GeosnapApp {
             }
             for (visible, points) in outlines(&preview.primitive) {
                 if visible {
-                    let line = self.canvas.screen_line(&points);
+                    let line = self.canvas.view.screen_line(&points);
                     painter.add(egui::Shape::line(line, Pen::new(2.5, PREVIEW)));
                 }
             }
         }
-        let label = match (&drag.preview, &drag.preview_error) {
+        let label = match (drag.preview(), drag.preview_error()) {
             (Some(p), _) => format!(
                 "{}: {} strokes, RMS {:.2}",
                 drag.kind.name(),
@@ -581,7 +702,7 @@ impl GeosnapApp {
             (None, Some(e)) => format!("{}: {e}", drag.kind.name()),
             (None, None) => format!("{}…", drag.kind.name()),
         };
-        let at = self.canvas.to_screen(drag.placement.at) + Vec2::new(14.0, 14.0);
+        let at = self.canvas.view.to_screen(drag.placement.at) + Vec2::new(14.0, 14.0);
         painter.text(
             at,
             egui::Align2::LEFT_TOP,
@@ -606,7 +727,7 @@ impl GeosnapApp {
             )
         });
         if let Some(p) = pointer {
-            let at = self.canvas.to_sketch(p);
+            let at = self.canvas.view.to_sketch(p);
             self.drag_to(at, over.is_some());
         }
         if scroll.abs() > 0.0 {
@@ -625,19 +746,19 @@ impl GeosnapApp {
         if self.drag.is_some() {
             return;
         }
-        let reach = 8.0 / self.canvas.zoom;
+        let reach = 8.0 / self.canvas.view.zoom;
         let primary = response.dragged_by(egui::PointerButton::Primary)
             || response.drag_started_by(egui::PointerButton::Primary);
-        match self.tool {
+        match self.canvas.tool {
             Tool::Select => {
                 if response.clicked() {
                     self.selection = over
-                        .map(|p| self.canvas.to_sketch(p))
+                        .map(|p| self.canvas.view.to_sketch(p))
                         .and_then(|p| self.part_at(p, reach));
                 }
                 if response.drag_started_by(egui::PointerButton::Primary) {
                     let start = ui.input(|i| i.pointer.press_origin()).or(over);
-                    if let Some(p) = start.map(|p| self.canvas.to_sketch(p)) {
+                    if let Some(p) = start.map(|p| self.canvas.view.to_sketch(p)) {
                         if let Some(id) = self.part_at(p, reach) {
                             self.selection = Some(id);
                             self.begin_redrag(id, p);
@@ -648,19 +769,19 @@ impl GeosnapApp {
             Tool::Draw => {
                 if primary {
                     if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
-                        let at = self.canvas.to_sketch(p);
-                        let points = self.drawing.get_or_insert_with(Vec::new);
+                        let at = self.canvas.view.to_sketch(p);
+                        let points = self.canvas.drawing.get_or_insert_with(Vec::new);
                         if points
                             .last()
-                            .is_none_or(|q| q.distance(at) * self.canvas.zoom > 1.5)
+                            .is_none_or(|q| q.distance(at) * self.canvas.view.zoom > 1.5)
                         {
                             points.push(at);
                         }
                     }
                 }
                 if response.drag_stopped() {
-                    if let Some(points) = self.drawing.take() {
-                        let spacing = 3.0 / self.canvas.zoom;
+                    if let Some(points) = self.canvas.drawing.take() {
+                        let spacing = 3.0 / self.canvas.view.zoom;
                         let resampled = smooth_and_resample(&points, spacing);
                         if self.editor.add_stroke(resampled).is_none() {
                             self.say("The stroke was too short to keep.");
@@ -670,7 +791,7 @@ impl GeosnapApp {
             }
             Tool::Erase => {
                 if primary || response.clicked() {
-                    if let Some(p) = over.map(|p| self.canvas.to_sketch(p)) {
+                    if let Some(p) = over.map(|p| self.canvas.view.to_sketch(p)) {
                         if let Some(id) = self.stroke_at(p, reach) {
                             self.editor.erase_stroke(id);
                         }
@@ -679,7 +800,7 @@ impl GeosnapApp {
             }
             Tool::Reclassify => {
                 if response.clicked() {
-                    if let Some(p) = over.map(|p| self.canvas.to_sketch(p)) {
+                    if let Some(p) = over.map(|p| self.canvas.view.to_sketch(p)) {
                         if let Some(id) = self.stroke_at(p, reach) {
                             let current = self
                                 .stroke_classes()
@@ -696,70 +817,6 @@ impl GeosnapApp {
                 }
             }
         }
-    }
-
-    /// The frame-time measurement: a cylinder dragged over the drawing along a slow
-    /// figure-eight, one step per frame, then the figures written and the app closed.
-    pub(crate) fn benchmark_step(&mut self, ctx: &egui::Context) {
-        let Some(mut bench) = self.benchmark.take() else {
-            return;
-        };
-        let now = Instant::now();
-        if let Some(last) = bench.last {
-            if bench.frame > 20 {
-                bench.intervals.push(now - last);
-                bench
-                    .cpu
-                    .push(self.timer.cpu.back().copied().unwrap_or_default());
-            }
-        }
-        bench.last = Some(now);
-        bench.frame += 1;
-        if bench.frame == 10 {
-            self.begin_drag(PrimitiveKind::Cylinder);
-        }
-        if let (Some((lo, hi)), true) = (self.editor.sketch.bounds(), bench.frame >= 10) {
-            let t = bench.frame as f64 * 0.03;
-            let c = (lo + hi) / 2.0;
-            let r = (hi - lo) * 0.3;
-            let at = c + DVec2::new(r.x * t.sin(), r.y * (2.0 * t).sin() * 0.5);
-            self.drag_to(at, true);
-            if let Some(drag) = &self.drag {
-                if drag.generation != bench.last_generation && drag.preview_time > Duration::ZERO {
-                    bench.snaps.push(drag.preview_time);
-                }
-                bench.last_generation = drag.generation;
-            }
-        }
-        if bench.frame >= bench.frames + 20 {
-            self.cancel_drag();
-            let report = serde_json::json!({
-                "frames": bench.intervals.len(),
-                "strokes": self.editor.sketch.strokes.len(),
-                "frame_interval_ms": {
-                    "median": percentile(&bench.intervals, 0.5),
-                    "p95": percentile(&bench.intervals, 0.95),
-                    "max": percentile(&bench.intervals, 1.0),
-                },
-                "ui_cpu_ms": {
-                    "median": percentile(&bench.cpu, 0.5),
-                    "p95": percentile(&bench.cpu, 0.95),
-                },
-                "preview_snap_ms": {
-                    "median": percentile(&bench.snaps, 0.5),
-                    "p95": percentile(&bench.snaps, 0.95),
-                },
-            });
-            let text = serde_json::to_string_pretty(&report).unwrap_or_default();
-            if let Err(error) = crate::io::write_atomic(&bench.out, text.as_bytes()) {
-                log::error!("cannot write {}: {error}", bench.out.display());
-            }
-            self.allow_quit = true;
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-            return;
-        }
-        ctx.request_repaint();
-        self.benchmark = Some(bench);
     }
 }
 

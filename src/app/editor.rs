@@ -1,12 +1,16 @@
 //! The editor's state without any GUI: the sketch, the document, the user's settings and
-//! the undo history. Every user action goes through one method here, which records one
-//! undo step, so the egui layer only decides *when* an action happens.
+//! the undo history. Every change of the work goes through one method here, which records
+//! one undo step, so the egui layer only decides *when* an action happens. Changes that
+//! need a solve first are proposed (a changed copy of the model, solved off the UI
+//! thread) and then applied as one step with [`Editor::apply_document`].
 
 use std::path::PathBuf;
 
 use glam::DVec2;
 
-use crate::core::model::{Document, PrimitiveId, RelationId, SessionSettings};
+use crate::core::model::{
+    DimensionError, Document, Fit, Placed, PrimitiveId, Quantity, RelationId, SessionSettings,
+};
 use crate::core::relation::Mode;
 use crate::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 
@@ -27,15 +31,15 @@ struct Snapshot {
 #[derive(Clone, Debug, Default)]
 pub struct Editor {
     /// The strokes.
-    pub sketch: Sketch,
+    sketch: Sketch,
     /// The reference image under the strokes.
-    pub image: Option<PathBuf>,
+    image: Option<PathBuf>,
     /// The model.
-    pub document: Document,
+    document: Document,
     /// Snapping, inference and solve settings.
-    pub settings: SessionSettings,
+    settings: SessionSettings,
     /// Where the session was last saved or opened from.
-    pub path: Option<PathBuf>,
+    path: Option<PathBuf>,
     undo: Vec<Snapshot>,
     redo: Vec<Snapshot>,
     /// Bumped by every change; the saved revision tells whether there are unsaved changes.
@@ -53,6 +57,36 @@ impl Editor {
             image,
             ..Self::default()
         }
+    }
+
+    /// The strokes.
+    pub fn sketch(&self) -> &Sketch {
+        &self.sketch
+    }
+
+    /// The reference image under the strokes.
+    pub fn image(&self) -> Option<&PathBuf> {
+        self.image.as_ref()
+    }
+
+    /// The model.
+    pub fn document(&self) -> &Document {
+        &self.document
+    }
+
+    /// Snapping, inference and solve settings.
+    pub fn settings(&self) -> &SessionSettings {
+        &self.settings
+    }
+
+    /// The settings, to change (they are preferences, not part of the work's history).
+    pub fn settings_mut(&mut self) -> &mut SessionSettings {
+        &mut self.settings
+    }
+
+    /// Where the session was last saved or opened from.
+    pub fn path(&self) -> Option<&PathBuf> {
+        self.path.as_ref()
     }
 
     /// The change counter (every action increments it; undo restores older values).
@@ -184,6 +218,51 @@ impl Editor {
         let mut document = self.document.clone();
         document.relation_mut(id)?.mode = mode;
         Some(document)
+    }
+
+    /// The model with part `id`'s `quantity` fixed at `value`, not yet solved (the
+    /// caller re-solves the part in the background and applies the result with
+    /// [`Self::apply_document`] as one step).
+    ///
+    /// # Errors
+    ///
+    /// When the part does not exist, has no such quantity, or the value is not a
+    /// positive finite number ([`Document::set_dimension`]).
+    pub fn dimension_set(
+        &self,
+        id: PrimitiveId,
+        quantity: Quantity,
+        value: f64,
+    ) -> Result<Document, DimensionError> {
+        let mut document = self.document.clone();
+        document.set_dimension(id, quantity, value)?;
+        Ok(document)
+    }
+
+    /// Frees part `id`'s `quantity` (one undo step); whether it was fixed.
+    pub fn free_dimension(&mut self, id: PrimitiveId, quantity: Quantity) -> bool {
+        let fixed = self
+            .document
+            .dimensions()
+            .iter()
+            .any(|d| d.primitive == id && d.quantity == quantity);
+        if !fixed {
+            return false;
+        }
+        self.checkpoint(&format!("Free #{} {}", id.0, quantity.name()));
+        self.document.remove_dimension(id, quantity);
+        true
+    }
+
+    /// Adds an unsnapped copy of part `id` beside it (one undo step); the copy's id.
+    pub fn duplicate_primitive(&mut self, id: PrimitiveId) -> Option<PrimitiveId> {
+        let primitive = self.document.get(id)?.primitive.clone();
+        let offset = primitive.size() * 0.6;
+        self.checkpoint(&format!("Duplicate #{}", id.0));
+        Some(self.document.add(Placed {
+            primitive: primitive.transformed(glam::DVec3::new(offset, 0.0, 0.0), 1.0),
+            fit: Fit::default(),
+        }))
     }
 
     /// Deletes relation `id`.
@@ -360,6 +439,44 @@ mod tests {
             "undo brings the relation back under its id"
         );
         assert_eq!(editor.document.relation_position(second), Some(1));
+    }
+
+    #[test]
+    fn dimensions_and_duplicates_change_the_model_only_through_steps() {
+        use crate::core::model::Quantity;
+        let mut editor = Editor::default();
+        let mut doc = editor.document.clone();
+        let id = doc.add(ball());
+        editor.apply_document("Place sphere", doc);
+
+        let proposed = editor
+            .dimension_set(id, Quantity::Radius, 5.0)
+            .expect("a sphere has a radius");
+        assert!(
+            editor.document.dimensions().is_empty(),
+            "a proposed dimension leaves the model as it is"
+        );
+        assert!(
+            editor.dimension_set(id, Quantity::Radius, -1.0).is_err(),
+            "a negative radius is refused"
+        );
+        editor.apply_document("#0 radius = 5", proposed);
+        assert_eq!(editor.document.dimensions().len(), 1);
+        assert!(editor.free_dimension(id, Quantity::Radius));
+        assert!(editor.document.dimensions().is_empty(), "freed");
+        assert!(
+            !editor.free_dimension(id, Quantity::Radius),
+            "nothing left to free"
+        );
+        assert_eq!(editor.undo_label(), Some("Free #0 radius"));
+
+        let copy = editor.duplicate_primitive(id).expect("the part exists");
+        assert_ne!(copy, id);
+        assert_eq!(editor.document.len(), 2, "the copy is added");
+        assert_eq!(editor.undo().as_deref(), Some("Duplicate #0"));
+        assert_eq!(editor.document.len(), 1, "undo takes the copy back");
+        assert_eq!(editor.undo().as_deref(), Some("Free #0 radius"));
+        assert_eq!(editor.document.dimensions().len(), 1, "fixed again");
     }
 
     #[test]

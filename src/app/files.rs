@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context as _};
 
-use super::{After, GeosnapApp, Prompt};
+use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings};
@@ -22,6 +22,83 @@ const AUTOSAVE_EVERY: Duration = Duration::from_secs(30);
 
 /// The most recent files remembered.
 const MAX_RECENT: usize = 10;
+
+/// A question the app is asking in a modal window.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Prompt {
+    /// Unsaved changes before `then`.
+    Unsaved(After),
+    /// An autosave from a crashed run can be recovered.
+    Recover(PathBuf),
+    /// A file path to type (no native dialog, or by choice).
+    Path(PathAction, String),
+    /// An error to acknowledge.
+    Error(String),
+}
+
+/// What follows an unsaved-changes prompt.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum After {
+    New,
+    Open(Option<PathBuf>),
+    Quit,
+}
+
+/// What a typed path is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PathAction {
+    Open,
+    SaveAs,
+    Export,
+}
+
+/// The state of files: the question being asked, the recent files, the autosave, and
+/// whether the window may close without asking.
+#[derive(Debug)]
+pub(crate) struct Files {
+    prompt: Option<Prompt>,
+    /// Recently opened or saved files, newest first.
+    recent: Vec<PathBuf>,
+    autosave: Autosave,
+    allow_quit: bool,
+}
+
+impl Files {
+    /// The recent files (newest first) and the autosave folder (the platform's data
+    /// folder when `None`); asks to recover an autosave left by a crash.
+    pub(crate) fn new(recent: Vec<PathBuf>, autosave_dir: Option<PathBuf>) -> Self {
+        let autosave = Autosave::new(autosave_dir);
+        Self {
+            prompt: autosave.pending().map(Prompt::Recover),
+            recent,
+            autosave,
+            allow_quit: false,
+        }
+    }
+
+    /// Recently opened or saved files, newest first.
+    pub(crate) fn recent(&self) -> &[PathBuf] {
+        &self.recent
+    }
+
+    /// Removes the autosave (a clean exit).
+    pub(crate) fn clear_autosave(&mut self) {
+        self.autosave.clear();
+    }
+
+    /// Closes the window without asking about unsaved changes.
+    pub(crate) fn quit(&mut self, ctx: &egui::Context) {
+        self.allow_quit = true;
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
+
+    fn remember(&mut self, path: &Path) {
+        let path = path.canonicalize().unwrap_or_else(|_| path.to_owned());
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(MAX_RECENT);
+    }
+}
 
 /// The autosave file: written while there are unsaved changes, removed on a clean exit,
 /// so finding it at start means the last run did not end well.
@@ -91,7 +168,7 @@ impl GeosnapApp {
     /// Asks before `after` when there are unsaved changes.
     pub(crate) fn request(&mut self, ctx: &egui::Context, after: After) {
         if self.editor.is_dirty() && !matches!(after, After::Open(Some(ref p)) if is_image(p)) {
-            self.prompt = Some(Prompt::Unsaved(after));
+            self.files.prompt = Some(Prompt::Unsaved(after));
         } else {
             self.proceed(ctx, after);
         }
@@ -103,7 +180,7 @@ impl GeosnapApp {
                 self.cancel_job();
                 self.editor
                     .replace(Sketch::default(), None, Document::default());
-                self.image = None;
+                self.canvas.image_mut().clear(false);
                 self.selection = None;
                 self.canvas.request_fit();
                 self.say("New work: draw strokes (B) or open a drawing.");
@@ -120,14 +197,13 @@ impl GeosnapApp {
                 match picked {
                     Some(path) => self.open_path(ctx, &path),
                     None if no_dialog(asked) => {
-                        self.prompt = Some(Prompt::Path(super::PathAction::Open, String::new()));
+                        self.ask_path(PathAction::Open);
                     }
                     None => {}
                 }
             }
             After::Quit => {
-                self.allow_quit = true;
-                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                self.files.quit(ctx);
             }
         }
     }
@@ -141,13 +217,13 @@ impl GeosnapApp {
         }
         match self.try_open(ctx, path) {
             Ok(note) => {
-                self.remember(path);
+                self.files.remember(path);
                 self.say(note);
             }
             Err(error) => {
                 let text = format!("Could not open {}: {error:#}", path.display());
                 self.warn(text.clone());
-                self.prompt = Some(Prompt::Error(text));
+                self.files.prompt = Some(Prompt::Error(text));
             }
         }
     }
@@ -161,7 +237,7 @@ impl GeosnapApp {
             FileKind::Image => {
                 let texture = load_texture(ctx, path, &head)?;
                 let size = texture.size();
-                self.image = Some((path.to_owned(), texture, size));
+                self.canvas.image_mut().show(path.to_owned(), texture);
                 self.editor.set_image(Some(path.to_owned()));
                 self.canvas.request_fit();
                 Ok(format!(
@@ -207,8 +283,7 @@ impl GeosnapApp {
         self.selection = None;
         self.hovered_relation = None;
         self.drag = None;
-        self.image = None;
-        self.image_failed = None;
+        self.canvas.image_mut().clear(true);
         self.canvas.request_fit();
         self.view3d.request_fit();
         self.sync_image(ctx);
@@ -216,32 +291,8 @@ impl GeosnapApp {
 
     /// Shows the editor's reference image (after undo, redo or opening), once per change.
     pub(crate) fn sync_image(&mut self, ctx: &egui::Context) {
-        let shown = self.image.as_ref().map(|(p, _, _)| p.clone());
-        if shown == self.editor.image
-            || (self.editor.image.is_some() && self.editor.image == self.image_failed)
-        {
-            return;
-        }
-        self.image = None;
-        let Some(path) = self.editor.image.clone() else {
-            return;
-        };
-        match std::fs::read(&path)
-            .map_err(anyhow::Error::from)
-            .and_then(|bytes| load_texture(ctx, &path, &bytes))
-        {
-            Ok(texture) => {
-                let size = texture.size();
-                self.image = Some((path, texture, size));
-            }
-            Err(error) => {
-                self.warn(format!(
-                    "The reference image {} could not be shown: {error:#}",
-                    path.display()
-                ));
-                // Not again every frame; the path stays in the work.
-                self.image_failed.clone_from(&self.editor.image);
-            }
+        if let Some(warning) = self.canvas.image_mut().sync(ctx, self.editor.image()) {
+            self.warn(warning);
         }
     }
 
@@ -257,24 +308,17 @@ impl GeosnapApp {
         }
     }
 
-    fn remember(&mut self, path: &Path) {
-        let path = path.canonicalize().unwrap_or_else(|_| path.to_owned());
-        self.recent.retain(|p| *p != path);
-        self.recent.insert(0, path);
-        self.recent.truncate(MAX_RECENT);
-    }
-
     fn session(&self) -> Session {
         Session {
-            sketch: self.editor.sketch.clone(),
-            image: self.editor.image.clone(),
-            document: self.editor.document.clone(),
+            sketch: self.editor.sketch().clone(),
+            image: self.editor.image().cloned(),
+            document: self.editor.document().clone(),
         }
     }
 
     /// Saves to the session's path, or asks for one; returns whether it was saved.
     pub fn save(&mut self, ctx: &egui::Context) -> bool {
-        match self.editor.path.clone() {
+        match self.editor.path().cloned() {
             Some(path) if is_session_path(&path) => self.save_to(ctx, &path),
             _ => self.save_as(ctx),
         }
@@ -290,10 +334,7 @@ impl GeosnapApp {
         match picked {
             Some(path) => self.save_to(ctx, &path),
             None if no_dialog(asked) => {
-                self.prompt = Some(Prompt::Path(
-                    super::PathAction::SaveAs,
-                    self.suggested_path("geosnap.json"),
-                ));
+                self.ask_path(PathAction::SaveAs);
                 false
             }
             None => false,
@@ -305,15 +346,15 @@ impl GeosnapApp {
         match save_session(path, &self.session()) {
             Ok(()) => {
                 self.editor.mark_saved(path.to_owned());
-                self.remember(path);
-                self.autosave.clear();
+                self.files.remember(path);
+                self.files.autosave.clear();
                 self.say(format!("Saved {}.", path.display()));
                 true
             }
             Err(error) => {
                 let text = format!("Could not save {}: {error}", path.display());
                 self.warn(text.clone());
-                self.prompt = Some(Prompt::Error(text));
+                self.files.prompt = Some(Prompt::Error(text));
                 false
             }
         }
@@ -330,10 +371,7 @@ impl GeosnapApp {
         match picked {
             Some(path) => self.export_to(&path),
             None if no_dialog(asked) => {
-                self.prompt = Some(Prompt::Path(
-                    super::PathAction::Export,
-                    self.suggested_path("glb"),
-                ));
+                self.ask_path(PathAction::Export);
             }
             None => {}
         }
@@ -341,22 +379,32 @@ impl GeosnapApp {
 
     /// Exports the model as glTF 2.0 (`.glb` or `.gltf`).
     pub fn export_to(&mut self, path: &Path) {
-        if self.editor.document.is_empty() {
+        if self.editor.document().is_empty() {
             self.warn("There is nothing to export yet: place a primitive first.");
             return;
         }
-        match export_gltf(&self.editor.document, path, &ExportSettings::default()) {
+        match export_gltf(self.editor.document(), path, &ExportSettings::default()) {
             Ok(_) => self.say(format!("Exported {}.", path.display())),
             Err(error) => {
                 let text = format!("Could not export {}: {error}", path.display());
                 self.warn(text.clone());
-                self.prompt = Some(Prompt::Error(text));
+                self.files.prompt = Some(Prompt::Error(text));
             }
         }
     }
 
-    pub(crate) fn suggested_path(&self, extension: &str) -> String {
-        let base = self.editor.path.clone().unwrap_or_else(|| {
+    /// Asks for a path to `action` in a window, suggesting one.
+    pub(crate) fn ask_path(&mut self, action: PathAction) {
+        let suggested = match action {
+            PathAction::Open => String::new(),
+            PathAction::SaveAs => self.suggested_path("geosnap.json"),
+            PathAction::Export => self.suggested_path("glb"),
+        };
+        self.files.prompt = Some(Prompt::Path(action, suggested));
+    }
+
+    fn suggested_path(&self, extension: &str) -> String {
+        let base = self.editor.path().cloned().unwrap_or_else(|| {
             std::env::current_dir()
                 .unwrap_or_default()
                 .join("untitled.json")
@@ -391,22 +439,24 @@ impl GeosnapApp {
 
     pub(crate) fn close_requested(&mut self, ctx: &egui::Context) {
         if ctx.input(|i| i.viewport().close_requested())
-            && !self.allow_quit
+            && !self.files.allow_quit
             && self.editor.is_dirty()
         {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            self.prompt = Some(Prompt::Unsaved(After::Quit));
+            self.files.prompt = Some(Prompt::Unsaved(After::Quit));
         }
     }
 
     pub(crate) fn autosave_tick(&mut self) {
-        let due = self.autosave.last.elapsed() >= AUTOSAVE_EVERY;
-        if !due || !self.editor.is_dirty() || self.autosave.written == Some(self.editor.revision())
+        let due = self.files.autosave.last.elapsed() >= AUTOSAVE_EVERY;
+        if !due
+            || !self.editor.is_dirty()
+            || self.files.autosave.written == Some(self.editor.revision())
         {
             return;
         }
-        self.autosave.last = Instant::now();
-        let Some(path) = self.autosave.path.clone() else {
+        self.files.autosave.last = Instant::now();
+        let Some(path) = self.files.autosave.path.clone() else {
             return;
         };
         let result = session_bytes(&self.session())
@@ -418,74 +468,101 @@ impl GeosnapApp {
                 crate::io::write_atomic(&path, &bytes).map_err(anyhow::Error::from)
             });
         match result {
-            Ok(()) => self.autosave.written = Some(self.editor.revision()),
+            Ok(()) => self.files.autosave.written = Some(self.editor.revision()),
             Err(error) => log::warn!("autosave to {} failed: {error:#}", path.display()),
         }
     }
 
     /// Writes the work to the autosave file now (tests, and before risky steps).
     pub fn autosave_now(&mut self) {
-        self.autosave.last = Instant::now()
+        self.files.autosave.last = Instant::now()
             .checked_sub(AUTOSAVE_EVERY)
             .unwrap_or_else(Instant::now);
-        self.autosave.written = None;
+        self.files.autosave.written = None;
         self.autosave_tick();
     }
 
-    pub(crate) fn screenshot_step(&mut self, ctx: &egui::Context) {
-        let Some(mut shot) = self.screenshot.take() else {
+    /// The modal window of the question being asked, if any.
+    pub(crate) fn prompts(&mut self, ctx: &egui::Context) {
+        let Some(prompt) = self.files.prompt.clone() else {
             return;
         };
-        if shot.done.load(std::sync::atomic::Ordering::Acquire) {
-            self.allow_quit = true;
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-            return;
-        }
-        // Wait until the work has settled (no drag, no job, nothing left to play) and a
-        // few frames have shown it.
-        let settled = self.job.is_none() && self.drag.is_none() && self.play.is_empty();
-        shot.settled = if settled { shot.settled + 1 } else { 0 };
-        if shot.settled == 30 {
-            if self.selection.is_none() {
-                self.selection = self.editor.document.primitives().last().map(|(id, _)| id);
-            }
-            let (path, done, repaint) = (shot.path.clone(), shot.done.clone(), ctx.clone());
-            ctx.request_screenshot(move |image| {
-                let [w, h] = image.size;
-                let bytes: Vec<u8> = image
-                    .pixels
-                    .iter()
-                    .flat_map(egui::Color32::to_array)
-                    .collect();
-                let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-                    .ok_or_else(|| anyhow!("bad screenshot size"))
-                    .and_then(|img| img.save(&path).map_err(anyhow::Error::from));
-                if let Err(error) = saved {
-                    log::error!("cannot save the screenshot {}: {error:#}", path.display());
+        let modal = egui::Modal::new(egui::Id::unique("prompt")).show(ctx, |ui| {
+            ui.set_max_width(460.0);
+            match prompt {
+                Prompt::Unsaved(after) => {
+                    ui.heading("Unsaved changes");
+                    ui.label("Save the changes to this work first?");
+                    ui.horizontal(|ui| {
+                        if ui.button("Save").clicked() {
+                            self.files.prompt = None;
+                            if self.save(ctx) {
+                                self.proceed(ctx, after.clone());
+                            }
+                        }
+                        if ui.button("Don't save").clicked() {
+                            self.files.prompt = None;
+                            self.proceed(ctx, after.clone());
+                        }
+                        if ui.button("Cancel").clicked() {
+                            self.files.prompt = None;
+                        }
+                    });
                 }
-                done.store(true, std::sync::atomic::Ordering::Release);
-                repaint.request_repaint();
-            });
-        }
-        ctx.request_repaint_after(Duration::from_millis(30));
-        self.screenshot = Some(shot);
-    }
-}
-
-/// A screenshot to take once the work has settled (`--screenshot`).
-#[derive(Debug)]
-pub(crate) struct Screenshot {
-    pub(crate) path: PathBuf,
-    settled: u32,
-    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
-}
-
-impl Screenshot {
-    pub(crate) fn new(path: PathBuf) -> Self {
-        Self {
-            path,
-            settled: 0,
-            done: std::sync::Arc::default(),
+                Prompt::Recover(path) => {
+                    ui.heading("Recover unsaved work?");
+                    ui.label("geosnap did not close properly last time. An autosave of the work is available.");
+                    ui.horizontal(|ui| {
+                        if ui.button("Recover").clicked() {
+                            self.files.prompt = None;
+                            self.recover(ctx, &path);
+                        }
+                        if ui.button("Discard").clicked() {
+                            self.files.prompt = None;
+                            self.files.autosave.clear();
+                        }
+                    });
+                }
+                Prompt::Path(action, mut text) => {
+                    ui.heading(match action {
+                        PathAction::Open => "Open a file",
+                        PathAction::SaveAs => "Save the session as",
+                        PathAction::Export => "Export glTF (.glb or .gltf) as",
+                    });
+                    let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(420.0).hint_text("/path/to/file"));
+                    let edit = edit.on_hover_text("File path");
+                    let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    self.files.prompt = Some(Prompt::Path(action, text.clone()));
+                    ui.horizontal(|ui| {
+                        if ui.button("OK").clicked() || enter {
+                            self.files.prompt = None;
+                            let path = PathBuf::from(text.trim());
+                            match action {
+                                PathAction::Open => self.request(ctx, After::Open(Some(path))),
+                                PathAction::SaveAs => {
+                                    self.save_to(ctx, &path);
+                                }
+                                PathAction::Export => self.export_to(&path),
+                            }
+                        }
+                        if ui.button("Cancel").clicked() {
+                            self.files.prompt = None;
+                        }
+                    });
+                }
+                Prompt::Error(text) => {
+                    ui.heading("Problem");
+                    ui.label(text);
+                    if ui.button("OK").clicked() {
+                        self.files.prompt = None;
+                    }
+                }
+            }
+        });
+        if modal.should_close()
+            && matches!(self.files.prompt, Some(Prompt::Error(_) | Prompt::Path(..)))
+        {
+            self.files.prompt = None;
         }
     }
 }
@@ -510,7 +587,7 @@ fn is_session_path(path: &Path) -> bool {
         })
 }
 
-fn load_texture(
+pub(super) fn load_texture(
     ctx: &egui::Context,
     path: &Path,
     bytes: &[u8],

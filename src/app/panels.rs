@@ -1,9 +1,12 @@
-//! The menu bar, the palette and tools, the relations / properties / messages panels,
-//! the status bar, the settings window and the modal prompts.
+//! The menu bar, the palette and tools, the relations / properties / messages panels
+//! and the settings window.
+
+use std::collections::BTreeMap;
 
 use egui::{Color32, RichText, Ui};
 
-use super::{mode_name, After, GeosnapApp, PathAction, Prompt, Tool};
+use super::files::{After, PathAction};
+use super::{mode_name, GeosnapApp, Tool};
 use crate::core::model::Quantity;
 use crate::core::primitive::PrimitiveKind;
 use crate::core::relation::{Mode, RelationKind};
@@ -38,6 +41,16 @@ const PALETTE: [(PrimitiveKind, &str, &str); 6] = [
     ),
 ];
 
+/// The panels' own state: the dimension values being typed, and whether the settings
+/// window is open.
+#[derive(Debug, Default)]
+pub(crate) struct Panels {
+    /// Typed dimension values being edited in the properties panel, by part and
+    /// quantity.
+    typed: BTreeMap<String, String>,
+    show_settings: bool,
+}
+
 impl GeosnapApp {
     #[expect(clippy::too_many_lines, reason = "one menu bar, read top to bottom")]
     pub(crate) fn menu_bar(&mut self, ui: &mut Ui) {
@@ -54,17 +67,17 @@ impl GeosnapApp {
                             self.request(&ctx, After::Open(None));
                         }
                         ui.menu_button("Open recent", |ui| {
-                            if self.recent.is_empty() {
+                            if self.files.recent().is_empty() {
                                 ui.label("(none)");
                             }
-                            for path in self.recent.clone() {
+                            for path in self.files.recent().to_vec() {
                                 if ui.button(path.display().to_string()).clicked() {
                                     self.request(&ctx, After::Open(Some(path)));
                                 }
                             }
                         });
                         if ui.button("Open path…").clicked() {
-                            self.prompt = Some(Prompt::Path(PathAction::Open, String::new()));
+                            self.ask_path(PathAction::Open);
                         }
                         ui.separator();
                         if ui.button("Save  Ctrl+S").clicked() {
@@ -74,18 +87,14 @@ impl GeosnapApp {
                             self.save_as(&ctx);
                         }
                         if ui.button("Save to path…").clicked() {
-                            self.prompt = Some(Prompt::Path(
-                                PathAction::SaveAs,
-                                self.suggested_path("geosnap.json"),
-                            ));
+                            self.ask_path(PathAction::SaveAs);
                         }
                         ui.separator();
                         if ui.button("Export glTF…  Ctrl+E").clicked() {
                             self.export_dialog();
                         }
                         if ui.button("Export to path…").clicked() {
-                            self.prompt =
-                                Some(Prompt::Path(PathAction::Export, self.suggested_path("glb")));
+                            self.ask_path(PathAction::Export);
                         }
                         ui.separator();
                         if ui.button("Quit").clicked() {
@@ -135,7 +144,7 @@ impl GeosnapApp {
                         }
                         ui.separator();
                         if ui.button("Settings…").clicked() {
-                            self.show_settings = true;
+                            self.panels.show_settings = true;
                         }
                     });
                     ui.menu_button("View", |ui| {
@@ -144,7 +153,7 @@ impl GeosnapApp {
                             self.view3d.request_fit();
                         }
                         ui.add(
-                            egui::Slider::new(&mut self.image_opacity, 0.0..=1.0)
+                            egui::Slider::new(self.canvas.image_mut().opacity_mut(), 0.0..=1.0)
                                 .text("Image opacity"),
                         );
                     });
@@ -194,7 +203,7 @@ impl GeosnapApp {
                         "Click a stroke to switch it between feature (blue) and silhouette (black)",
                     ),
                 ] {
-                    ui.selectable_value(&mut self.tool, tool, label)
+                    ui.selectable_value(self.canvas.tool_mut(), tool, label)
                         .on_hover_text(tip);
                 }
                 ui.add_space(12.0);
@@ -213,69 +222,14 @@ impl GeosnapApp {
                         ui.label(label);
                     });
                 }
-                if self.image.is_some() {
+                if self.canvas.image().is_shown() {
                     ui.add_space(12.0);
                     ui.label("Image opacity");
-                    ui.add(egui::Slider::new(&mut self.image_opacity, 0.0..=1.0).show_value(false));
+                    ui.add(
+                        egui::Slider::new(self.canvas.image_mut().opacity_mut(), 0.0..=1.0)
+                            .show_value(false),
+                    );
                 }
-            });
-    }
-
-    pub(crate) fn status_bar(&mut self, ui: &mut Ui) {
-        egui::Panel::bottom("status")
-            .frame(super::unfilled(3.0))
-            .show(ui, |ui| {
-                ui.horizontal(|ui| {
-                    if let Some(job) = &self.job {
-                        let p = job.progress();
-                        ui.spinner();
-                        ui.label(format!(
-                            "{} — solving: iteration {}, |c| {:.1e}, {:.1} s   (Esc cancels)",
-                            job.label,
-                            p.iterations,
-                            p.violation,
-                            p.elapsed.as_secs_f64()
-                        ));
-                        if ui.button("Cancel").clicked() {
-                            job.cancel();
-                        }
-                    } else if let Some((iterations, violation, seconds, how)) = &self.last_solve {
-                        ui.label(format!(
-                        "Last solve: {how}, {iterations} iterations, |c| {violation:.1e}, {:.0} ms",
-                        seconds * 1e3
-                    ));
-                    } else {
-                        ui.label("Ready");
-                    }
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        let mut frames: Vec<f64> = self
-                            .timer
-                            .cpu
-                            .iter()
-                            .map(|d| d.as_secs_f64() * 1e3)
-                            .collect();
-                        frames.sort_by(f64::total_cmp);
-                        if let Some(median) = frames.get(frames.len() / 2) {
-                            ui.label(RichText::new(format!("UI {median:.1} ms")).small().weak());
-                        }
-                        if let Some(drag) = &self.drag {
-                            ui.label(
-                                RichText::new(format!(
-                                    "snap {:.0} ms",
-                                    drag.preview_time.as_secs_f64() * 1e3
-                                ))
-                                .small()
-                                .weak(),
-                            );
-                        }
-                        ui.label(format!(
-                            "{} strokes · {} parts · {} relations",
-                            self.editor.sketch.strokes.len(),
-                            self.editor.document.len(),
-                            self.editor.document.relations().len()
-                        ));
-                    });
-                });
             });
     }
 
@@ -288,38 +242,26 @@ impl GeosnapApp {
                     .show(ui, |ui| self.properties(ui));
                 egui::CollapsingHeader::new(format!(
                     "Relations ({})",
-                    self.editor.document.relations().len()
+                    self.editor.document().relations().len()
                 ))
                 .default_open(true)
                 .show(ui, |ui| self.relations(ui));
                 egui::CollapsingHeader::new("Messages")
                     .default_open(true)
-                    .show(ui, |ui| {
-                        if ui.small_button("Clear").clicked() {
-                            self.messages.clear();
-                        }
-                        for message in self.messages.iter().rev().take(30) {
-                            let text = RichText::new(&message.text).small();
-                            if message.warning {
-                                ui.colored_label(Color32::from_rgb(200, 90, 20), text);
-                            } else {
-                                ui.label(text);
-                            }
-                        }
-                    });
+                    .show(ui, |ui| self.status.messages_ui(ui));
             });
     }
 
     fn relations(&mut self, ui: &mut Ui) {
         self.hovered_relation = None;
-        if self.editor.document.relations().is_empty() {
+        if self.editor.document().relations().is_empty() {
             ui.label(RichText::new("Relations appear when a part is dropped near others.").weak());
             return;
         }
         let mut change = None;
         let mut delete = None;
         egui::Grid::new("relations").striped(true).num_columns(4).show(ui, |ui| {
-            for (index, (id, relation)) in self.editor.document.relations_with_ids().enumerate() {
+            for (index, (id, relation)) in self.editor.document().relations_with_ids().enumerate() {
                 let members: Vec<String> = relation
                     .members
                     .iter()
@@ -371,7 +313,7 @@ impl GeosnapApp {
             ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
             return;
         };
-        let Some(placed) = self.editor.document.get(id).cloned() else {
+        let Some(placed) = self.editor.document().get(id).cloned() else {
             return;
         };
         let p = &placed.primitive;
@@ -397,7 +339,7 @@ impl GeosnapApp {
         }
         let fixed: Vec<(Quantity, f64)> = self
             .editor
-            .document
+            .document()
             .dimensions()
             .iter()
             .filter(|d| d.primitive == id)
@@ -414,6 +356,7 @@ impl GeosnapApp {
                 let is_fixed = fixed.iter().find(|(q, _)| q == quantity).map(|(_, v)| *v);
                 let name = ui.label(quantity.name().replace('_', " "));
                 let text = self
+                    .panels
                     .typed
                     .entry(key.clone())
                     .or_insert_with(|| format!("{value:.2}"));
@@ -433,10 +376,9 @@ impl GeosnapApp {
                 if entered {
                     match text.trim().parse::<f64>() {
                         Ok(v) => set = Some((*quantity, v)),
-                        Err(_) => self.messages.push(super::Message {
-                            text: format!("“{}” is not a number.", text.trim()),
-                            warning: true,
-                        }),
+                        Err(_) => self
+                            .status
+                            .push(format!("“{}” is not a number.", text.trim()), true),
                     }
                 }
                 if is_fixed.is_some() {
@@ -454,9 +396,8 @@ impl GeosnapApp {
             }
         });
         if let Some((quantity, value)) = set {
-            let mut document = self.editor.document.clone();
-            match document.set_dimension(id, quantity, value) {
-                Ok(()) => self.resolve_in_background(
+            match self.editor.dimension_set(id, quantity, value) {
+                Ok(document) => self.resolve_in_background(
                     &format!("#{} {} = {value}", id.0, quantity.name()),
                     document,
                     Some(vec![id]),
@@ -465,11 +406,7 @@ impl GeosnapApp {
             }
         }
         if let Some(quantity) = free {
-            let mut document = self.editor.document.clone();
-            if document.remove_dimension(id, quantity) {
-                self.editor
-                    .apply_document(&format!("Free #{} {}", id.0, quantity.name()), document);
-            }
+            self.editor.free_dimension(id, quantity);
         }
         ui.horizontal(|ui| {
             if ui
@@ -488,13 +425,13 @@ impl GeosnapApp {
     }
 
     pub(crate) fn settings_window(&mut self, ctx: &egui::Context) {
-        let mut open = self.show_settings;
+        let mut open = self.panels.show_settings;
         egui::Window::new("Settings")
             .open(&mut open)
             .resizable(false)
             .show(ctx, |ui| {
                 ui.heading("Relation inference");
-                let inference = &mut self.editor.settings.inference;
+                let inference = &mut self.editor.settings_mut().inference;
                 egui::Grid::new("kinds").num_columns(3).show(ui, |ui| {
                     for (k, kind) in RelationKind::ALL.iter().enumerate() {
                         let mut on = inference.enabled(*kind);
@@ -531,7 +468,7 @@ impl GeosnapApp {
                 }
                 ui.separator();
                 ui.heading("Global solve");
-                let global = &mut self.editor.settings.global;
+                let global = &mut self.editor.settings_mut().global;
                 let mut soft_weight = global.soft_weight();
                 let soft = ui.add(
                     egui::Slider::new(&mut soft_weight, 0.01..=100.0)
@@ -554,88 +491,6 @@ impl GeosnapApp {
                     }
                 }
             });
-        self.show_settings = open;
-    }
-
-    pub(crate) fn prompts(&mut self, ctx: &egui::Context) {
-        let Some(prompt) = self.prompt.clone() else {
-            return;
-        };
-        let modal = egui::Modal::new(egui::Id::unique("prompt")).show(ctx, |ui| {
-            ui.set_max_width(460.0);
-            match prompt {
-                Prompt::Unsaved(after) => {
-                    ui.heading("Unsaved changes");
-                    ui.label("Save the changes to this work first?");
-                    ui.horizontal(|ui| {
-                        if ui.button("Save").clicked() {
-                            self.prompt = None;
-                            if self.save(ctx) {
-                                self.proceed(ctx, after.clone());
-                            }
-                        }
-                        if ui.button("Don't save").clicked() {
-                            self.prompt = None;
-                            self.proceed(ctx, after.clone());
-                        }
-                        if ui.button("Cancel").clicked() {
-                            self.prompt = None;
-                        }
-                    });
-                }
-                Prompt::Recover(path) => {
-                    ui.heading("Recover unsaved work?");
-                    ui.label("geosnap did not close properly last time. An autosave of the work is available.");
-                    ui.horizontal(|ui| {
-                        if ui.button("Recover").clicked() {
-                            self.prompt = None;
-                            self.recover(ctx, &path);
-                        }
-                        if ui.button("Discard").clicked() {
-                            self.prompt = None;
-                            self.autosave.clear();
-                        }
-                    });
-                }
-                Prompt::Path(action, mut text) => {
-                    ui.heading(match action {
-                        PathAction::Open => "Open a file",
-                        PathAction::SaveAs => "Save the session as",
-                        PathAction::Export => "Export glTF (.glb or .gltf) as",
-                    });
-                    let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(420.0).hint_text("/path/to/file"));
-                    let edit = edit.on_hover_text("File path");
-                    let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-                    self.prompt = Some(Prompt::Path(action, text.clone()));
-                    ui.horizontal(|ui| {
-                        if ui.button("OK").clicked() || enter {
-                            self.prompt = None;
-                            let path = std::path::PathBuf::from(text.trim());
-                            match action {
-                                PathAction::Open => self.request(ctx, After::Open(Some(path))),
-                                PathAction::SaveAs => {
-                                    self.save_to(ctx, &path);
-                                }
-                                PathAction::Export => self.export_to(&path),
-                            }
-                        }
-                        if ui.button("Cancel").clicked() {
-                            self.prompt = None;
-                        }
-                    });
-                }
-                Prompt::Error(text) => {
-                    ui.heading("Problem");
-                    ui.label(text);
-                    if ui.button("OK").clicked() {
-                        self.prompt = None;
-                    }
-                }
-            }
-        });
-        if modal.should_close() && matches!(self.prompt, Some(Prompt::Error(_) | Prompt::Path(..)))
-        {
-            self.prompt = None;
-        }
+        self.panels.show_settings = open;
     }
 }

@@ -10,10 +10,11 @@ use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use super::editor::Editor;
 use crate::clock::MonotonicClock;
 use crate::core::model::{Companions, Document, Fit, GlobalOutcome, PrimitiveId, SessionSettings};
 use crate::core::primitive::Primitive;
-use crate::core::snap::{snap, SnapContext, SnapResult, SnapSession, Verdict};
+use crate::core::snap::{snap, SnapContext, SnapError, SnapResult, SnapSession, Verdict};
 use crate::core::solve::{CancelFlag, Iterate};
 
 /// Called from a worker thread when something is ready for the UI.
@@ -38,7 +39,7 @@ pub struct PreviewResult {
     /// The request's generation.
     pub generation: u64,
     /// The snap, or why it failed (too few strokes near the primitive, ...).
-    pub result: Result<SnapResult, String>,
+    pub result: Result<SnapResult, SnapError>,
     /// How long the snap took.
     pub elapsed: Duration,
 }
@@ -150,9 +151,7 @@ fn preview_loop(
             continue;
         };
         let started = Instant::now();
-        let result = session
-            .update(&request.dragged, None)
-            .map_err(|e| e.to_string());
+        let result = session.update(&request.dragged, None);
         let sent = results.send(PreviewResult {
             generation: request.generation,
             result,
@@ -162,6 +161,103 @@ fn preview_loop(
             return;
         }
         wake();
+    }
+}
+
+/// The app's work off the UI thread: the drag-preview thread, the running job, and the
+/// snapping context of the current strokes that both use.
+pub(crate) struct Workers {
+    wake: Wake,
+    previewer: Previewer,
+    job: Option<Job>,
+    /// The snapping context and the strokes' revision it was built from.
+    context: (Arc<SnapContext>, u64),
+}
+
+impl std::fmt::Debug for Workers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Workers")
+            .field("job", &self.job)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Workers {
+    /// Starts the preview thread with the editor's snap settings; `wake` is called when
+    /// a result is ready.
+    pub(crate) fn start(editor: &Editor, wake: Wake) -> Self {
+        Self {
+            previewer: Previewer::start(editor.settings().snap.clone(), Arc::clone(&wake)),
+            wake,
+            job: None,
+            context: (
+                Arc::new(SnapContext::from_sketch(editor.sketch())),
+                editor.strokes_revision(),
+            ),
+        }
+    }
+
+    /// The running job.
+    pub(crate) fn job(&self) -> Option<&Job> {
+        self.job.as_ref()
+    }
+
+    /// Whether a job is running.
+    pub(crate) fn busy(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// The snapping context of the editor's strokes (rebuilt when they change), with
+    /// the strokes' revision.
+    pub(crate) fn context(&mut self, editor: &Editor) -> (Arc<SnapContext>, u64) {
+        let revision = editor.strokes_revision();
+        if self.context.1 != revision {
+            self.context = (
+                Arc::new(SnapContext::from_sketch(editor.sketch())),
+                revision,
+            );
+        }
+        (Arc::clone(&self.context.0), revision)
+    }
+
+    /// Asks the preview thread for a frame.
+    pub(crate) fn request_preview(&self, request: PreviewRequest) {
+        self.previewer.request(request);
+    }
+
+    /// Drops a preview request not yet started.
+    pub(crate) fn clear_preview(&self) {
+        self.previewer.clear();
+    }
+
+    /// The newest finished preview, if any arrived since the last call.
+    pub(crate) fn latest_preview(&self) -> Option<PreviewResult> {
+        self.previewer.latest()
+    }
+
+    /// Starts `work` as the running job, labelled `label`, for editor revision
+    /// `revision`.
+    pub(crate) fn spawn(
+        &mut self,
+        label: String,
+        revision: u64,
+        work: impl FnOnce(&CancelFlag, &mut dyn FnMut(&Iterate<'_>)) -> JobOutput + Send + 'static,
+    ) {
+        self.job = Some(Job::spawn(label, revision, Arc::clone(&self.wake), work));
+    }
+
+    /// Asks the running job to stop.
+    pub(crate) fn cancel_job(&self) {
+        if let Some(job) = &self.job {
+            job.cancel();
+        }
+    }
+
+    /// The running job with its output, once it has finished (it is then no longer
+    /// running).
+    pub(crate) fn finished(&mut self) -> Option<(Job, JobOutput)> {
+        let output = self.job.as_ref().and_then(Job::try_result)?;
+        self.job.take().map(|job| (job, output))
     }
 }
 

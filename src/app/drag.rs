@@ -1,0 +1,323 @@
+//! Dragging a primitive: from the palette, or a placed part being re-snapped. While the
+//! drag moves, its snapped preview is asked of the preview thread; on release over the
+//! canvas the snap, inference and solve run as a job ([`super::worker`]).
+
+use std::time::Duration;
+
+use glam::DVec2;
+
+use super::worker::{self, PreviewRequest, PreviewResult};
+use super::GeosnapApp;
+use crate::core::model::PrimitiveId;
+use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use crate::core::snap::{SnapError, SnapResult};
+
+/// A primitive being dragged: from the palette, or a placed part being re-snapped.
+#[derive(Clone, Debug)]
+pub struct Drag {
+    /// Its kind.
+    pub(super) kind: PrimitiveKind,
+    /// The part it replaces on release (a re-drag).
+    pub(super) replacing: Option<PrimitiveId>,
+    /// Where the cursor puts it, with the size and axis the wheel set.
+    pub(super) placement: Placement,
+    /// The part's own shape when re-dragging (moved with the cursor).
+    original: Option<Primitive>,
+    /// Whether the cursor is over the canvas.
+    pub(super) over_canvas: bool,
+    /// The newest preview request.
+    generation: u64,
+    /// The newest snapped preview.
+    preview: Option<SnapResult>,
+    /// Why the newest frame did not snap.
+    preview_error: Option<SnapError>,
+    /// How long the newest preview took to snap.
+    preview_time: Duration,
+    /// The apparent size of a new primitive: read off the strokes under the cursor when
+    /// it enters the drawing, then scaled by the wheel.
+    size: Option<f64>,
+    /// Where `size` was read off the strokes (`None` once the user has scaled it).
+    sized_at: Option<DVec2>,
+    /// The request the newest preview answers (equal to `generation` when it is up to
+    /// date).
+    preview_generation: u64,
+}
+
+impl Drag {
+    /// A drag of a new primitive of `kind`, not yet over the canvas, with no preview.
+    fn new(kind: PrimitiveKind, placement: Placement) -> Self {
+        Self {
+            kind,
+            replacing: None,
+            placement,
+            original: None,
+            over_canvas: false,
+            generation: 0,
+            preview: None,
+            preview_error: None,
+            preview_time: Duration::ZERO,
+            size: None,
+            sized_at: None,
+            preview_generation: 0,
+        }
+    }
+
+    /// Its kind.
+    pub fn kind(&self) -> PrimitiveKind {
+        self.kind
+    }
+
+    /// The newest preview request.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The request the newest preview answers (equal to [`Self::generation`] when it is
+    /// up to date).
+    pub fn preview_generation(&self) -> u64 {
+        self.preview_generation
+    }
+
+    /// The newest snapped preview.
+    pub fn preview(&self) -> Option<&SnapResult> {
+        self.preview.as_ref()
+    }
+
+    /// Why the newest frame did not snap.
+    pub fn preview_error(&self) -> Option<&SnapError> {
+        self.preview_error.as_ref()
+    }
+
+    /// How long the newest preview took to snap.
+    pub fn preview_time(&self) -> Duration {
+        self.preview_time
+    }
+
+    /// Takes in a finished preview, unless it answers a request newer than the drag's.
+    pub(super) fn take_preview(&mut self, result: PreviewResult) {
+        if result.generation > self.generation {
+            return;
+        }
+        self.preview_time = result.elapsed;
+        self.preview_generation = result.generation;
+        match result.result {
+            Ok(snapped) => {
+                self.preview = Some(snapped);
+                self.preview_error = None;
+            }
+            Err(error) => {
+                self.preview = None;
+                self.preview_error = Some(error);
+            }
+        }
+    }
+}
+
+/// The apparent size of the drawn object under `at`: the larger extent of the strokes
+/// passing within `reach` of it (a primitive dropped there starts that big), within
+/// a third to three times `reach`; `reach` when no stroke is near.
+pub fn size_under(sketch: &crate::core::sketch::Sketch, at: DVec2, reach: f64) -> f64 {
+    let near = sketch
+        .strokes
+        .iter()
+        .filter(|s| s.points.iter().any(|p| p.distance(at) <= reach));
+    let bounds = near
+        .flat_map(|s| s.points.iter())
+        .fold(None, |acc: Option<(DVec2, DVec2)>, p| {
+            Some(acc.map_or((*p, *p), |(lo, hi)| (lo.min(*p), hi.max(*p))))
+        });
+    match bounds {
+        Some((lo, hi)) => (hi - lo).max_element().clamp(reach / 3.0, reach * 3.0),
+        None => reach,
+    }
+}
+
+impl GeosnapApp {
+    /// The primitive being dragged.
+    pub fn drag(&self) -> Option<&Drag> {
+        self.drag.as_ref()
+    }
+
+    /// The size a dropped primitive starts with: a fraction of the drawing.
+    pub fn default_size(&self) -> f64 {
+        let sketch = self.editor.sketch();
+        sketch
+            .view_box
+            .map(|(_, size)| size.max_element())
+            .or_else(|| sketch.bounds().map(|(lo, hi)| (hi - lo).max_element()))
+            .unwrap_or(100.0)
+            * DEFAULT_SIZE_FRACTION
+    }
+
+    /// Starts dragging a new primitive of `kind` (from the palette).
+    pub fn begin_drag(&mut self, kind: PrimitiveKind) {
+        if self.busy() {
+            return;
+        }
+        self.drag = Some(Drag::new(kind, Placement::at(DVec2::ZERO)));
+    }
+
+    /// Starts re-dragging a placed part.
+    pub fn begin_redrag(&mut self, id: PrimitiveId, at: DVec2) {
+        if self.busy() {
+            return;
+        }
+        let Some(placed) = self.editor.document().get(id) else {
+            return;
+        };
+        let primitive = placed.primitive.clone();
+        let centre = primitive.center();
+        let grab = at - DVec2::new(centre.x, -centre.y);
+        let kind = primitive.kind();
+        self.drag = Some(Drag {
+            replacing: Some(id),
+            original: Some(primitive),
+            over_canvas: true,
+            ..Drag::new(kind, Placement::at(at - grab))
+        });
+    }
+
+    /// The primitive the drag puts under the cursor, before snapping.
+    pub fn dragged_primitive(&self) -> Option<Primitive> {
+        let drag = self.drag.as_ref()?;
+        Some(match &drag.original {
+            Some(original) => {
+                let c = original.center();
+                let target = drag.placement.at;
+                let scale = drag.placement.length.unwrap_or(1.0);
+                original
+                    .transformed(-c, 1.0)
+                    .transformed(glam::DVec3::ZERO, scale)
+                    .transformed(glam::DVec3::new(target.x, -target.y, c.z), 1.0)
+            }
+            None => Primitive::from_placement(
+                drag.kind,
+                &drag.placement,
+                drag.size.unwrap_or_else(|| self.default_size()),
+            ),
+        })
+    }
+
+    /// Moves the drag to sketch point `at` and asks for its snapped preview.
+    pub fn drag_to(&mut self, at: DVec2, over_canvas: bool) {
+        let Some(drag) = self.drag.as_mut() else {
+            return;
+        };
+        let moved = drag.placement.at != at || drag.over_canvas != over_canvas;
+        drag.placement.at = at;
+        drag.over_canvas = over_canvas;
+        if drag.original.is_none() && over_canvas {
+            let far = match (drag.sized_at, drag.size) {
+                (Some(from), Some(size)) => from.distance(at) > size * 0.5,
+                (None, Some(_)) => false,
+                _ => true,
+            };
+            if far {
+                let fallback = self.default_size();
+                let Some(drag) = self.drag.as_mut() else {
+                    return;
+                };
+                drag.size = Some(size_under(self.editor.sketch(), at, fallback));
+                drag.sized_at = Some(at);
+            }
+        }
+        if moved && over_canvas {
+            self.request_preview();
+        }
+    }
+
+    fn request_preview(&mut self) {
+        let Some(dragged) = self.dragged_primitive() else {
+            return;
+        };
+        let (context, strokes_revision) = self.workers.context(&self.editor);
+        let Some(drag) = self.drag.as_mut() else {
+            return;
+        };
+        drag.generation += 1;
+        self.workers.request_preview(PreviewRequest {
+            generation: drag.generation,
+            dragged,
+            context,
+            strokes_revision,
+        });
+    }
+
+    /// Scales the dragged primitive (wheel) or turns its axis (Shift + wheel).
+    pub fn adjust_drag(&mut self, scale: f64, turn: f64) {
+        let default = self.default_size();
+        let Some(drag) = self.drag.as_mut() else {
+            return;
+        };
+        if drag.original.is_some() {
+            let s = drag.placement.length.unwrap_or(1.0) * scale;
+            drag.placement.length = Some(s.clamp(0.1, 10.0));
+        } else {
+            let size = drag.size.unwrap_or(default) * scale;
+            drag.size = Some(size.clamp(default * 0.02, default * 20.0));
+            drag.sized_at = None;
+        }
+        if turn != 0.0 {
+            let (s, c) = turn.sin_cos();
+            let a = drag.placement.axis;
+            drag.placement.axis = DVec2::new(a.x * c - a.y * s, a.x * s + a.y * c);
+        }
+        self.request_preview();
+    }
+
+    /// Ends the drag: over the canvas it snaps, infers and solves in the background;
+    /// elsewhere it is dropped.
+    pub fn end_drag(&mut self) {
+        self.workers.clear_preview();
+        let Some(dragged) = self.dragged_primitive() else {
+            return;
+        };
+        let Some(drag) = self.drag.take() else {
+            return;
+        };
+        if !drag.over_canvas {
+            return;
+        }
+        let start = drag
+            .preview
+            .as_ref()
+            .map_or(dragged, |p| p.primitive.clone());
+        let (context, _) = self.workers.context(&self.editor);
+        let document = self.editor.document().clone();
+        let settings = self.editor.settings().clone();
+        let replacing = drag.replacing;
+        let label = match replacing {
+            Some(id) => format!("Move #{}", id.0),
+            None => format!("Place {}", drag.kind.name()),
+        };
+        self.workers
+            .spawn(label, self.editor.revision(), move |cancel, observe| {
+                worker::place(
+                    document, &context, &start, replacing, &settings, cancel, observe,
+                )
+            });
+    }
+
+    /// Drops the drag without placing anything.
+    pub fn cancel_drag(&mut self) {
+        self.workers.clear_preview();
+        self.drag = None;
+    }
+
+    /// Takes in the newest finished preview, if the drag is still on.
+    pub(super) fn poll_preview(&mut self) {
+        if let Some(result) = self.workers.latest_preview() {
+            if let Some(drag) = self.drag.as_mut() {
+                drag.take_preview(result);
+            }
+        }
+    }
+
+    /// Moves the drag to a scripted placement (`--play`).
+    pub(super) fn place_drag(&mut self, placement: Placement) {
+        if let Some(drag) = self.drag.as_mut() {
+            drag.placement = placement;
+            drag.over_canvas = true;
+        }
+    }
+}
