@@ -422,6 +422,21 @@ impl Primitive {
     }
 }
 
+/// The point or direction stored at `x[i..i + 3]` of a parameter vector.
+pub(crate) fn vec3_at(x: &[f64], i: usize) -> DVec3 {
+    DVec3::new(x[i], x[i + 1], x[i + 2])
+}
+
+/// The vector expression stored at `x[i..i + 3]` of a parameter vector.
+pub(crate) fn vec3_expr_at<T: Real>(x: &[T], i: usize) -> Vec3<T> {
+    Vec3::new(x[i], x[i + 1], x[i + 2])
+}
+
+/// The quaternion (w, x, y, z) stored at `x[i..i + 4]` of a parameter vector.
+pub(crate) fn quaternion_at<T: Copy>(x: &[T], i: usize) -> [T; 4] {
+    [x[i], x[i + 1], x[i + 2], x[i + 3]]
+}
+
 /// The two unit vectors spanning the plane ⊥ `axis` used to draw its circles:
 /// `w` horizontal (z = 0) and `k = axis × w`. Their view-plane parts are the projected
 /// ellipse's semi-diameters per unit radius: |w_xy| = 1 and |k_xy| = |axis_z|.
