@@ -22,6 +22,7 @@ mod cylinder;
 mod mesh;
 mod sgc;
 mod sphere;
+mod validate;
 
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -33,6 +34,7 @@ pub use cylinder::Cylinder;
 pub use mesh::TriMesh;
 pub use sgc::Sgc;
 pub use sphere::Sphere;
+pub use validate::{PrimitiveError, UNIT_TOLERANCE};
 
 use crate::core::ad::{Real, Vec2, Vec3};
 
