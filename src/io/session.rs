@@ -474,9 +474,7 @@ fn snap_record(
     snap: SnapV1,
 ) -> Result<(PrimitiveId, SnapRecord), SnapRecordError> {
     let id = PrimitiveId(snap.primitive);
-    let placed = document
-        .get(id)
-        .ok_or(SnapRecordError::NoPrimitive(id.0))?;
+    let placed = document.get(id).ok_or(SnapRecordError::NoPrimitive(id.0))?;
     if !(snap.rms.is_finite() && snap.rms >= 0.0) {
         return Err(SnapRecordError::Rms(snap.rms));
     }

@@ -301,7 +301,12 @@ mod tests {
             }),
             Primitive::Bgc(b),
         ] {
-            assert_eq!(p.validate(), Err(PrimitiveError::NotFinite), "{:?}", p.kind());
+            assert_eq!(
+                p.validate(),
+                Err(PrimitiveError::NotFinite),
+                "{:?}",
+                p.kind()
+            );
         }
     }
 
@@ -361,7 +366,10 @@ mod tests {
             ),
         ] {
             assert_eq!(p.validate(), Err(error.clone()), "{:?}", p.kind());
-            if !matches!(error, PrimitiveError::NoDirection { .. } | PrimitiveError::ZeroRotation) {
+            if !matches!(
+                error,
+                PrimitiveError::NoDirection { .. } | PrimitiveError::ZeroRotation
+            ) {
                 assert_eq!(p.normalized().validate(), Ok(()), "{:?}", p.kind());
             }
         }
@@ -422,7 +430,11 @@ mod tests {
             radii: vec![1.0],
             ..sgc()
         });
-        assert_eq!(short.validate(), Err(PrimitiveError::TooFewRadii), "one radius");
+        assert_eq!(
+            short.validate(),
+            Err(PrimitiveError::TooFewRadii),
+            "one radius"
+        );
         let mut b = bgc();
         b.spine.pop();
         b.radii.pop();
@@ -435,7 +447,10 @@ mod tests {
         b.radii.pop();
         assert_eq!(
             Primitive::Bgc(b).validate(),
-            Err(PrimitiveError::RadiiPerSpinePoint { radii: 2, points: 3 }),
+            Err(PrimitiveError::RadiiPerSpinePoint {
+                radii: 2,
+                points: 3
+            }),
             "a radius missing"
         );
         let mut b = bgc();

@@ -28,8 +28,8 @@ pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
 use crate::core::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::core::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, SettingsError, SolveError, SolveReport,
-    Solver, Start, Termination,
+    AugLagSettings, CancelFlag, Clock, Multipliers, SettingsError, SolveError, SolveReport, Solver,
+    Start, Termination,
 };
 
 /// Why a primitive could not be snapped.
@@ -786,7 +786,10 @@ mod tests {
     fn bad_gates_are_refused() {
         use crate::core::solve::{AugLagSettings, SettingsError};
         let solver = AugLagSettings::default();
-        assert!(SnapSettings::new(0.3, 0.1, solver.clone()).is_ok(), "the defaults");
+        assert!(
+            SnapSettings::new(0.3, 0.1, solver.clone()).is_ok(),
+            "the defaults"
+        );
         for (wide, tight, name) in [
             (f64::NAN, 0.1, "wide_gate"),
             (0.3, 0.0, "tight_gate"),
@@ -801,7 +804,13 @@ mod tests {
         }
         let error = SnapSettings::new(0.1, 0.3, solver).unwrap_err();
         assert!(
-            matches!(error, SettingsError::OutOfRange { name: "tight_gate", .. }),
+            matches!(
+                error,
+                SettingsError::OutOfRange {
+                    name: "tight_gate",
+                    ..
+                }
+            ),
             "{error}"
         );
     }
