@@ -148,7 +148,7 @@ impl Primitive {
             Self::Cuboid(b) => {
                 let len = b.rotation.length();
                 if len > 0.0 && len.is_finite() {
-                    b.rotation = b.rotation / len;
+                    b.rotation = b.rotation.normalize();
                 }
             }
             Self::Bgc(b) => {
