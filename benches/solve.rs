@@ -377,7 +377,9 @@ impl Case {
         let per_rim = shape.per_rim;
         let scene = truth();
         // The settings snapping uses: tolerances 1e-7 in the normalised frame, caps.
-        let settings = geosnap::core::snap::SnapSettings::default().solver;
+        let settings = geosnap::core::snap::SnapSettings::default()
+            .solver()
+            .clone();
         let mut rng = Rng::new(0x5_0001 + per_rim as u64);
         let base = observe(&scene, per_rim, &mut rng);
         let frames: Vec<Vec<DVec2>> = (0..FRAMES).map(|f| drag_frame(&base, per_rim, f)).collect();

@@ -20,7 +20,9 @@ use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
 use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
-use geosnap::io::gltf::{export_gltf, ExportSettings, DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS};
+use geosnap::io::gltf::{
+    export_gltf, ExportSettings, Origin, DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS,
+};
 use geosnap::io::model_file::{load_model, save_model};
 use geosnap::io::overlay::{classes_png, save_overlay, OverlayItem, OverlayRelation};
 use geosnap::io::script::load_script;
@@ -476,11 +478,7 @@ fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
 
 fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> Result<ExitCode> {
     let loaded = load_model(model).with_context(|| format!("reading {}", model.display()))?;
-    let settings = ExportSettings {
-        metres_per_unit: scale,
-        segments,
-        ..ExportSettings::default()
-    };
+    let settings = ExportSettings::new(scale, segments, Origin::default())?;
     write_gltf(&loaded.document, out, &settings)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -502,7 +500,7 @@ fn write_gltf(
         report.nodes,
         report.triangles,
         report.bytes,
-        settings.metres_per_unit,
+        settings.metres_per_unit(),
         path.display()
     );
     Ok(())

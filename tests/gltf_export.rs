@@ -15,7 +15,8 @@ use geosnap::core::model::{
 use geosnap::core::primitive::{Bgc, Feature, Primitive, Sphere};
 use geosnap::core::relation::{Mode, RelationKind};
 use geosnap::io::gltf::{
-    export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, ROOT_NAME,
+    export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, DEFAULT_METRES_PER_UNIT,
+    ROOT_NAME,
 };
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
@@ -246,7 +247,7 @@ fn check_file(path: &Path, document: &Document, settings: &ExportSettings) {
     let bytes = std::fs::read(path).expect("the export exists");
     let gltf = gltf::Gltf::from_slice(&bytes).unwrap_or_else(|e| panic!("{what}: {e}"));
     let data = buffer_data(&gltf);
-    let s = settings.metres_per_unit;
+    let s = settings.metres_per_unit();
 
     let scene = gltf.default_scene().expect("a default scene");
     let roots: Vec<gltf::Node<'_>> = scene.nodes().collect();
@@ -286,7 +287,7 @@ fn check_file(path: &Path, document: &Document, settings: &ExportSettings) {
             root_from_model.transform_point3(lo * s),
             root_from_model.transform_point3(hi * s),
         );
-        let sag = radius * s * (1.0 - (std::f64::consts::TAU / settings.segments as f64).cos());
+        let sag = radius * s * (1.0 - (std::f64::consts::TAU / settings.segments() as f64).cos());
         let eps = 1e-6 * (model_box.1 - model_box.0).length().max(1e-3) + 1e-6;
         for k in 0..3 {
             let (m0, m1, e0, e1) = (mesh_box.0[k], mesh_box.1[k], model_box.0[k], model_box.1[k]);
@@ -298,7 +299,7 @@ fn check_file(path: &Path, document: &Document, settings: &ExportSettings) {
         world.push(mesh_box);
     }
 
-    if settings.origin == Origin::Ground && !document.is_empty() {
+    if settings.origin() == Origin::Ground && !document.is_empty() {
         let (lo, hi) = union(world);
         let tol = 1e-5 * (hi - lo).length();
         assert!(lo.y.abs() < tol, "{what}: stands on y = 0: {lo}");
@@ -358,11 +359,7 @@ fn every_sample_exports_and_reads_back_with_the_gltf_crate() {
     let dir = scratch("roundtrip");
     let variants = [
         ExportSettings::default(),
-        ExportSettings {
-            metres_per_unit: 0.0254,
-            segments: 7,
-            origin: Origin::Model,
-        },
+        ExportSettings::new(0.0254, 7, Origin::Model).expect("valid settings"),
     ];
     for (name, document) in sample_models() {
         for (v, settings) in variants.iter().enumerate() {
@@ -440,19 +437,13 @@ fn every_export_passes_the_khronos_validator() {
         }
     }
     let coarse = dir.join("coarse.glb");
-    let settings = ExportSettings {
-        metres_per_unit: 1.0,
-        segments: 3,
-        origin: Origin::Model,
-    };
+    let settings = ExportSettings::new(1.0, 3, Origin::Model).expect("valid settings");
     export_gltf(&models[0].1, &coarse, &settings).expect("exports");
     files.push(coarse);
     // A sphere of 200 × 401 vertices: u32 indices.
     let dense = dir.join("dense.gltf");
-    let settings = ExportSettings {
-        segments: 400,
-        ..ExportSettings::default()
-    };
+    let settings = ExportSettings::new(DEFAULT_METRES_PER_UNIT, 400, Origin::default())
+        .expect("valid settings");
     let tiny = &models.last().expect("the tiny model").1;
     export_gltf(tiny, &dense, &settings).expect("exports");
     files.push(dense);

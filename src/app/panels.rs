@@ -432,17 +432,18 @@ impl GeosnapApp {
             .show(ctx, |ui| {
                 ui.heading("Relation inference");
                 let inference = &mut self.editor.settings_mut().inference;
+                let mut enabled = inference.enabled_kinds().to_vec();
                 egui::Grid::new("kinds").num_columns(3).show(ui, |ui| {
                     for (k, kind) in RelationKind::ALL.iter().enumerate() {
-                        let mut on = inference.enabled(*kind);
+                        let mut on = enabled.contains(kind);
                         if ui
                             .checkbox(&mut on, kind.name().replace('_', " "))
                             .changed()
                         {
                             if on {
-                                inference.enabled.push(*kind);
+                                enabled.push(*kind);
                             } else {
-                                inference.enabled.retain(|x| x != kind);
+                                enabled.retain(|x| x != kind);
                             }
                         }
                         if k % 3 == 2 {
@@ -450,19 +451,24 @@ impl GeosnapApp {
                         }
                     }
                 });
-                ui.add(
-                    egui::Slider::new(&mut inference.angle_degrees, 0.5..=30.0).text("angle (°)"),
-                );
-                ui.add(
-                    egui::Slider::new(&mut inference.distance, 0.01..=0.5)
-                        .text("distance (× size)"),
-                );
-                ui.add(
-                    egui::Slider::new(&mut inference.radius, 0.005..=0.3).text("radius (relative)"),
-                );
-                ui.add(
-                    egui::Slider::new(&mut inference.length, 0.005..=0.3).text("length (relative)"),
-                );
+                let mut angle_degrees = inference.angle_degrees();
+                let mut distance = inference.distance();
+                let mut radius = inference.radius();
+                let mut length = inference.length();
+                ui.add(egui::Slider::new(&mut angle_degrees, 0.5..=30.0).text("angle (°)"));
+                ui.add(egui::Slider::new(&mut distance, 0.01..=0.5).text("distance (× size)"));
+                ui.add(egui::Slider::new(&mut radius, 0.005..=0.3).text("radius (relative)"));
+                ui.add(egui::Slider::new(&mut length, 0.005..=0.3).text("length (relative)"));
+                // The sliders stay within the valid ranges, so this keeps every change.
+                if let Ok(changed) = crate::core::relation::InferenceSettings::new(
+                    enabled,
+                    angle_degrees,
+                    distance,
+                    radius,
+                    length,
+                ) {
+                    *inference = changed;
+                }
                 if ui.button("Defaults").clicked() {
                     *inference = crate::core::relation::InferenceSettings::default();
                 }

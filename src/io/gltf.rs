@@ -54,7 +54,7 @@ use gltf_json::validation::{Checked, USize64};
 use serde_json::{json, Map, Value};
 
 use crate::core::model::{Document, Fit, Placed, PrimitiveId};
-use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Primitive, PrimitiveKind, Sgc};
+use crate::core::primitive::{Primitive, PrimitiveError, PrimitiveKind};
 use crate::io::atomic::write_atomic;
 use crate::io::model_file::{parse_primitive, parse_relation_with, primitive_json, relation_json};
 
@@ -84,17 +84,12 @@ pub enum Origin {
     Model,
 }
 
-/// How a model is exported.
+/// How a model is exported, checked when made ([`ExportSettings::new`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExportSettings {
-    /// Metres per sketch unit, finite and positive (default
-    /// [`DEFAULT_METRES_PER_UNIT`]).
-    pub metres_per_unit: f64,
-    /// Segments around each circle, [`MIN_SEGMENTS`] to [`MAX_SEGMENTS`] (default
-    /// [`DEFAULT_SEGMENTS`]); a sphere gets half as many rings.
-    pub segments: usize,
-    /// Where the origin goes.
-    pub origin: Origin,
+    metres_per_unit: f64,
+    segments: usize,
+    origin: Origin,
 }
 
 impl Default for ExportSettings {
@@ -108,7 +103,39 @@ impl Default for ExportSettings {
 }
 
 impl ExportSettings {
-    /// Checks every field.
+    /// Settings of `metres_per_unit` metres per sketch unit (finite and positive),
+    /// `segments` segments around each circle ([`MIN_SEGMENTS`] to [`MAX_SEGMENTS`]; a
+    /// sphere gets half as many rings) and the `origin`.
+    ///
+    /// # Errors
+    ///
+    /// [`ExportError::InvalidSetting`] naming the first value out of range.
+    pub fn new(metres_per_unit: f64, segments: usize, origin: Origin) -> Result<Self, ExportError> {
+        let settings = Self {
+            metres_per_unit,
+            segments,
+            origin,
+        };
+        settings.validate()?;
+        Ok(settings)
+    }
+
+    /// Metres per sketch unit (default [`DEFAULT_METRES_PER_UNIT`]).
+    pub fn metres_per_unit(&self) -> f64 {
+        self.metres_per_unit
+    }
+
+    /// Segments around each circle (default [`DEFAULT_SEGMENTS`]).
+    pub fn segments(&self) -> usize {
+        self.segments
+    }
+
+    /// Where the origin goes.
+    pub fn origin(&self) -> Origin {
+        self.origin
+    }
+
+    /// Checks every field (settings made by [`ExportSettings::new`] always pass).
     ///
     /// # Errors
     ///
@@ -197,13 +224,19 @@ pub enum ExportError {
         path: PathBuf,
     },
     /// A primitive cannot be meshed: a non-finite parameter, a non-positive size, a
-    /// zero axis.
-    #[error("primitive {node}: {reason}")]
+    /// zero axis (see [`Primitive::validate`]). Field names show without backticks.
+    #[error("primitive {node}: {}", .reason.to_string().replace('`', ""))]
     InvalidPrimitive {
         /// Its node name (`cylinder_3`).
         node: String,
         /// What is wrong.
-        reason: String,
+        reason: PrimitiveError,
+    },
+    /// A valid primitive gave an empty mesh.
+    #[error("primitive {node}: its mesh is empty")]
+    EmptyMesh {
+        /// Its node name (`cylinder_3`).
+        node: String,
     },
     /// The model does not fit glTF's limits (`f32` coordinates, a 4 GiB GLB).
     #[error("the model is too large for glTF: {reason}")]
@@ -401,16 +434,18 @@ struct Part {
 impl Part {
     fn new(id: PrimitiveId, primitive: &Primitive, segments: usize) -> Result<Self, ExportError> {
         let name = node_name(primitive.kind(), id);
-        let primitive = checked(primitive).map_err(|reason| ExportError::InvalidPrimitive {
-            node: name.clone(),
-            reason,
-        })?;
+        let primitive = primitive.normalized();
+        primitive
+            .validate()
+            .map_err(|reason| ExportError::InvalidPrimitive {
+                node: name.clone(),
+                reason,
+            })?;
         let (center, rotation) = frame(&primitive);
         let mesh = primitive.mesh(segments);
-        let bounds = mesh.bounds().ok_or_else(|| ExportError::InvalidPrimitive {
-            node: name.clone(),
-            reason: "its mesh is empty".to_owned(),
-        })?;
+        let bounds = mesh
+            .bounds()
+            .ok_or_else(|| ExportError::EmptyMesh { node: name.clone() })?;
         let to_local = rotation.inverse();
         Ok(Self {
             id,
@@ -446,121 +481,6 @@ fn ground_offset(parts: &[Part]) -> DVec3 {
     let mid = (lo + hi) / 2.0;
     // `+ 0.0` turns a −0 into 0 so the file does not show "-0.0".
     DVec3::new(-mid.x, -lo.y, -mid.z) + 0.0
-}
-
-/// A copy of `p` with unit axes and frames, or why it cannot be meshed.
-fn checked(p: &Primitive) -> Result<Primitive, String> {
-    let finite = |values: &[f64]| {
-        if values.iter().all(|v| v.is_finite()) {
-            Ok(())
-        } else {
-            Err("a parameter is NaN or infinite".to_owned())
-        }
-    };
-    let positive = |v: f64, what: &str| {
-        if v > 0.0 {
-            Ok(())
-        } else {
-            Err(format!("{what} must be positive, got {v}"))
-        }
-    };
-    let unit = |a: DVec3, what: &str| {
-        a.try_normalize()
-            .ok_or_else(|| format!("{what} has no direction"))
-    };
-    let v = |a: DVec3| [a.x, a.y, a.z];
-    Ok(match p {
-        Primitive::Cylinder(c) => {
-            finite(&[v(c.center), v(c.axis), [c.length, c.radius, 0.0]].concat())?;
-            positive(c.length, "length")?;
-            positive(c.radius, "radius")?;
-            Primitive::Cylinder(Cylinder {
-                axis: unit(c.axis, "axis")?,
-                ..c.clone()
-            })
-        }
-        Primitive::Cone(c) => {
-            let sizes = [c.length, c.radius_bottom, c.radius_top];
-            finite(&[v(c.center), v(c.axis), sizes].concat())?;
-            positive(c.length, "length")?;
-            positive(c.radius_bottom, "radius_bottom")?;
-            positive(c.radius_top, "radius_top")?;
-            Primitive::Cone(Cone {
-                axis: unit(c.axis, "axis")?,
-                ..c.clone()
-            })
-        }
-        Primitive::Sphere(s) => {
-            finite(&[v(s.center), [s.radius, 0.0, 0.0]].concat())?;
-            positive(s.radius, "radius")?;
-            p.clone()
-        }
-        Primitive::Cuboid(b) => {
-            let q = b.rotation;
-            finite(&[v(b.center), v(b.size), [q.x, q.y, q.z], [q.w, 0.0, 0.0]].concat())?;
-            for (value, what) in b
-                .size
-                .to_array()
-                .into_iter()
-                .zip(["width", "height", "depth"])
-            {
-                positive(value, what)?;
-            }
-            if !(q.length_squared() > 0.0) {
-                return Err("the rotation is zero".to_owned());
-            }
-            Primitive::Cuboid(Cuboid {
-                rotation: q.normalize(),
-                ..b.clone()
-            })
-        }
-        Primitive::Sgc(s) => {
-            finite(&[v(s.center), v(s.axis), [s.length, 0.0, 0.0]].concat())?;
-            finite(&s.radii)?;
-            positive(s.length, "length")?;
-            if s.radii.len() < 2 {
-                return Err("an sgc needs at least two radii".to_owned());
-            }
-            for r in &s.radii {
-                positive(*r, "every radius")?;
-            }
-            Primitive::Sgc(Sgc {
-                axis: unit(s.axis, "axis")?,
-                ..s.clone()
-            })
-        }
-        Primitive::Bgc(b) => checked_bgc(b)?,
-    })
-}
-
-fn checked_bgc(b: &Bgc) -> Result<Primitive, String> {
-    let coords: Vec<f64> = b.spine.iter().flat_map(DVec3::to_array).collect();
-    let n = b.plane_normal;
-    if !(coords.iter().chain(&b.radii).all(|v| v.is_finite())
-        && [n.x, n.y, n.z].iter().all(|v| v.is_finite()))
-    {
-        return Err("a parameter is NaN or infinite".to_owned());
-    }
-    if b.spine.len() < 2 {
-        return Err("a bgc needs at least two spine points".to_owned());
-    }
-    if b.radii.len() != b.spine.len() {
-        return Err(format!(
-            "{} radii for {} spine points",
-            b.radii.len(),
-            b.spine.len()
-        ));
-    }
-    if let Some(r) = b.radii.iter().find(|r| !(**r > 0.0)) {
-        return Err(format!("every radius must be positive, got {r}"));
-    }
-    if let Some(i) = b.spine.windows(2).position(|w| w[0] == w[1]) {
-        return Err(format!("spine points {i} and {} coincide", i + 1));
-    }
-    Ok(Primitive::Bgc(Bgc {
-        plane_normal: n.try_normalize().unwrap_or(DVec3::Z),
-        ..b.clone()
-    }))
 }
 
 /// The node frame of a (checked) primitive in model space: its centre and the rotation
@@ -1046,7 +966,8 @@ mod tests {
 
     use super::{
         base64, colour, encode_gltf, export_gltf, ground_offset, parse_gltf_extras, primitive_json,
-        ExportError, ExportSettings, GltfFormat, Origin, Part,
+        ExportError, ExportSettings, GltfFormat, Origin, Part, DEFAULT_METRES_PER_UNIT,
+        DEFAULT_SEGMENTS,
     };
     use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation};
     use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, Sgc, Sphere};
@@ -1161,11 +1082,8 @@ mod tests {
     fn settings_out_of_range_are_named() {
         assert!(ExportSettings::default().validate().is_ok());
         for scale in [f64::NAN, 0.0, -0.001, f64::INFINITY] {
-            let settings = ExportSettings {
-                metres_per_unit: scale,
-                ..ExportSettings::default()
-            };
-            let error = encode_gltf(&every_kind(), GltfFormat::Glb, &settings).unwrap_err();
+            let error =
+                ExportSettings::new(scale, DEFAULT_SEGMENTS, Origin::default()).unwrap_err();
             assert!(
                 matches!(
                     error,
@@ -1178,11 +1096,8 @@ mod tests {
             );
         }
         for segments in [0, 2, 1025] {
-            let settings = ExportSettings {
-                segments,
-                ..ExportSettings::default()
-            };
-            let error = settings.validate().unwrap_err();
+            let error = ExportSettings::new(DEFAULT_METRES_PER_UNIT, segments, Origin::default())
+                .unwrap_err();
             assert!(error.to_string().contains("segments"), "{error}");
         }
     }
@@ -1340,11 +1255,7 @@ mod tests {
     #[test]
     fn extras_round_trip_every_kind_and_the_relations() {
         let doc = every_kind();
-        let settings = ExportSettings {
-            metres_per_unit: 0.0254,
-            origin: Origin::Model,
-            ..ExportSettings::default()
-        };
+        let settings = ExportSettings::new(0.0254, DEFAULT_SEGMENTS, Origin::Model).unwrap();
         for format in [GltfFormat::Glb, GltfFormat::Gltf] {
             let (bytes, report) = encode_gltf(&doc, format, &settings).unwrap();
             assert_eq!(report.nodes, 6);
@@ -1399,10 +1310,8 @@ mod tests {
                 }),
                 fit: Fit::default(),
             });
-            let settings = ExportSettings {
-                segments,
-                ..ExportSettings::default()
-            };
+            let settings =
+                ExportSettings::new(DEFAULT_METRES_PER_UNIT, segments, Origin::default()).unwrap();
             let (bytes, _) = encode_gltf(&doc, GltfFormat::Glb, &settings).unwrap();
             let root: Value = serde_json::from_slice(super::json_chunk(&bytes).unwrap()).unwrap();
             root["accessors"][2]["componentType"].as_u64()

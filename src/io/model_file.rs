@@ -10,7 +10,9 @@ use glam::{DMat3, DQuat, DVec3};
 use serde_json::{json, Map, Value};
 
 use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, Skipped};
-use crate::core::primitive::{Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, Sgc, Sphere};
+use crate::core::primitive::{
+    Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, PrimitiveError, Sgc, Sphere, UNIT_TOLERANCE,
+};
 use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
 use crate::core::snap::Verdict;
@@ -57,8 +59,59 @@ pub enum ModelError {
         /// The primitive's id (or its index when the id is missing).
         id: String,
         /// What is wrong.
-        reason: String,
+        reason: PrimitiveReadError,
     },
+}
+
+/// What is wrong with one primitive of a model file (or of a glTF file's extras).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PrimitiveReadError {
+    /// The `id` is missing or not a non-negative integer.
+    #[error("`id` must be a non-negative integer")]
+    Id,
+    /// Another primitive has the same id.
+    #[error("the id is used twice")]
+    DuplicateId,
+    /// The `kind` is missing.
+    #[error("`kind` is missing")]
+    MissingKind,
+    /// The `kind` names no primitive kind.
+    #[error("unknown kind `{0}`")]
+    UnknownKind(String),
+    /// A number field is missing or not a finite number.
+    #[error("`{0}` must be a finite number")]
+    Number(&'static str),
+    /// A vector field is missing or not three numbers.
+    #[error("`{0}` must be [x, y, z]")]
+    Vector(&'static str),
+    /// A vector field holds something other than finite numbers.
+    #[error("`{0}` must hold finite numbers")]
+    VectorEntry(&'static str),
+    /// A radius list is missing or shorter than two.
+    #[error("`{0}` must be a list of at least two radii")]
+    Radii(&'static str),
+    /// A radius list holds something other than positive numbers.
+    #[error("`{0}` must hold positive numbers")]
+    Radius(&'static str),
+    /// A cuboid's `axes` are not three vectors.
+    #[error("`axes` must be three vectors")]
+    Axes,
+    /// A cuboid's `axes` are not an orthonormal right-handed frame.
+    #[error("`axes` must be an orthonormal right-handed frame")]
+    Frame,
+    /// A bent tube's `spine` is missing or shorter than three points.
+    #[error("`spine` must hold at least three points")]
+    Spine,
+    /// The `fit.verdict` is not one of the verdicts (the JSON found).
+    #[error("`fit.verdict` must be \"good\", \"doubtful\" or \"refused\", not {0}")]
+    Verdict(String),
+    /// The `fit.confidence` is not a number in [0, 1] (the JSON found).
+    #[error("`fit.confidence` must be a number in [0, 1], not {0}")]
+    Confidence(String),
+    /// The primitive breaks an invariant of its kind.
+    #[error(transparent)]
+    Invalid(#[from] PrimitiveError),
 }
 
 fn v3(v: DVec3) -> Value {
@@ -139,7 +192,7 @@ fn fit_json(fit: &Fit) -> Value {
 
 /// The `fit` object of primitive `p` and its `step` (formats.md §3); a missing `fit` is an
 /// empty one.
-fn parse_fit(p: &Value) -> Result<Fit, String> {
+fn parse_fit(p: &Value) -> Result<Fit, PrimitiveReadError> {
     let step = p
         .get("step")
         .and_then(Value::as_u64)
@@ -152,9 +205,11 @@ fn parse_fit(p: &Value) -> Result<Fit, String> {
     };
     let verdict = match f.get("verdict") {
         None => None,
-        Some(v) => Some(v.as_str().and_then(Verdict::from_name).ok_or_else(|| {
-            format!("`fit.verdict` must be \"good\", \"doubtful\" or \"refused\", not {v}")
-        })?),
+        Some(v) => Some(
+            v.as_str()
+                .and_then(Verdict::from_name)
+                .ok_or_else(|| PrimitiveReadError::Verdict(v.to_string()))?,
+        ),
     };
     Ok(Fit {
         strokes: f
@@ -175,9 +230,7 @@ fn parse_fit(p: &Value) -> Result<Fit, String> {
             Some(c) => Some(
                 c.as_f64()
                     .filter(|c| (0.0..=1.0).contains(c))
-                    .ok_or_else(|| {
-                        format!("`fit.confidence` must be a number in [0, 1], not {c}")
-                    })?,
+                    .ok_or_else(|| PrimitiveReadError::Confidence(c.to_string()))?,
             ),
         },
         reason: f.get("reason").and_then(Value::as_str).map(str::to_owned),
@@ -264,118 +317,112 @@ pub fn load_model(path: impl AsRef<Path>) -> Result<LoadedModel, ModelError> {
     parse_model(&data)
 }
 
-fn get_f64(map: &Value, field: &str) -> Result<f64, String> {
+fn get_f64(map: &Value, field: &'static str) -> Result<f64, PrimitiveReadError> {
     map.get(field)
         .and_then(Value::as_f64)
         .filter(|v| v.is_finite())
-        .ok_or_else(|| format!("`{field}` must be a finite number"))
+        .ok_or(PrimitiveReadError::Number(field))
 }
 
-fn get_v3(value: Option<&Value>, field: &str) -> Result<DVec3, String> {
+fn get_v3(value: Option<&Value>, field: &'static str) -> Result<DVec3, PrimitiveReadError> {
     let items = value
         .and_then(Value::as_array)
         .filter(|a| a.len() == 3)
-        .ok_or_else(|| format!("`{field}` must be [x, y, z]"))?;
+        .ok_or(PrimitiveReadError::Vector(field))?;
     let mut out = [0.0; 3];
     for (o, item) in out.iter_mut().zip(items) {
         *o = item
             .as_f64()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("`{field}` must hold finite numbers"))?;
+            .ok_or(PrimitiveReadError::VectorEntry(field))?;
     }
     Ok(DVec3::from_array(out))
 }
 
-fn get_radii(map: &Value, field: &str) -> Result<Vec<f64>, String> {
+fn get_radii(map: &Value, field: &'static str) -> Result<Vec<f64>, PrimitiveReadError> {
     let items = map
         .get(field)
         .and_then(Value::as_array)
         .filter(|a| a.len() >= 2)
-        .ok_or_else(|| format!("`{field}` must be a list of at least two radii"))?;
+        .ok_or(PrimitiveReadError::Radii(field))?;
     items
         .iter()
         .map(|v| {
             v.as_f64()
                 .filter(|r| r.is_finite() && *r > 0.0)
-                .ok_or_else(|| format!("`{field}` must hold positive numbers"))
+                .ok_or(PrimitiveReadError::Radius(field))
         })
         .collect()
 }
 
-fn unit(v: DVec3, field: &str) -> Result<DVec3, String> {
-    if (v.length() - 1.0).abs() <= 1e-6 {
-        Ok(v)
-    } else {
-        Err(format!(
-            "`{field}` must be a unit vector, has length {}",
-            v.length()
-        ))
+/// The rotation of a cuboid's `axes`: three unit vectors forming an orthonormal
+/// right-handed frame.
+fn frame_rotation(v: &Value) -> Result<DQuat, PrimitiveReadError> {
+    let axes = v
+        .get("axes")
+        .and_then(Value::as_array)
+        .filter(|a| a.len() == 3)
+        .ok_or(PrimitiveReadError::Axes)?;
+    let [x, y, z] = [0, 1, 2].map(|i| get_v3(axes.get(i), "axes"));
+    let [x, y, z] = [x?, y?, z?];
+    for axis in [x, y, z] {
+        let length = axis.length();
+        if (length - 1.0).abs() > UNIT_TOLERANCE {
+            return Err(PrimitiveError::NotUnit {
+                field: "axes",
+                length,
+            }
+            .into());
+        }
     }
+    let m = DMat3::from_cols(x, y, z);
+    if (m.transpose() * m - DMat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .any(|e| e.abs() > UNIT_TOLERANCE)
+        || m.determinant() < 0.0
+    {
+        return Err(PrimitiveReadError::Frame);
+    }
+    Ok(DQuat::from_mat3(&m).normalize())
 }
 
-fn positive(v: f64, field: &str) -> Result<f64, String> {
-    if v > 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("`{field}` must be positive, got {v}"))
-    }
-}
-
-/// One primitive from its JSON.
-pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, String> {
+/// One primitive from its JSON, checked with [`Primitive::validate`].
+pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, PrimitiveReadError> {
     let kind = v
         .get("kind")
         .and_then(Value::as_str)
-        .ok_or("`kind` is missing")?;
-    Ok(match kind {
+        .ok_or(PrimitiveReadError::MissingKind)?;
+    let primitive = match kind {
         "cylinder" => Primitive::Cylinder(Cylinder {
             center: get_v3(v.get("center"), "center")?,
-            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
-            length: positive(get_f64(v, "length")?, "length")?,
-            radius: positive(get_f64(v, "radius")?, "radius")?,
+            axis: get_v3(v.get("axis"), "axis")?,
+            length: get_f64(v, "length")?,
+            radius: get_f64(v, "radius")?,
         }),
         "cone" => Primitive::Cone(Cone {
             center: get_v3(v.get("center"), "center")?,
-            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
-            length: positive(get_f64(v, "length")?, "length")?,
-            radius_bottom: positive(get_f64(v, "radius_bottom")?, "radius_bottom")?,
-            radius_top: positive(get_f64(v, "radius_top")?, "radius_top")?,
+            axis: get_v3(v.get("axis"), "axis")?,
+            length: get_f64(v, "length")?,
+            radius_bottom: get_f64(v, "radius_bottom")?,
+            radius_top: get_f64(v, "radius_top")?,
         }),
         "sphere" => Primitive::Sphere(Sphere {
             center: get_v3(v.get("center"), "center")?,
-            radius: positive(get_f64(v, "radius")?, "radius")?,
+            radius: get_f64(v, "radius")?,
         }),
         "cuboid" => {
-            let axes = v
-                .get("axes")
-                .and_then(Value::as_array)
-                .filter(|a| a.len() == 3)
-                .ok_or("`axes` must be three vectors")?;
-            let [x, y, z] = [0, 1, 2].map(|i| get_v3(axes.get(i), "axes"));
-            let (x, y, z) = (unit(x?, "axes")?, unit(y?, "axes")?, unit(z?, "axes")?);
-            let m = DMat3::from_cols(x, y, z);
-            if (m.transpose() * m - DMat3::IDENTITY)
-                .to_cols_array()
-                .iter()
-                .any(|e| e.abs() > 1e-6)
-                || m.determinant() < 0.0
-            {
-                return Err("`axes` must be an orthonormal right-handed frame".to_owned());
-            }
-            let size = get_v3(v.get("size"), "size")?;
-            if size.min_element() <= 0.0 {
-                return Err("`size` must be positive".to_owned());
-            }
+            let rotation = frame_rotation(v)?;
             Primitive::Cuboid(Cuboid {
+                size: get_v3(v.get("size"), "size")?,
                 center: get_v3(v.get("center"), "center")?,
-                rotation: DQuat::from_mat3(&m).normalize(),
-                size,
+                rotation,
             })
         }
         "sgc" => Primitive::Sgc(Sgc {
             center: get_v3(v.get("center"), "center")?,
-            axis: unit(get_v3(v.get("axis"), "axis")?, "axis")?,
-            length: positive(get_f64(v, "length")?, "length")?,
+            axis: get_v3(v.get("axis"), "axis")?,
+            length: get_f64(v, "length")?,
             radii: get_radii(v, "radii")?,
         }),
         "bgc" => {
@@ -383,26 +430,23 @@ pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, String> {
                 .get("spine")
                 .and_then(Value::as_array)
                 .filter(|a| a.len() >= 3)
-                .ok_or("`spine` must hold at least three points")?
+                .ok_or(PrimitiveReadError::Spine)?
                 .iter()
                 .map(|p| get_v3(Some(p), "spine"))
                 .collect::<Result<_, _>>()?;
-            let radii = get_radii(v, "radii")?;
-            if radii.len() != spine.len() {
-                return Err("`radii` must have one radius per spine point".to_owned());
-            }
-            let plane_normal = match v.get("plane_normal") {
-                Some(n) => unit(get_v3(Some(n), "plane_normal")?, "plane_normal")?,
-                None => DVec3::Z,
-            };
             Primitive::Bgc(Bgc {
                 spine,
-                radii,
-                plane_normal,
+                radii: get_radii(v, "radii")?,
+                plane_normal: match v.get("plane_normal") {
+                    Some(n) => get_v3(Some(n), "plane_normal")?,
+                    None => DVec3::Z,
+                },
             })
         }
-        other => return Err(format!("unknown kind `{other}`")),
-    })
+        other => return Err(PrimitiveReadError::UnknownKind(other.to_owned())),
+    };
+    primitive.validate()?;
+    Ok(primitive)
 }
 
 /// Parses model data.
@@ -435,7 +479,7 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
         let id_text = p
             .get("id")
             .map_or_else(|| format!("#{index}"), Value::to_string);
-        let fail = |reason: String| ModelError::Primitive {
+        let fail = |reason: PrimitiveReadError| ModelError::Primitive {
             id: id_text.clone(),
             reason,
         };
@@ -443,9 +487,9 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
             .get("id")
             .and_then(Value::as_u64)
             .and_then(|i| u32::try_from(i).ok())
-            .ok_or_else(|| fail("`id` must be a non-negative integer".into()))?;
+            .ok_or_else(|| fail(PrimitiveReadError::Id))?;
         if document.get(PrimitiveId(id)).is_some() {
-            return Err(fail("the id is used twice".into()));
+            return Err(fail(PrimitiveReadError::DuplicateId));
         }
         let primitive = parse_primitive(p).map_err(fail)?;
         let fit = parse_fit(p).map_err(fail)?;

@@ -138,25 +138,89 @@ pub fn parse_script(data: &[u8], base: &Path) -> Result<Script, ScriptError> {
     })
 }
 
+/// Why a script step is invalid (kept in the script as [`Step::Invalid`] with this
+/// text).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum StepError {
+    /// The step has no `place`.
+    #[error("a step needs `place`, the primitive kind")]
+    MissingKind,
+    /// The `place` names no primitive kind.
+    #[error("unknown primitive kind `{0}` (known: cylinder, cone, sphere, cuboid, sgc, bgc)")]
+    UnknownKind(String),
+    /// The step has no `at`.
+    #[error("a step needs `at`, the sketch point [x, y]")]
+    MissingAt,
+    /// A number field is not a finite number (the JSON found).
+    #[error("`{field}` must be a finite number, got {found}")]
+    Number {
+        /// The field.
+        field: &'static str,
+        /// The JSON found.
+        found: String,
+    },
+    /// An array field holds something other than finite numbers.
+    #[error("`{field}` must hold {len} finite numbers")]
+    Entry {
+        /// The field.
+        field: &'static str,
+        /// The number of entries it needs.
+        len: usize,
+    },
+    /// An array field is not an array of the right length (the JSON found).
+    #[error("`{field}` must be an array of {len} numbers, got {found}")]
+    Array {
+        /// The field.
+        field: &'static str,
+        /// The number of entries it needs.
+        len: usize,
+        /// The JSON found.
+        found: String,
+    },
+    /// A size is zero or negative.
+    #[error("`{field}` must be positive, got {value}")]
+    NotPositive {
+        /// The field.
+        field: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// The image direction is zero.
+    #[error("`axis` must not be [0, 0]")]
+    ZeroAxis,
+    /// A box size is zero or negative.
+    #[error("`size` must hold three positive numbers")]
+    Size,
+}
+
 /// Reads one step; any problem becomes [`Step::Invalid`].
 fn parse_step(value: &Value) -> Step {
     match try_step(value) {
         Ok(step) => step,
-        Err(reason) => Step::Invalid { reason },
-    }
-}
-
-fn number(value: &Value, field: &str) -> Result<Option<f64>, String> {
-    match value.get(field) {
-        None | Some(Value::Null) => Ok(None),
-        Some(v) => match v.as_f64() {
-            Some(x) if x.is_finite() => Ok(Some(x)),
-            _ => Err(format!("`{field}` must be a finite number, got {v}")),
+        Err(reason) => Step::Invalid {
+            reason: reason.to_string(),
         },
     }
 }
 
-fn numbers<const N: usize>(value: &Value, field: &str) -> Result<Option<[f64; N]>, String> {
+fn number(value: &Value, field: &'static str) -> Result<Option<f64>, StepError> {
+    match value.get(field) {
+        None | Some(Value::Null) => Ok(None),
+        Some(v) => match v.as_f64() {
+            Some(x) if x.is_finite() => Ok(Some(x)),
+            _ => Err(StepError::Number {
+                field,
+                found: v.to_string(),
+            }),
+        },
+    }
+}
+
+fn numbers<const N: usize>(
+    value: &Value,
+    field: &'static str,
+) -> Result<Option<[f64; N]>, StepError> {
     match value.get(field) {
         None | Some(Value::Null) => Ok(None),
         Some(Value::Array(items)) if items.len() == N => {
@@ -164,42 +228,41 @@ fn numbers<const N: usize>(value: &Value, field: &str) -> Result<Option<[f64; N]
             for (o, item) in out.iter_mut().zip(items) {
                 match item.as_f64() {
                     Some(x) if x.is_finite() => *o = x,
-                    _ => return Err(format!("`{field}` must hold {N} finite numbers")),
+                    _ => return Err(StepError::Entry { field, len: N }),
                 }
             }
             Ok(Some(out))
         }
-        Some(v) => Err(format!(
-            "`{field}` must be an array of {N} numbers, got {v}"
-        )),
+        Some(v) => Err(StepError::Array {
+            field,
+            len: N,
+            found: v.to_string(),
+        }),
     }
 }
 
-fn positive(value: Option<f64>, field: &str) -> Result<Option<f64>, String> {
+fn positive(value: Option<f64>, field: &'static str) -> Result<Option<f64>, StepError> {
     match value {
-        Some(v) if v <= 0.0 => Err(format!("`{field}` must be positive, got {v}")),
+        Some(v) if v <= 0.0 => Err(StepError::NotPositive { field, value: v }),
         other => Ok(other),
     }
 }
 
-fn try_step(value: &Value) -> Result<Step, String> {
+fn try_step(value: &Value) -> Result<Step, StepError> {
     let kind_name = value
         .get("place")
         .and_then(Value::as_str)
-        .ok_or("a step needs `place`, the primitive kind")?;
-    let kind = PrimitiveKind::from_name(kind_name).ok_or_else(|| {
-        format!(
-            "unknown primitive kind `{kind_name}` (known: cylinder, cone, sphere, cuboid, sgc, bgc)"
-        )
-    })?;
-    let at = numbers::<2>(value, "at")?.ok_or("a step needs `at`, the sketch point [x, y]")?;
+        .ok_or(StepError::MissingKind)?;
+    let kind = PrimitiveKind::from_name(kind_name)
+        .ok_or_else(|| StepError::UnknownKind(kind_name.to_owned()))?;
+    let at = numbers::<2>(value, "at")?.ok_or(StepError::MissingAt)?;
     let axis = numbers::<2>(value, "axis")?.map_or(DVec2::new(0.0, -1.0), DVec2::from_array);
     if axis.length() == 0.0 {
-        return Err("`axis` must not be [0, 0]".to_owned());
+        return Err(StepError::ZeroAxis);
     }
     let size = numbers::<3>(value, "size")?;
     if size.is_some_and(|s| s.iter().any(|v| *v <= 0.0)) {
-        return Err("`size` must hold three positive numbers".to_owned());
+        return Err(StepError::Size);
     }
     Ok(Step::Place {
         kind,

@@ -61,7 +61,7 @@ use serde_json::Value;
 
 use crate::core::model::{Dimension, Document, PrimitiveId, SnapRecord};
 use crate::core::sketch::{Sketch, StrokeId};
-use crate::core::snap::{restore_assignment, CurveStrokes, SnapContext};
+use crate::core::snap::{restore_assignment, CurveStrokes, RestoreError, SnapContext};
 use crate::io::model_file::{model_json, parse_model, ModelError};
 use crate::io::sketch_file::{parse_sketch_file, sketch_file_bytes};
 use crate::io::{write_atomic, LoadError, SaveError};
@@ -170,8 +170,31 @@ pub enum SessionError {
         /// Its position in `snaps`.
         index: usize,
         /// What is wrong.
-        reason: String,
+        reason: SnapRecordError,
     },
+}
+
+/// What is wrong with one stored snap record.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SnapRecordError {
+    /// The record names a primitive the model does not hold.
+    #[error("there is no primitive {0}")]
+    NoPrimitive(u32),
+    /// The stored RMS is negative or not finite.
+    #[error("`rms` must be a finite non-negative number, not {0}")]
+    Rms(f64),
+    /// A partly assigned stroke is not among its curve's strokes.
+    #[error("stroke {stroke} is not assigned to curve {curve}")]
+    Part {
+        /// The stroke.
+        stroke: u32,
+        /// The curve.
+        curve: usize,
+    },
+    /// The strokes do not fit the primitive's curves or the sketch.
+    #[error(transparent)]
+    Restore(#[from] RestoreError),
 }
 
 /// A snap record as stored.
@@ -449,16 +472,11 @@ fn snap_record(
     document: &Document,
     context: &SnapContext,
     snap: SnapV1,
-) -> Result<(PrimitiveId, SnapRecord), String> {
+) -> Result<(PrimitiveId, SnapRecord), SnapRecordError> {
     let id = PrimitiveId(snap.primitive);
-    let placed = document
-        .get(id)
-        .ok_or_else(|| format!("there is no primitive {}", id.0))?;
+    let placed = document.get(id).ok_or(SnapRecordError::NoPrimitive(id.0))?;
     if !(snap.rms.is_finite() && snap.rms >= 0.0) {
-        return Err(format!(
-            "`rms` must be a finite non-negative number, not {}",
-            snap.rms
-        ));
+        return Err(SnapRecordError::Rms(snap.rms));
     }
     let mut strokes: Vec<CurveStrokes> = snap
         .curves
@@ -469,16 +487,14 @@ fn snap_record(
         let slot = strokes
             .get_mut(part.curve)
             .and_then(|c| c.iter_mut().find(|(s, _)| s.0 == part.stroke))
-            .ok_or_else(|| {
-                format!(
-                    "stroke {} is not assigned to curve {}",
-                    part.stroke, part.curve
-                )
+            .ok_or(SnapRecordError::Part {
+                stroke: part.stroke,
+                curve: part.curve,
             })?;
         slot.1 = Some(part.samples);
     }
     let curves = placed.primitive.current_shape().curves;
-    let assignment = restore_assignment(context, &curves, &strokes).map_err(|e| e.to_string())?;
+    let assignment = restore_assignment(context, &curves, &strokes)?;
     Ok((
         id,
         SnapRecord {

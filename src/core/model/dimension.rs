@@ -12,7 +12,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{Document, PrimitiveId};
-use crate::core::primitive::{Primitive, PrimitiveKind};
+use crate::core::primitive::{Cone, Cuboid, Cylinder, Primitive, PrimitiveKind, Sgc, Sphere};
 
 /// A size of a primitive that can be dimensioned, in model space (sketch units).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -79,18 +79,16 @@ impl Quantity {
     /// the normalised frame scales by 1/s.
     pub(crate) fn param_index(self, kind: PrimitiveKind) -> Option<usize> {
         match (kind, self) {
-            (PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc, Self::Length) => {
-                Some(6)
-            }
-            (PrimitiveKind::Cylinder, Self::Radius) | (PrimitiveKind::Cone, Self::RadiusBottom) => {
-                Some(7)
-            }
-            (PrimitiveKind::Cone, Self::RadiusTop) | (PrimitiveKind::Cuboid, Self::Height) => {
-                Some(8)
-            }
-            (PrimitiveKind::Sphere, Self::Radius) => Some(3),
-            (PrimitiveKind::Cuboid, Self::Width) => Some(7),
-            (PrimitiveKind::Cuboid, Self::Depth) => Some(9),
+            (PrimitiveKind::Cylinder, Self::Length) => Some(Cylinder::LENGTH),
+            (PrimitiveKind::Cylinder, Self::Radius) => Some(Cylinder::RADIUS),
+            (PrimitiveKind::Cone, Self::Length) => Some(Cone::LENGTH),
+            (PrimitiveKind::Cone, Self::RadiusBottom) => Some(Cone::RADIUS_BOTTOM),
+            (PrimitiveKind::Cone, Self::RadiusTop) => Some(Cone::RADIUS_TOP),
+            (PrimitiveKind::Sgc, Self::Length) => Some(Sgc::LENGTH),
+            (PrimitiveKind::Sphere, Self::Radius) => Some(Sphere::RADIUS),
+            (PrimitiveKind::Cuboid, Self::Width) => Some(Cuboid::WIDTH),
+            (PrimitiveKind::Cuboid, Self::Height) => Some(Cuboid::HEIGHT),
+            (PrimitiveKind::Cuboid, Self::Depth) => Some(Cuboid::DEPTH),
             _ => None,
         }
     }

@@ -39,8 +39,8 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::{orthonormal_basis, TriMesh};
 use super::{
-    circle_basis, circle_ellipse, quaternion_columns, Curve2, CurveClass, Feature, FeatureCurve,
-    FeatureGeometry, Placement, ProjectedCurve, Shape, PROFILE_SAMPLES,
+    circle_basis, circle_ellipse, quaternion_at, quaternion_columns, vec3_expr_at, Curve2,
+    CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};
@@ -89,13 +89,14 @@ struct Spine<T> {
 }
 
 fn spine<T: Real>(k: usize, x: &[T]) -> Spine<T> {
-    let c = Vec3::new(x[0], x[1], x[2]);
+    let c = vec3_expr_at(x, Bgc::CENTER);
     // The quaternion is normalised here (its scale is free, fixed by a regulariser), so
     // the fit has no equality constraint to satisfy.
-    let norm = (x[3].square() + x[4].square() + x[5].square() + x[6].square()).sqrt();
-    let [u, v, n] = quaternion_columns([x[3] / norm, x[4] / norm, x[5] / norm, x[6] / norm]);
-    let h = x[7];
-    let kappa = &x[8..8 + k - 2];
+    let q = quaternion_at(x, Bgc::ROTATION);
+    let norm = (q[0].square() + q[1].square() + q[2].square() + q[3].square()).sqrt();
+    let [u, v, n] = quaternion_columns(q.map(|v| v / norm));
+    let h = x[Bgc::SEGMENT];
+    let kappa = &x[Bgc::turns(k)];
     let m = middle(k);
     let zero = h.lit(0.0);
     // Segment directions φ_s: φ_m = 0, φ_s − φ_{s−1} = κ_s (κ_s is kappa[s − 1]).
@@ -219,6 +220,25 @@ fn is_s_bend(kappa: &[f64]) -> bool {
 }
 
 impl Bgc {
+    /// Index of the middle segment's midpoint (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the spine frame's quaternion w; x, y and z follow (4 values).
+    pub const ROTATION: usize = 3;
+    /// Index of the segment length.
+    pub const SEGMENT: usize = 7;
+    /// Index of the first turn; the K − 2 turns of a K-point spine follow.
+    pub const TURNS: usize = 8;
+
+    /// The indices of the turns of a spine of `k` points.
+    pub fn turns(k: usize) -> std::ops::Range<usize> {
+        Self::TURNS..Self::TURNS + k - 2
+    }
+
+    /// The indices of the radii of a spine of `k` points (after the turns).
+    pub fn radii(k: usize) -> std::ops::Range<usize> {
+        Self::TURNS + k - 2..Self::TURNS + 2 * k - 2
+    }
+
     pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
         let v = view_from_sketch(p.at);
         let center = DVec3::new(v.x, v.y, 0.0);
@@ -293,18 +313,18 @@ impl Bgc {
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         let k = self.spine.len();
-        let q = DVec3::new(x[4], x[5], x[6]);
-        let len = (x[3] * x[3] + q.length_squared()).sqrt();
+        let [w, qx, qy, qz] = quaternion_at(x, Self::ROTATION);
+        let len = (w * w + DVec3::new(qx, qy, qz).length_squared()).sqrt();
         let mut y = x.to_vec();
         if len > 0.0 && len.is_finite() {
-            for value in &mut y[3..7] {
+            for value in &mut y[Self::ROTATION..Self::ROTATION + 4] {
                 *value /= len;
             }
         }
         let s = spine(k, &y);
         Self {
             spine: s.points.iter().map(|p| p.to_dvec3()).collect(),
-            radii: x[8 + k - 2..8 + 2 * k - 2].to_vec(),
+            radii: x[Self::radii(k)].to_vec(),
             plane_normal: s.normal.to_dvec3().normalize_or(self.plane_normal),
         }
     }
@@ -334,9 +354,9 @@ impl Bgc {
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
         let k = self.spine.len();
         let s = spine(k, x);
-        let h = x[7];
-        let kappa = &x[8..8 + k - 2];
-        let radii = &x[8 + k - 2..8 + 2 * k - 2];
+        let h = x[Self::SEGMENT];
+        let kappa = &x[Self::turns(k)];
+        let radii = &x[Self::radii(k)];
         let (left, right) = contours(&s, radii);
         // An end circle facing away from the viewer shows only its near half (as drawn):
         // which way each end faces is taken at the current numeric pose; an end almost
@@ -387,7 +407,7 @@ impl Bgc {
         // A spine that bends one way (a C) at the current pose is smoothed towards even
         // turns, a circular arc; one that bends both ways (an S) towards turns that
         // change evenly along it (even turns would straighten it into a C).
-        let mut regularizers: Vec<T> = if is_s_bend(&params[8..8 + k - 2]) {
+        let mut regularizers: Vec<T> = if is_s_bend(&params[Self::turns(k)]) {
             kappa
                 .windows(3)
                 .map(|w| (w[0] - w[1] * 2.0 + w[2]) * TURN_SMOOTHNESS)
@@ -403,7 +423,8 @@ impl Bgc {
                 .windows(3)
                 .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
         );
-        regularizers.push(x[3].square() + x[4].square() + x[5].square() + x[6].square() - 1.0);
+        let q = quaternion_at(x, Self::ROTATION);
+        regularizers.push(q[0].square() + q[1].square() + q[2].square() + q[3].square() - 1.0);
         Shape {
             curves: vec![
                 curve(

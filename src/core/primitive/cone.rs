@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use super::cylinder::{revolved_shape, MIN_SIZE_FRACTION};
 use super::mesh::revolution;
-use super::{dropped_axis, Placement, Shape, TriMesh};
-use crate::core::ad::{Real, Vec3};
+use super::{dropped_axis, vec3_at, vec3_expr_at, Placement, Shape, TriMesh};
+use crate::core::ad::Real;
 use crate::core::geom::projection::view_from_sketch;
 
 /// A truncated cone in model space.
@@ -32,6 +32,19 @@ pub struct Cone {
 }
 
 impl Cone {
+    /// Index of the centre (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the axis (3 values).
+    pub const AXIS: usize = 3;
+    /// Index of the length.
+    pub const LENGTH: usize = 6;
+    /// Index of the bottom radius.
+    pub const RADIUS_BOTTOM: usize = 7;
+    /// Index of the top radius.
+    pub const RADIUS_TOP: usize = 8;
+    /// The number of parameters.
+    pub const LEN: usize = 9;
+
     pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
         let v = view_from_sketch(p.at);
         let (axis, length) = dropped_axis(p, default_size);
@@ -62,11 +75,11 @@ impl Cone {
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         Self {
-            center: DVec3::new(x[0], x[1], x[2]),
-            axis: DVec3::new(x[3], x[4], x[5]).normalize_or(self.axis),
-            length: x[6],
-            radius_bottom: x[7],
-            radius_top: x[8],
+            center: vec3_at(x, Self::CENTER),
+            axis: vec3_at(x, Self::AXIS).normalize_or(self.axis),
+            length: x[Self::LENGTH],
+            radius_bottom: x[Self::RADIUS_BOTTOM],
+            radius_top: x[Self::RADIUS_TOP],
         }
     }
 
@@ -91,9 +104,10 @@ impl Cone {
     }
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
-        let c = Vec3::new(x[0], x[1], x[2]);
-        let a = Vec3::new(x[3], x[4], x[5]);
-        revolved_shape(c, a, x[6], x[7], x[8], self.size() * MIN_SIZE_FRACTION)
+        let c = vec3_expr_at(x, Self::CENTER);
+        let a = vec3_expr_at(x, Self::AXIS);
+        let (l, rb, rt) = (x[Self::LENGTH], x[Self::RADIUS_BOTTOM], x[Self::RADIUS_TOP]);
+        revolved_shape(c, a, l, rb, rt, self.size() * MIN_SIZE_FRACTION)
     }
 
     pub(crate) fn mesh(&self, segments: usize) -> TriMesh {

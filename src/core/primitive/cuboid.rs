@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::TriMesh;
 use super::{
-    quaternion_columns, Curve2, CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement,
-    ProjectedCurve, Shape,
+    quaternion_at, quaternion_columns, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature, FeatureCurve,
+    FeatureGeometry, Placement, ProjectedCurve, Shape,
 };
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;
@@ -77,21 +77,37 @@ impl Cuboid {
         }
     }
 
+    /// Index of the centre (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the quaternion's w; x, y and z follow (4 values).
+    pub const ROTATION: usize = 3;
+    /// Index of the width; height and depth follow (3 values).
+    pub const SIZE: usize = 7;
+    /// Index of the width.
+    pub const WIDTH: usize = Self::SIZE;
+    /// Index of the height.
+    pub const HEIGHT: usize = Self::SIZE + 1;
+    /// Index of the depth.
+    pub const DEPTH: usize = Self::SIZE + 2;
+    /// The number of parameters.
+    pub const LEN: usize = 10;
+
     pub(crate) fn params(&self) -> Vec<f64> {
         let (c, q, s) = (self.center, self.rotation, self.size);
         vec![c.x, c.y, c.z, q.w, q.x, q.y, q.z, s.x, s.y, s.z]
     }
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
-        let q = DQuat::from_xyzw(x[4], x[5], x[6], x[3]);
+        let [w, qx, qy, qz] = quaternion_at(x, Self::ROTATION);
+        let q = DQuat::from_xyzw(qx, qy, qz, w);
         Self {
-            center: DVec3::new(x[0], x[1], x[2]),
+            center: vec3_at(x, Self::CENTER),
             rotation: match q.length() {
                 len if (len - 1.0).abs() < 1e-12 => q,
                 len if len > 0.0 => q / len,
                 _ => self.rotation,
             },
-            size: DVec3::new(x[7], x[8], x[9]),
+            size: vec3_at(x, Self::SIZE),
         }
     }
 
@@ -118,9 +134,10 @@ impl Cuboid {
     }
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
-        let c = Vec3::new(x[0], x[1], x[2]);
-        let axes = quaternion_columns([x[3], x[4], x[5], x[6]]);
-        let half = [x[7] * 0.5, x[8] * 0.5, x[9] * 0.5];
+        let c = vec3_expr_at(x, Self::CENTER);
+        let axes = quaternion_columns(quaternion_at(x, Self::ROTATION));
+        let [width, height, depth] = [Self::WIDTH, Self::HEIGHT, Self::DEPTH].map(|i| x[i]);
+        let half = [width * 0.5, height * 0.5, depth * 0.5];
         // Visibility from the current numeric orientation.
         let numeric_axes = self.axes();
         let face_faces_viewer = |face: usize| {
@@ -160,16 +177,17 @@ impl Cuboid {
                 }
             })
             .collect();
-        let q = Vec3::new(x[4], x[5], x[6]);
+        let [w, qx, qy, qz] = quaternion_at(x, Self::ROTATION);
+        let q = Vec3::new(qx, qy, qz);
         let min = self.size() * MIN_SIZE_FRACTION;
         Shape {
             curves,
             features,
-            equalities: vec![("unit quaternion", x[3].square() + q.norm_squared() - 1.0)],
+            equalities: vec![("unit quaternion", w.square() + q.norm_squared() - 1.0)],
             inequalities: vec![
-                ("positive width", x[7] - min),
-                ("positive height", x[8] - min),
-                ("positive depth", x[9] - min),
+                ("positive width", width - min),
+                ("positive height", height - min),
+                ("positive depth", depth - min),
                 (
                     "width not along the view",
                     -axes[0].z.square() + MAX_AXIS_Z2,

@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, Feature, FeatureCurve,
-    FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
+    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature,
+    FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
 };
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;
@@ -45,6 +45,17 @@ pub struct Cylinder {
 }
 
 impl Cylinder {
+    /// Index of the centre (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the axis (3 values).
+    pub const AXIS: usize = 3;
+    /// Index of the length.
+    pub const LENGTH: usize = 6;
+    /// Index of the radius.
+    pub const RADIUS: usize = 7;
+    /// The number of parameters.
+    pub const LEN: usize = 8;
+
     pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
         let v = view_from_sketch(p.at);
         let (axis, length) = dropped_axis(p, default_size);
@@ -63,10 +74,10 @@ impl Cylinder {
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         Self {
-            center: DVec3::new(x[0], x[1], x[2]),
-            axis: DVec3::new(x[3], x[4], x[5]).normalize_or(self.axis),
-            length: x[6],
-            radius: x[7],
+            center: vec3_at(x, Self::CENTER),
+            axis: vec3_at(x, Self::AXIS).normalize_or(self.axis),
+            length: x[Self::LENGTH],
+            radius: x[Self::RADIUS],
         }
     }
 
@@ -88,9 +99,9 @@ impl Cylinder {
     }
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
-        let c = Vec3::new(x[0], x[1], x[2]);
-        let a = Vec3::new(x[3], x[4], x[5]);
-        let (l, r) = (x[6], x[7]);
+        let c = vec3_expr_at(x, Self::CENTER);
+        let a = vec3_expr_at(x, Self::AXIS);
+        let (l, r) = (x[Self::LENGTH], x[Self::RADIUS]);
         revolved_shape(c, a, l, r, r, self.size() * MIN_SIZE_FRACTION)
     }
 

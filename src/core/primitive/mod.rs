@@ -23,6 +23,7 @@ mod feature;
 mod mesh;
 mod sgc;
 mod sphere;
+mod validate;
 
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -35,6 +36,7 @@ pub use feature::{Axis, Feature};
 pub use mesh::TriMesh;
 pub use sgc::Sgc;
 pub use sphere::Sphere;
+pub use validate::{PrimitiveError, UNIT_TOLERANCE};
 
 use crate::core::ad::{Real, Vec2, Vec3};
 
@@ -428,6 +430,21 @@ impl Primitive {
     pub fn is_finite(&self) -> bool {
         self.params().iter().all(|v| v.is_finite())
     }
+}
+
+/// The point or direction stored at `x[i..i + 3]` of a parameter vector.
+pub(crate) fn vec3_at(x: &[f64], i: usize) -> DVec3 {
+    DVec3::new(x[i], x[i + 1], x[i + 2])
+}
+
+/// The vector expression stored at `x[i..i + 3]` of a parameter vector.
+pub(crate) fn vec3_expr_at<T: Real>(x: &[T], i: usize) -> Vec3<T> {
+    Vec3::new(x[i], x[i + 1], x[i + 2])
+}
+
+/// The quaternion (w, x, y, z) stored at `x[i..i + 4]` of a parameter vector.
+pub(crate) fn quaternion_at<T: Copy>(x: &[T], i: usize) -> [T; 4] {
+    [x[i], x[i + 1], x[i + 2], x[i + 3]]
 }
 
 /// The two unit vectors spanning the plane ⊥ `axis` used to draw its circles:

@@ -16,10 +16,10 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, Curve2, CurveClass, Feature, FeatureCurve,
-    FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh, PROFILE_SAMPLES,
+    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature,
+    FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh, PROFILE_SAMPLES,
 };
-use crate::core::ad::{Real, Vec3};
+use crate::core::ad::Real;
 use crate::core::geom::projection::view_from_sketch;
 
 /// A straight generalized cylinder in model space.
@@ -48,6 +48,20 @@ impl Sgc {
         }
     }
 
+    /// Index of the centre (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the axis (3 values).
+    pub const AXIS: usize = 3;
+    /// Index of the length.
+    pub const LENGTH: usize = 6;
+    /// Index of the first radius; the others follow, from the bottom to the top.
+    pub const RADII: usize = 7;
+
+    /// The number of parameters: [`Sgc::RADII`] plus one per radius.
+    pub fn param_count(&self) -> usize {
+        Self::RADII + self.radii.len()
+    }
+
     pub(crate) fn params(&self) -> Vec<f64> {
         let (c, a) = (self.center, self.axis);
         let mut x = vec![c.x, c.y, c.z, a.x, a.y, a.z, self.length];
@@ -57,10 +71,10 @@ impl Sgc {
 
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         Self {
-            center: DVec3::new(x[0], x[1], x[2]),
-            axis: DVec3::new(x[3], x[4], x[5]).normalize_or(self.axis),
-            length: x[6],
-            radii: x[7..7 + self.radii.len()].to_vec(),
+            center: vec3_at(x, Self::CENTER),
+            axis: vec3_at(x, Self::AXIS).normalize_or(self.axis),
+            length: x[Self::LENGTH],
+            radii: x[Self::RADII..self.param_count()].to_vec(),
         }
     }
 
@@ -83,10 +97,10 @@ impl Sgc {
     }
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
-        let c = Vec3::new(x[0], x[1], x[2]);
-        let a = Vec3::new(x[3], x[4], x[5]);
-        let l = x[6];
-        let radii = &x[7..7 + self.radii.len()];
+        let c = vec3_expr_at(x, Self::CENTER);
+        let a = vec3_expr_at(x, Self::AXIS);
+        let l = x[Self::LENGTH];
+        let radii = &x[Self::RADII..self.param_count()];
         let k = radii.len();
         let step = l / (k - 1) as f64;
         let ring = |i: usize| c + a * (l * (i as f64 / (k - 1) as f64 - 0.5));

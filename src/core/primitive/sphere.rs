@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::MIN_SIZE_FRACTION;
 use super::mesh::TriMesh;
 use super::{
-    Curve2, CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape,
+    vec3_at, vec3_expr_at, Curve2, CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement,
+    ProjectedCurve, Shape,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::view_from_sketch;
@@ -26,6 +27,13 @@ pub struct Sphere {
 }
 
 impl Sphere {
+    /// Index of the centre (3 values) in the parameter vector.
+    pub const CENTER: usize = 0;
+    /// Index of the radius.
+    pub const RADIUS: usize = 3;
+    /// The number of parameters.
+    pub const LEN: usize = 4;
+
     pub(crate) fn from_placement(p: &Placement, default_size: f64) -> Self {
         let v = view_from_sketch(p.at);
         Self {
@@ -42,8 +50,8 @@ impl Sphere {
     #[expect(clippy::unused_self, reason = "every kind has the same signature")]
     pub(crate) fn with_params(&self, x: &[f64]) -> Self {
         Self {
-            center: DVec3::new(x[0], x[1], x[2]),
-            radius: x[3],
+            center: vec3_at(x, Self::CENTER),
+            radius: x[Self::RADIUS],
         }
     }
 
@@ -63,8 +71,8 @@ impl Sphere {
     }
 
     pub(crate) fn shape<T: Real>(&self, x: &[T]) -> Shape<T> {
-        let c = Vec3::new(x[0], x[1], x[2]);
-        let r = x[3];
+        let c = vec3_expr_at(x, Self::CENTER);
+        let r = x[Self::RADIUS];
         let (zero, one) = (r.lit(0.0), r.lit(1.0));
         Shape {
             curves: vec![ProjectedCurve {

@@ -45,6 +45,7 @@ use thiserror::Error;
 
 use crate::core::ad::{Real, Vec3};
 use crate::core::primitive::{Feature, FeatureCurve, FeatureGeometry};
+use crate::core::solve::SettingsError;
 
 /// The kinds of relation, named as in the model file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -171,26 +172,49 @@ pub enum RelationError {
     },
 }
 
-/// Thresholds of relation inference; every kind can be switched off.
+/// Thresholds of relation inference; every kind can be switched off. Made (and read)
+/// through [`InferenceSettings::new`], which checks them; a missing field reads as its
+/// default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(try_from = "InferenceFields")]
 pub struct InferenceSettings {
-    /// The kinds inferred.
-    pub enabled: Vec<RelationKind>,
-    /// Largest angle (degrees) between directions taken as parallel, or off a right
-    /// angle for orthogonal (default 8°).
-    pub angle_degrees: f64,
-    /// Largest offset between positions taken as the same (concentric centres, a point
-    /// on an axis or in a plane), relative to the sum of the sizes involved (default
-    /// 0.1).
-    pub distance: f64,
-    /// Largest difference of radii taken as the same, relative to their sum (default
-    /// 0.05: radii 10 % apart).
-    pub radius: f64,
-    /// Largest difference of lengths taken as equal, relative to their sum (default
-    /// 0.03: lengths 6 % apart; a snap's length is good to a few per cent, and parts
-    /// 10 % apart are more often meant to differ).
-    pub length: f64,
+    enabled: Vec<RelationKind>,
+    angle_degrees: f64,
+    distance: f64,
+    radius: f64,
+    length: f64,
+}
+
+/// The fields of [`InferenceSettings`] as stored, before they are checked.
+#[derive(Deserialize)]
+#[serde(default)]
+struct InferenceFields {
+    enabled: Vec<RelationKind>,
+    angle_degrees: f64,
+    distance: f64,
+    radius: f64,
+    length: f64,
+}
+
+impl Default for InferenceFields {
+    fn default() -> Self {
+        let d = InferenceSettings::default();
+        Self {
+            enabled: d.enabled,
+            angle_degrees: d.angle_degrees,
+            distance: d.distance,
+            radius: d.radius,
+            length: d.length,
+        }
+    }
+}
+
+impl TryFrom<InferenceFields> for InferenceSettings {
+    type Error = SettingsError;
+
+    fn try_from(f: InferenceFields) -> Result<Self, SettingsError> {
+        Self::new(f.enabled, f.angle_degrees, f.distance, f.radius, f.length)
+    }
 }
 
 impl Default for InferenceSettings {
@@ -206,6 +230,79 @@ impl Default for InferenceSettings {
 }
 
 impl InferenceSettings {
+    /// Settings inferring the kinds `enabled`, with the largest angle (degrees, in
+    /// (0, 90)) between directions taken as parallel, or off a right angle for
+    /// orthogonal; the largest offset between positions taken as the same (concentric
+    /// centres, a point on an axis or in a plane) relative to the sum of the sizes
+    /// involved; and the largest differences of radii and of lengths taken as the same,
+    /// relative to their sums (each finite and above zero).
+    ///
+    /// # Errors
+    ///
+    /// [`SettingsError::OutOfRange`] for the angle, [`SettingsError::NotPositive`] for
+    /// the others, naming the first bad value.
+    pub fn new(
+        enabled: Vec<RelationKind>,
+        angle_degrees: f64,
+        distance: f64,
+        radius: f64,
+        length: f64,
+    ) -> Result<Self, SettingsError> {
+        if !(angle_degrees > 0.0 && angle_degrees < 90.0) {
+            return Err(SettingsError::OutOfRange {
+                name: "angle_degrees",
+                value: angle_degrees,
+                range: "(0, 90)",
+            });
+        }
+        for (name, value) in [
+            ("distance", distance),
+            ("radius", radius),
+            ("length", length),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SettingsError::NotPositive { name, value });
+            }
+        }
+        Ok(Self {
+            enabled,
+            angle_degrees,
+            distance,
+            radius,
+            length,
+        })
+    }
+
+    /// The kinds inferred (default: all).
+    pub fn enabled_kinds(&self) -> &[RelationKind] {
+        &self.enabled
+    }
+
+    /// Largest angle (degrees) between directions taken as parallel, or off a right
+    /// angle for orthogonal (default 8°).
+    pub fn angle_degrees(&self) -> f64 {
+        self.angle_degrees
+    }
+
+    /// Largest offset between positions taken as the same, relative to the sum of the
+    /// sizes involved (default 0.1).
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+
+    /// Largest difference of radii taken as the same, relative to their sum (default
+    /// 0.05: radii 10 % apart).
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Largest difference of lengths taken as equal, relative to their sum (default
+    /// 0.03: lengths 6 % apart; a snap's length is good to a few per cent, and parts
+    /// 10 % apart are more often meant to differ).
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
     /// Whether `kind` is inferred.
     pub fn enabled(&self, kind: RelationKind) -> bool {
         self.enabled.contains(&kind)
@@ -454,5 +551,56 @@ pub(crate) mod testing {
             );
         }
         before
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{InferenceSettings, RelationKind};
+    use crate::core::solve::SettingsError;
+
+    #[test]
+    fn bad_inference_settings_are_refused_also_when_read() {
+        let d = InferenceSettings::default();
+        let good = InferenceSettings::new(RelationKind::ALL.to_vec(), 8.0, 0.1, 0.05, 0.03);
+        assert_eq!(good, Ok(d.clone()), "the defaults are valid");
+        for angle in [0.0, -1.0, 90.0, f64::NAN] {
+            let error = InferenceSettings::new(Vec::new(), angle, 0.1, 0.05, 0.03).unwrap_err();
+            assert!(
+                matches!(
+                    error,
+                    SettingsError::OutOfRange {
+                        name: "angle_degrees",
+                        ..
+                    }
+                ),
+                "{error}"
+            );
+        }
+        for (distance, radius, length, bad) in [
+            (0.0, 0.05, 0.03, "distance"),
+            (0.1, f64::INFINITY, 0.03, "radius"),
+            (0.1, 0.05, -0.03, "length"),
+        ] {
+            let error =
+                InferenceSettings::new(Vec::new(), 8.0, distance, radius, length).unwrap_err();
+            assert!(
+                matches!(error, SettingsError::NotPositive { name, .. } if name == bad),
+                "{error}"
+            );
+        }
+        let text = serde_json::to_string(&d).unwrap();
+        let back: InferenceSettings = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, d, "round trip");
+        let partial: InferenceSettings = serde_json::from_str(r#"{"distance":0.2}"#).unwrap();
+        assert!((partial.distance() - 0.2).abs() < 1e-15, "the field read");
+        assert!(
+            (partial.angle_degrees() - d.angle_degrees()).abs() < 1e-15,
+            "a missing field defaults"
+        );
+        assert!(
+            serde_json::from_str::<InferenceSettings>(r#"{"radius":-1}"#).is_err(),
+            "a bad stored value is refused"
+        );
     }
 }

@@ -28,8 +28,8 @@ pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
 use crate::core::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::core::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, SolveContext, SolveReport, Solver, Start,
-    Termination,
+    AugLagSettings, CancelFlag, Clock, Multipliers, SettingsError, SolveContext, SolveError,
+    SolveReport, Solver, Start, Termination,
 };
 
 /// Why a primitive could not be snapped.
@@ -61,15 +61,62 @@ pub enum SnapError {
     Cancelled,
 }
 
-/// Settings of snapping; the defaults are those documented in the module.
+/// Settings of snapping; the defaults are those documented in the module. Made by
+/// [`SnapSettings::new`], which checks them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SnapSettings {
+    wide_gate: f64,
+    tight_gate: f64,
+    solver: AugLagSettings,
+}
+
+impl SnapSettings {
+    /// Settings with a first, wide assignment gate `wide_gate` and a refined one
+    /// `tight_gate`, both relative to the primitive's size, and the `solver` settings of
+    /// each fit.
+    ///
+    /// # Errors
+    ///
+    /// [`SettingsError::NotPositive`] for a gate that is not finite and above zero,
+    /// [`SettingsError::OutOfRange`] for a tight gate wider than the wide one.
+    pub fn new(
+        wide_gate: f64,
+        tight_gate: f64,
+        solver: AugLagSettings,
+    ) -> Result<Self, SettingsError> {
+        for (name, value) in [("wide_gate", wide_gate), ("tight_gate", tight_gate)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SettingsError::NotPositive { name, value });
+            }
+        }
+        if tight_gate > wide_gate {
+            return Err(SettingsError::OutOfRange {
+                name: "tight_gate",
+                value: tight_gate,
+                range: "(0, wide_gate]",
+            });
+        }
+        Ok(Self {
+            wide_gate,
+            tight_gate,
+            solver,
+        })
+    }
+
     /// The first, wide assignment gate, relative to the primitive's size.
-    pub wide_gate: f64,
+    pub fn wide_gate(&self) -> f64 {
+        self.wide_gate
+    }
+
     /// The refined assignment gate, relative to the primitive's size.
-    pub tight_gate: f64,
+    pub fn tight_gate(&self) -> f64 {
+        self.tight_gate
+    }
+
     /// The solver settings of each fit.
-    pub solver: AugLagSettings,
+    pub fn solver(&self) -> &AugLagSettings {
+        &self.solver
+    }
 }
 
 impl Default for SnapSettings {
@@ -288,6 +335,10 @@ fn check_enough(primitive: &Primitive, assignment: &Assignment) -> Result<(), Sn
 }
 
 /// One fit of `primitive` to the strokes of `assignment`, from `start` multipliers.
+///
+/// # Errors
+///
+/// The solver's [`SolveError`] when it cannot start (a non-finite primitive).
 fn fit(
     primitive: &Primitive,
     assignment: &Assignment,
@@ -295,7 +346,7 @@ fn fit(
     warm: Option<&Multipliers>,
     cancel: Option<&CancelFlag>,
     clock: Option<&dyn Clock>,
-) -> (Primitive, SolveReport) {
+) -> Result<(Primitive, SolveReport), SolveError> {
     let frame = Frame::of(primitive);
     let local = frame.into_frame(primitive);
     let mut problem = build_problem(&local, assignment, &frame);
@@ -314,27 +365,9 @@ fn fit(
         clock,
         observer: None,
     };
-    if let Ok(report) = Solver::with_context(&settings.solver, context).solve(&mut problem, &start)
-    {
-        let fitted = frame.out_of_frame(&local.with_params(&report.x));
-        return (fitted, report);
-    }
-    // Only a non-finite start gets here; keep the primitive as it was.
-    let report = SolveReport {
-        x: start.x,
-        objective: f64::NAN,
-        max_violation: f64::NAN,
-        gradient_norm: f64::NAN,
-        worst_constraint: None,
-        multipliers: Multipliers::default(),
-        penalty: 0.0,
-        outer_iterations: 0,
-        inner_iterations: 0,
-        evaluations: 0,
-        elapsed: std::time::Duration::ZERO,
-        termination: Termination::NumericalFailure,
-    };
-    (primitive.clone(), report)
+    let report = Solver::with_context(&settings.solver, context).solve(&mut problem, &start)?;
+    let fitted = frame.out_of_frame(&local.with_params(&report.x));
+    Ok((fitted, report))
 }
 
 /// Snaps `primitive` (as dropped) to the strokes of `context`.
@@ -583,6 +616,7 @@ fn snap_rounds(
     let mut evaluations = 0;
     let mut termination = Termination::Converged;
     for round in 0..3 {
+        // The solver refuses only a non-finite start.
         let (fitted, report) = fit(
             &current,
             &assignment,
@@ -590,7 +624,8 @@ fn snap_rounds(
             multipliers.as_ref(),
             cancel,
             clock,
-        );
+        )
+        .map_err(|_| SnapError::NonFinite(kind))?;
         evaluations += report.evaluations;
         termination = report.termination;
         if termination == Termination::Cancelled {
@@ -744,6 +779,55 @@ mod tests {
     use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
     use crate::core::primitive::{Cuboid, Cylinder, Primitive};
     use crate::core::sketch::{StrokeClass, StrokeId};
+
+    #[test]
+    fn bad_gates_are_refused() {
+        use crate::core::solve::{AugLagSettings, SettingsError};
+        let solver = AugLagSettings::default();
+        assert!(
+            SnapSettings::new(0.3, 0.1, solver.clone()).is_ok(),
+            "the defaults"
+        );
+        for (wide, tight, name) in [
+            (f64::NAN, 0.1, "wide_gate"),
+            (0.3, 0.0, "tight_gate"),
+            (-0.3, 0.1, "wide_gate"),
+            (0.3, f64::INFINITY, "tight_gate"),
+        ] {
+            let error = SnapSettings::new(wide, tight, solver.clone()).unwrap_err();
+            assert!(
+                matches!(error, SettingsError::NotPositive { name: n, .. } if n == name),
+                "{error}"
+            );
+        }
+        let error = SnapSettings::new(0.1, 0.3, solver).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                SettingsError::OutOfRange {
+                    name: "tight_gate",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_fit_from_a_non_finite_primitive_is_an_error() {
+        let nan = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(f64::NAN, 0.0, 0.0),
+            axis: DVec3::Y,
+            length: 4.0,
+            radius: 1.0,
+        });
+        let assignment = super::Assignment::default();
+        let settings = SnapSettings::default();
+        assert!(
+            super::fit(&nan, &assignment, &settings, None, None, None).is_err(),
+            "the solver's error is passed on"
+        );
+    }
 
     #[test]
     fn a_pose_with_visible_edges_where_nothing_is_drawn_explains_less() {
