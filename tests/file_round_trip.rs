@@ -46,8 +46,7 @@ fn same_up_to_rounding(a: &[u8], b: &[u8]) -> bool {
                 x.len() == y.len() && x.iter().zip(y).all(|(u, v)| same(u, v))
             }
             (Value::Object(x), Value::Object(y)) => {
-                x.len() == y.len()
-                    && x.iter().zip(y).all(|((k, u), (l, v))| k == l && same(u, v))
+                x.len() == y.len() && x.iter().zip(y).all(|((k, u), (l, v))| k == l && same(u, v))
             }
             _ => a == b,
         }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DQuat, DVec3};
 use serde_json::{json, Map, Value};
 
-use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, Skipped};
+use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, RelationError, Skipped};
 use crate::core::primitive::{
     Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, PrimitiveError, Sgc, Sphere, UNIT_TOLERANCE,
 };
@@ -51,7 +51,7 @@ pub enum ModelError {
         /// Its position in the `relations` list.
         index: usize,
         /// What is wrong.
-        reason: String,
+        reason: RelationReadError,
     },
     /// A primitive is invalid.
     #[error("primitive {id}: {reason}")]
@@ -61,6 +61,41 @@ pub enum ModelError {
         /// What is wrong.
         reason: PrimitiveReadError,
     },
+}
+
+/// What is wrong with one relation of a model file (or of a glTF file's extras).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RelationReadError {
+    /// `kind` is missing or names no relation kind.
+    #[error("unknown `kind` {0}")]
+    Kind(Value),
+    /// `members` is missing or not a list.
+    #[error("`members` must be a list of primitives")]
+    Members,
+    /// A member names no primitive.
+    #[error("member {0} is not a primitive")]
+    Member(Value),
+    /// `features` is not a list.
+    #[error("`features` {0} is not a list")]
+    Features(Value),
+    /// An entry of `features` is not a name.
+    #[error("feature {0} is not a name")]
+    FeatureName(Value),
+    /// A member's kind has no feature of that name.
+    #[error("unknown feature `{name}` for a {kind}")]
+    UnknownFeature {
+        /// The name read.
+        name: String,
+        /// The member's kind.
+        kind: &'static str,
+    },
+    /// `mode` names no mode.
+    #[error("unknown `mode` {0} (hard, soft or off)")]
+    Mode(Value),
+    /// The relation does not suit its members (see [`Document::add_relation`]).
+    #[error(transparent)]
+    Relation(#[from] RelationError),
 }
 
 /// What is wrong with one primitive of a model file (or of a glTF file's extras).
@@ -513,18 +548,18 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
     }
     if let Some(relations) = v.get("relations").and_then(Value::as_array) {
         for (index, r) in relations.iter().enumerate() {
-            let fail = |reason: String| ModelError::Relation { index, reason };
+            let fail = |reason: RelationReadError| ModelError::Relation { index, reason };
             let relation = parse_relation(r, &document).map_err(fail)?;
             document
                 .add_relation(relation)
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(|e| fail(e.into()))?;
         }
     }
     Ok(LoadedModel { document, sketch })
 }
 
 /// One entry of `relations` (the caller adds it to `document`, which checks it).
-fn parse_relation(r: &Value, document: &Document) -> Result<Relation, String> {
+fn parse_relation(r: &Value, document: &Document) -> Result<Relation, RelationReadError> {
     parse_relation_with(r, document, |m| {
         m.as_u64()
             .and_then(|i| u32::try_from(i).ok())
@@ -539,15 +574,15 @@ pub(crate) fn parse_relation_with(
     r: &Value,
     document: &Document,
     member: impl Fn(&Value) -> Option<PrimitiveId>,
-) -> Result<Relation, String> {
+) -> Result<Relation, RelationReadError> {
     let kind: RelationKind = serde_json::from_value(r.get("kind").cloned().unwrap_or_default())
-        .map_err(|_| format!("unknown `kind` {}", r.get("kind").unwrap_or(&Value::Null)))?;
+        .map_err(|_| RelationReadError::Kind(r.get("kind").cloned().unwrap_or(Value::Null)))?;
     let members = r
         .get("members")
         .and_then(Value::as_array)
-        .ok_or("`members` must be a list of primitives")?
+        .ok_or(RelationReadError::Members)?
         .iter()
-        .map(|m| member(m).ok_or_else(|| format!("member {m} is not a primitive")))
+        .map(|m| member(m).ok_or_else(|| RelationReadError::Member(m.clone())))
         .collect::<Result<Vec<_>, _>>()?;
     let features = match r.get("features") {
         None | Some(Value::Null) => Vec::new(),
@@ -557,15 +592,16 @@ pub(crate) fn parse_relation_with(
             .map(|(k, n)| match n {
                 Value::Null => Ok(None),
                 Value::String(name) => parse_feature(document, members.get(k).copied(), name),
-                other => Err(format!("feature {other} is not a name")),
+                other => Err(RelationReadError::FeatureName(other.clone())),
             })
             .collect::<Result<Vec<_>, _>>()?,
-        Some(other) => return Err(format!("`features` {other} is not a list")),
+        Some(other) => return Err(RelationReadError::Features(other.clone())),
     };
     let mode: Mode = match r.get("mode") {
         None => Mode::Hard,
-        Some(m) => serde_json::from_value(m.clone())
-            .map_err(|_| format!("unknown `mode` {m} (hard, soft or off)"))?,
+        Some(m) => {
+            serde_json::from_value(m.clone()).map_err(|_| RelationReadError::Mode(m.clone()))?
+        }
     };
     Ok(Relation {
         kind,
@@ -582,7 +618,7 @@ fn parse_feature(
     document: &Document,
     member: Option<PrimitiveId>,
     name: &str,
-) -> Result<Option<Feature>, String> {
+) -> Result<Option<Feature>, RelationReadError> {
     let Some(kind) = member
         .and_then(|m| document.get(m))
         .map(|p| p.primitive.kind())
@@ -591,7 +627,10 @@ fn parse_feature(
     };
     Feature::from_name(kind, name)
         .map(Some)
-        .ok_or_else(|| format!("unknown feature `{name}` for a {}", kind.name()))
+        .ok_or_else(|| RelationReadError::UnknownFeature {
+            name: name.to_owned(),
+            kind: kind.name(),
+        })
 }
 
 #[cfg(test)]

@@ -317,7 +317,8 @@ impl Document {
     /// Removes a primitive with the relations it takes part in and its dimensions.
     pub fn remove(&mut self, id: PrimitiveId) -> Option<Placed> {
         if let Some(first) = self.relations.iter().position(|r| r.members.contains(&id)) {
-            self.multipliers.forget_relations(&self.relation_ids[first..]);
+            self.multipliers
+                .forget_relations(&self.relation_ids[first..]);
         }
         let mut keep = self.relations.iter().map(|r| !r.members.contains(&id));
         self.relation_ids.retain(|_| keep.next().unwrap_or(true));
@@ -414,7 +415,8 @@ impl Document {
     /// Removes relation `id`; the other relations keep their ids.
     pub fn remove_relation(&mut self, id: RelationId) -> Option<Relation> {
         let index = self.relation_position(id)?;
-        self.multipliers.forget_relations(&self.relation_ids[index..]);
+        self.multipliers
+            .forget_relations(&self.relation_ids[index..]);
         self.relation_ids.remove(index);
         Some(self.relations.remove(index))
     }

@@ -40,7 +40,8 @@ use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::{orthonormal_basis, TriMesh};
 use super::{
     circle_basis, circle_ellipse, quaternion_at, quaternion_columns, vec3_expr_at, Curve2,
-    CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, PROFILE_SAMPLES,
+    CurveClass, Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape,
+    PROFILE_SAMPLES,
 };
 use crate::core::ad::{Real, Vec2, Vec3};
 use crate::core::geom::projection::{model_direction_from_sketch, view_from_sketch};

@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::TriMesh;
 use super::{
-    quaternion_at, quaternion_columns, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature, FeatureCurve,
-    FeatureGeometry, Placement, ProjectedCurve, Shape,
+    quaternion_at, quaternion_columns, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature,
+    FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape,
 };
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;

@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature,
-    FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
+    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass,
+    Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
 };
 use crate::core::ad::{Real, Vec3};
 use crate::core::geom::projection::view_from_sketch;

@@ -16,8 +16,9 @@ use serde::{Deserialize, Serialize};
 use super::cylinder::{MAX_AXIS_Z2, MIN_SIZE_FRACTION};
 use super::mesh::revolution;
 use super::{
-    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass, Feature,
-    FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh, PROFILE_SAMPLES,
+    circle_ellipse, contour_points, dropped_axis, vec3_at, vec3_expr_at, Curve2, CurveClass,
+    Feature, FeatureCurve, FeatureGeometry, Placement, ProjectedCurve, Shape, TriMesh,
+    PROFILE_SAMPLES,
 };
 use crate::core::ad::Real;
 use crate::core::geom::projection::view_from_sketch;

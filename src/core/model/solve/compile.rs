@@ -7,7 +7,7 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::conflicts::describe;
-use super::{Document, GlobalSettings, PrimitiveId, Quantity, RelationKey, Related};
+use super::{Document, GlobalSettings, PrimitiveId, Quantity, Related, RelationKey};
 use crate::core::ad::{Expr, Graph, Vec3};
 use crate::core::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::core::relation::{residuals, Member, Mode};

@@ -1,7 +1,9 @@
 //! Finding the relation responsible for a broken solve, and naming it.
 
 use super::compile::Part;
-use super::{Conflict, GlobalSettings, PrimitiveId, Related, Relation, RelationKey, WORSENING_FLOOR};
+use super::{
+    Conflict, GlobalSettings, PrimitiveId, Related, Relation, RelationKey, WORSENING_FLOOR,
+};
 use crate::core::primitive::Primitive;
 use crate::core::solve::SolveReport;
 
