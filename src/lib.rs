@@ -8,17 +8,19 @@
 //! # Layers
 //!
 //! ```text
-//! app ──► render ──► core          core: ad ◄─ solve ◄─ geom ◄─ sketch, primitive
-//!  │  └─► io ──────► core                        ◄─ snap, relation ◄─ model
-//!  └──────────────► core           cli ──► io, core
+//! app ──► render ──► core          core (the geosnap-core crate):
+//!  │  └─► io ──────► core            ad ◄─ solve ◄─ geom, sketch ◄─ primitive
+//!  └──────────────► core                 ◄─ snap, relation ◄─ model
+//!                                  cli ──► io, core
 //! ```
 //!
-//! - [`core`]: the product, pure (no GUI, GPU, filesystem or clock): today
-//!   [`core::ad`], reverse-mode automatic differentiation, and [`core::solve`], the
-//!   augmented-Lagrangian solver.
+//! - [`core`]: the product, pure (no GUI, GPU, filesystem or clock), in a crate of its
+//!   own (`geosnap-core`) so that the compiler keeps it so: automatic differentiation,
+//!   the solver, geometry, sketches, primitives, snapping, relations and the document.
 //! - [`io`]: files (may use `std::fs`, never the GUI): SVG import into sketch space, the
-//!   native sketch file, scripts and model files, glTF export ([`io::gltf`]), and atomic
-//!   writes.
+//!   native sketch file, sessions, scripts and model files, glTF export
+//!   ([`io::gltf`]), overlays and atomic writes. Their formats are specified in
+//!   `docs/formats.md`.
 //! - [`clock`]: the real clock handed to solves.
 //! - `cli` (binary only): the command line.
 //! - `render` (the wgpu 3D view) and `app` (the egui/eframe application): the desktop
@@ -56,7 +58,8 @@
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod clock;
-pub mod core;
+#[doc(inline)]
+pub use geosnap_core as core;
 pub mod io;
 #[cfg(feature = "gui")]
 pub mod render;

@@ -3,7 +3,7 @@
 //!
 //! Everything is computed in model space (formats.md §1: x right, y up, z towards the
 //! viewer, orthographic view along −z) and drawn at the sketch point (x, −y). The
-//! renderer shares no geometry code with `src/core/primitive`: contours and visible arcs
+//! renderer shares no geometry code with `geosnap_core::primitive`: contours and visible arcs
 //! are derived here from the surfaces themselves, so the test that uses it is an outside
 //! check of the primitives' projected curves too.
 //!

@@ -1,0 +1,403 @@
+//! What happens when a part is released: relation inference against the placed parts
+//! ([`crate::relation::infer`]), with the view's mirror ambiguity settled by the
+//! relations.
+//!
+//! An orthographic drawing shows a solid of revolution and its reflection in the
+//! view-parallel plane through its centre identically (the axis (x, y, z) and (x, y, −z)
+//! project alike), so the snap cannot know which was meant. The relations can: a leg
+//! whose axis leans towards the viewer while the others lean away is parallel to none of
+//! them. Both poses are tried and the one with more relations is kept (the snapped one
+//! on a tie). Boxes and bent tubes are not mirrored: which of their edges and end halves
+//! are drawn tells the two poses apart already.
+//!
+//! [`Document::release`] is the whole release: inference, then the part is settled in
+//! depth where its relations hold ([`Document::settle_depth`]: the drawing leaves its
+//! depth free), then the global solve of the parts it changed.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::{
+    Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
+};
+use crate::primitive::{FeatureCurve, Primitive, PrimitiveKind};
+use crate::relation::infer::{infer, Part, Proposal};
+use crate::relation::{residuals, InferenceSettings, Member, Mode};
+
+/// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
+const DEPTH_STEPS: i32 = 40;
+
+/// The residual ‖ψ‖ (scale-free) at which [`Document::settle_depth`]'s robust loss turns
+/// from quadratic to logarithmic.
+const DEPTH_SCALE: f64 = 0.05;
+
+impl Document {
+    /// Infers the relations between part `id` and the other parts, adds them as hard
+    /// relations and returns their ids. The part may be
+    /// replaced by its mirror image in depth when that one has more relations (see the
+    /// module docs). Relations already in the model (not off) count as known, so nothing
+    /// redundant is added.
+    pub fn infer_relations(
+        &mut self,
+        id: PrimitiveId,
+        settings: &InferenceSettings,
+    ) -> Vec<RelationId> {
+        let ids: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
+        let Some(new) = ids.iter().position(|i| *i == id) else {
+            return Vec::new();
+        };
+        let mut features: Vec<Vec<FeatureCurve<f64>>> = self
+            .primitives
+            .values()
+            .map(|p| p.primitive.current_shape().features)
+            .collect();
+        let kinds: Vec<PrimitiveKind> = self
+            .primitives
+            .values()
+            .map(|p| p.primitive.kind())
+            .collect();
+        let existing: Vec<Proposal> = self
+            .relations
+            .iter()
+            .filter(|r| r.mode != Mode::Off)
+            .filter_map(|r| {
+                let members: Option<Vec<usize>> = r
+                    .members
+                    .iter()
+                    .map(|m| ids.iter().position(|i| i == m))
+                    .collect();
+                let members = members?;
+                // A feature the member lacks leaves the relation out.
+                let chosen = members
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &i)| match r.features.get(k).copied().flatten() {
+                        Some(feature) => features[i]
+                            .iter()
+                            .any(|f| f.feature == feature)
+                            .then_some(Some(feature)),
+                        None => Some(None),
+                    })
+                    .collect::<Option<Vec<_>>>()?;
+                Some(Proposal {
+                    kind: r.kind,
+                    members,
+                    features: chosen,
+                })
+            })
+            .collect();
+        let snapped = self.primitives[&id].primitive.clone();
+        let mut variants = vec![snapped.clone()];
+        if matches!(
+            snapped.kind(),
+            PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
+        ) {
+            variants.push(snapped.mirrored_in_depth());
+        }
+        let mut best: Option<(Primitive, Vec<Proposal>)> = None;
+        for variant in variants {
+            features[new] = variant.current_shape().features;
+            let parts: Vec<Part<'_>> = kinds
+                .iter()
+                .zip(&features)
+                .map(|(kind, f)| Part {
+                    kind: *kind,
+                    features: f,
+                })
+                .collect();
+            let proposals = infer(&parts, new, &existing, settings);
+            log::debug!(
+                "part #{} as {:?}: {} relation(s) {:?}",
+                id.0,
+                variant.params(),
+                proposals.len(),
+                proposals.iter().map(|p| p.kind.name()).collect::<Vec<_>>()
+            );
+            if best.as_ref().is_none_or(|b| proposals.len() > b.1.len()) {
+                best = Some((variant, proposals));
+            }
+        }
+        let Some((chosen, proposals)) = best else {
+            return Vec::new();
+        };
+        if let Some(placed) = self.primitives.get_mut(&id) {
+            placed.primitive = chosen;
+        }
+        let mut added = Vec::with_capacity(proposals.len());
+        for p in proposals {
+            let relation = Relation {
+                kind: p.kind,
+                members: p.members.iter().map(|&i| ids[i]).collect(),
+                features: p.features,
+                mode: Mode::Hard,
+            };
+            if let Ok(relation) = self.add_relation(relation) {
+                added.push(relation);
+            }
+        }
+        added
+    }
+
+    /// Releases part `id` as the tool does when the user lets go of it: infers its
+    /// relations ([`Document::infer_relations`]) and solves the parts it changed
+    /// ([`Document::solve`] of `[id]`). Returns the relations added and the solve's
+    /// outcome. The app, `geosnap run` and the benchmarks all release through it.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use geosnap_core::model::{Companions, Document, Fit, GlobalSettings, Placed};
+    /// use geosnap_core::primitive::{Cylinder, Primitive};
+    /// use geosnap_core::relation::{InferenceSettings, RelationKind};
+    ///
+    /// let leg = |x: f64, axis: DVec3| Placed {
+    ///     primitive: Primitive::Cylinder(Cylinder {
+    ///         center: DVec3::new(x, 0.0, 0.0),
+    ///         axis: axis.normalize(),
+    ///         length: 10.0,
+    ///         radius: 1.0,
+    ///     }),
+    ///     fit: Fit::default(),
+    /// };
+    /// let mut doc = Document::new();
+    /// doc.add(leg(0.0, DVec3::Y));
+    /// let new = doc.add(leg(5.0, DVec3::new(0.02, 1.0, 0.0)));
+    /// let (added, outcome) = doc.release(
+    ///     new,
+    ///     &InferenceSettings::default(),
+    ///     &GlobalSettings::default(),
+    ///     Companions::default(),
+    /// );
+    /// assert!(added
+    ///     .iter()
+    ///     .any(|&r| doc.relation(r).is_some_and(|r| r.kind == RelationKind::Parallel)));
+    /// assert!(outcome.conflicts.is_empty());
+    /// ```
+    pub fn release(
+        &mut self,
+        id: PrimitiveId,
+        inference: &InferenceSettings,
+        global: &GlobalSettings,
+        companions: Companions<'_>,
+    ) -> (Vec<RelationId>, GlobalOutcome) {
+        let added = self.infer_relations(id, inference);
+        self.settle_depth(id);
+        let outcome = self.solve(Some(&[id]), global, companions);
+        (added, outcome)
+    }
+
+    /// Moves part `id` along the view direction to where its relations that are not off
+    /// hold best (least Σ ln(1 + ‖ψ‖²/σ²) over its relations, σ = 0.05, with the other
+    /// parts where they are). Returns the distance moved.
+    ///
+    /// A drawing does not show depth, so a snap leaves a part at an arbitrary depth and
+    /// its fit is the same at every depth. Its relations are not: a pipe standing on a
+    /// box's face must be as deep as that face. Started far off in depth, the global
+    /// solve meets the relations by whatever moves are cheapest at first, such as
+    /// lengthening the pipe, and can end in a worse fit than moving it back in depth
+    /// would give. Settling the depth first costs nothing in fit and starts the solve
+    /// next to its answer.
+    pub fn settle_depth(&mut self, id: PrimitiveId) -> f64 {
+        let Some(part) = self.primitives.get(&id).map(|p| p.primitive.clone()) else {
+            return 0.0;
+        };
+        let relations: Vec<&Relation> = self
+            .relations
+            .iter()
+            .filter(|r| r.mode != Mode::Off && r.members.contains(&id))
+            .collect();
+        if relations.is_empty() {
+            return 0.0;
+        }
+        let others: BTreeMap<PrimitiveId, Vec<FeatureCurve<f64>>> = relations
+            .iter()
+            .flat_map(|r| r.members.iter().copied())
+            .filter(|m| *m != id)
+            .filter_map(|m| {
+                Some((
+                    m,
+                    self.primitives.get(&m)?.primitive.current_shape().features,
+                ))
+            })
+            .collect();
+        let misfit = |dz: f64| -> f64 {
+            let moved = part
+                .transformed(DVec3::new(0.0, 0.0, dz), 1.0)
+                .current_shape()
+                .features;
+            relations
+                .iter()
+                .filter_map(|r| {
+                    let members: Option<Vec<Member<'_, f64>>> = r
+                        .members
+                        .iter()
+                        .zip(&r.features)
+                        .map(|(m, f)| {
+                            let features = if *m == id { &moved } else { others.get(m)? };
+                            Some(Member {
+                                features,
+                                feature: *f,
+                            })
+                        })
+                        .collect();
+                    residuals(r.kind, &members?).ok()
+                })
+                // Relation by relation, with a robust loss: the depth where most of
+                // them hold wins over one that half-satisfies them all, so a relation
+                // inferred by mistake does not drag the part off the others.
+                .map(|psi| {
+                    let sq: f64 = psi.iter().map(|v| v * v).sum();
+                    (1.0 + sq / (DEPTH_SCALE * DEPTH_SCALE)).ln()
+                })
+                .sum()
+        };
+        // Depths within a few sizes of the parts involved, coarsely, then refined by
+        // golden sections around the best.
+        let reach = others
+            .keys()
+            .filter_map(|m| self.primitives.get(m))
+            .map(|p| p.primitive.size() + (p.primitive.center().z - part.center().z).abs())
+            .fold(part.size(), f64::max)
+            * 2.0;
+        let step = 2.0 * reach / f64::from(DEPTH_STEPS);
+        let best = (0..=DEPTH_STEPS)
+            .map(|k| -reach + step * f64::from(k))
+            .map(|dz| (dz, misfit(dz)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0.0, |(dz, _)| dz);
+        let (mut lo, mut hi) = (best - step, best + step);
+        let ratio = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..60 {
+            let (x1, x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+            if misfit(x1) < misfit(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        let dz = f64::midpoint(lo, hi);
+        let (before, after) = (misfit(0.0), misfit(dz));
+        if !(after.is_finite() && after < 0.5 * before) {
+            return 0.0;
+        }
+        if let Some(placed) = self.primitives.get_mut(&id) {
+            placed.primitive = part.transformed(DVec3::new(0.0, 0.0, dz), 1.0);
+        }
+        dz
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::model::{Document, Fit, Placed};
+    use crate::primitive::{Cylinder, Feature, Primitive};
+    use crate::relation::{InferenceSettings, Member, Mode, RelationKind};
+
+    fn leg(x: f64, axis: DVec3) -> Placed {
+        Placed {
+            primitive: Primitive::Cylinder(Cylinder {
+                center: DVec3::new(x, 0.0, 0.0),
+                axis: axis.normalize(),
+                length: 10.0,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        }
+    }
+
+    #[test]
+    fn a_part_snapped_in_the_wrong_mirror_pose_is_turned_by_its_relations() {
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        // The same leg seen in the same drawing, but snapped leaning the other way in
+        // depth: parallel to nothing as it is.
+        let b = doc.add(leg(6.0, DVec3::new(0.0, 0.9, -0.44)));
+        let added = doc.infer_relations(b, &InferenceSettings::default());
+        let kinds: Vec<RelationKind> = added
+            .iter()
+            .map(|&r| doc.relation(r).expect("added").kind)
+            .collect();
+        assert!(kinds.contains(&RelationKind::Parallel), "{kinds:?}");
+        let Primitive::Cylinder(turned) = &doc.get(b).expect("placed").primitive else {
+            unreachable!("a cylinder")
+        };
+        assert!((turned.axis.z - 0.44 / DVec3::new(0.0, 0.9, 0.44).length()).abs() < 1e-12);
+        assert!(doc.relations().iter().all(|r| r.members.contains(&a)));
+    }
+
+    #[test]
+    fn a_released_part_is_settled_in_depth_where_its_relations_hold() {
+        use crate::model::Relation;
+        use crate::relation::residuals;
+
+        // A rod on another's top end, drawn in place but snapped at the wrong depth.
+        let mut doc = Document::new();
+        let axis = DVec3::new(0.0, 0.9, 0.44);
+        let a = doc.add(leg(0.0, axis));
+        let on_top = axis.normalize() * 10.0;
+        let b = doc.add(leg(0.0, axis));
+        let mut moved = doc.get(b).expect("placed").clone();
+        moved.primitive = moved
+            .primitive
+            .transformed(DVec3::new(on_top.x, on_top.y, on_top.z - 7.0), 1.0);
+        doc.insert(b, moved);
+        doc.add_relation(Relation {
+            kind: RelationKind::Coplanar,
+            members: vec![a, b],
+            features: vec![Some(Feature::Top), Some(Feature::Bottom)],
+            mode: Mode::Hard,
+        })
+        .expect("a coplanar pair of ends");
+        let psi = |doc: &Document| {
+            let f = |id| {
+                doc.get(id)
+                    .expect("placed")
+                    .primitive
+                    .current_shape()
+                    .features
+            };
+            let (fa, fb) = (f(a), f(b));
+            let members = [
+                Member {
+                    features: &fa,
+                    feature: Some(Feature::Top),
+                },
+                Member {
+                    features: &fb,
+                    feature: Some(Feature::Bottom),
+                },
+            ];
+            residuals(RelationKind::Coplanar, &members)
+                .expect("coplanar")
+                .iter()
+                .map(|v| v.abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(psi(&doc) > 0.1, "apart at first: {}", psi(&doc));
+        let before = doc.get(b).expect("placed").primitive.center();
+        let dz = doc.settle_depth(b);
+        let after = doc.get(b).expect("placed").primitive.center();
+        assert!((dz - 7.0).abs() < 1e-6, "moved by {dz}");
+        assert!(psi(&doc) < 1e-9, "the ends meet: {}", psi(&doc));
+        assert_eq!(
+            before.truncate(),
+            after.truncate(),
+            "the drawing is unchanged"
+        );
+    }
+
+    #[test]
+    fn a_part_alone_gets_no_relations_and_stays_as_snapped() {
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        let before = doc.clone();
+        assert!(doc
+            .infer_relations(a, &InferenceSettings::default())
+            .is_empty());
+        assert_eq!(doc, before);
+    }
+}

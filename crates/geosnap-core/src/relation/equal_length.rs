@@ -1,0 +1,77 @@
+//! Equal length: two solids with a `bottom` and a `top` end (cylinders, cones, SGCs,
+//! and the chord of a BGC) are equally long, (ℓ₁ − ℓ₂)/(ℓ₁ + ℓ₂) = 0 with ℓ the distance
+//! between the end centres. Inferred when |ℓ₁ − ℓ₂| ≤ [`InferenceSettings::length`]·(ℓ₁ + ℓ₂).
+
+use super::{InferenceSettings, Member, RelationError, RelationKind};
+use crate::ad::Real;
+use crate::primitive::{Feature, FeatureGeometry};
+
+const KIND: RelationKind = RelationKind::EqualLength;
+
+/// The distance between a member's end centres.
+fn length<T: Real>(m: &[Member<'_, T>], i: usize) -> Result<T, RelationError> {
+    let end = |feature: Feature| match m[i].get(feature) {
+        Some(FeatureGeometry::Circle { center, .. }) => Ok(*center),
+        _ => Err(RelationError::Unsuited {
+            kind: KIND.name(),
+            member: i,
+            what: format!("shape (it has no `{feature}` end)"),
+        }),
+    };
+    Ok((end(Feature::Top)? - end(Feature::Bottom)?).norm())
+}
+
+pub(super) fn residuals<T: Real>(m: &[Member<'_, T>]) -> Result<Vec<T>, RelationError> {
+    let (l1, l2) = (length(m, 0)?, length(m, 1)?);
+    Ok(vec![(l1 - l2) / (l1 + l2)])
+}
+
+pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool {
+    residuals(m).is_ok_and(|r| r[0].abs() <= settings.length)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::super::testing::{features, invariant_psi};
+    use super::super::{holds, InferenceSettings, Member, RelationKind};
+    use crate::primitive::{Cylinder, Primitive, Sphere};
+
+    #[test]
+    fn legs_of_one_length() {
+        let k = RelationKind::EqualLength;
+        let leg = |x: f64, l: f64| {
+            Primitive::Cylinder(Cylinder {
+                center: DVec3::X * x,
+                axis: DVec3::new(0.0, 0.9, 0.44).normalize(),
+                length: l,
+                radius: 2.0,
+            })
+        };
+        let (a, b, c) = (leg(0.0, 60.0), leg(30.0, 60.0), leg(30.0, 70.0));
+        assert!(invariant_psi(k, &[(&a, None), (&b, None)]) < 1e-12);
+        assert!(invariant_psi(k, &[(&a, None), (&c, None)]) > 0.07);
+        let s = InferenceSettings::default();
+        let (fa, fb, fc) = (features(&a), features(&b), features(&c));
+        let m = |f| {
+            [
+                Member {
+                    features: &fa,
+                    feature: None,
+                },
+                Member {
+                    features: f,
+                    feature: None,
+                },
+            ]
+        };
+        assert!(holds(k, &m(&fb), &s));
+        assert!(!holds(k, &m(&fc), &s));
+        let ball = features(&Primitive::Sphere(Sphere {
+            center: DVec3::ZERO,
+            radius: 3.0,
+        }));
+        assert!(!holds(k, &m(&ball), &s));
+    }
+}

@@ -1,0 +1,711 @@
+//! Inference on release: the relations a designer meant between a newly snapped
+//! primitive and those already placed, with no duplicates and no redundant chains.
+//!
+//! The new part is compared with every placed part, nearest first (by the distance of
+//! their projected centres). For each kind, candidate feature pairs are tested with
+//! [`holds`]; a candidate is dropped when what it says already follows from the relations
+//! kept so far:
+//! - parallel, coaxial, concentric, coplanar, same radius and equal length are
+//!   equivalences: each keeps a union–find of the entities it relates (directions, axis
+//!   lines, centres, planes, radii, lengths), seeded with the relations already in the
+//!   model, and a candidate whose two entities are already joined is redundant. Three
+//!   parallel legs get two relations, not three;
+//! - coaxial implies parallel (a coaxial pair joins the directions too), and a pair that
+//!   is both coaxial and concentric is coplanar there already;
+//! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
+//!   tube says nothing new about the box's other parallel edges; and it is proposed only
+//!   between parts that touch in the drawing (see `touching`);
+//! - collinear centres are not proposed where the three centres are already on one
+//!   coaxial axis.
+//!
+//! Relations in [`Mode::Off`](super::Mode::Off) do not count as known.
+
+use std::collections::{BTreeSet, HashMap};
+
+use super::{holds, InferenceSettings, Member, RelationKind};
+use crate::geom::segment_distance;
+use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
+
+/// A placed primitive as inference sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct Part<'a> {
+    /// Its kind.
+    pub kind: PrimitiveKind,
+    /// Its feature curves (at the snapped or solved pose).
+    pub features: &'a [FeatureCurve<f64>],
+}
+
+/// A relation between parts, by index, with the feature each member uses (`None` for
+/// kinds about the whole solid).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Proposal {
+    /// The kind.
+    pub kind: RelationKind,
+    /// The parts, as indices into the slice given to [`infer`].
+    pub members: Vec<usize>,
+    /// The feature of each member.
+    pub features: Vec<Option<Feature>>,
+}
+
+/// A box's directions: one face per axis.
+const BOX_DIRECTIONS: [Feature; 3] = [
+    Feature::face(Axis::X, true),
+    Feature::face(Axis::Y, true),
+    Feature::face(Axis::Z, true),
+];
+
+/// The features giving a part's directions, one per direction class.
+fn directions(part: &Part<'_>) -> &'static [Feature] {
+    match part.kind {
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => &[Feature::Top],
+        PrimitiveKind::Cuboid => &BOX_DIRECTIONS,
+        PrimitiveKind::Sphere | PrimitiveKind::Bgc => &[],
+    }
+}
+
+/// The end circles of a part (a sphere's outline is not an end).
+fn ends(part: &Part<'_>) -> &'static [Feature] {
+    match part.kind {
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc | PrimitiveKind::Bgc => {
+            &[Feature::Bottom, Feature::Top]
+        }
+        PrimitiveKind::Sphere | PrimitiveKind::Cuboid => &[],
+    }
+}
+
+/// The circles of a part, the sphere's outline included.
+fn circles(part: &Part<'_>) -> &'static [Feature] {
+    match part.kind {
+        PrimitiveKind::Sphere => &[Feature::Outline],
+        _ => ends(part),
+    }
+}
+
+/// The flat features of a part: end circles and box faces.
+fn planes(part: &Part<'_>) -> &'static [Feature] {
+    match part.kind {
+        PrimitiveKind::Cuboid => &Feature::FACES,
+        _ => ends(part),
+    }
+}
+
+/// The projected centre and the unit normal of a part's flat `feature`.
+fn plane_of(part: &Part<'_>, feature: Feature) -> Option<(glam::DVec2, glam::DVec3)> {
+    part.features
+        .iter()
+        .find(|f| f.feature == feature)
+        .map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, normal, .. }
+            | FeatureGeometry::Rectangle { center, normal, .. } => {
+                (glam::DVec2::new(center.x, center.y), normal.to_dvec3())
+            }
+        })
+}
+
+/// The view-plane box around a part's features (each circle and face with its full
+/// extent), grown by `grow` times its diagonal.
+fn outline_box(part: &Part<'_>, grow: f64) -> Option<(glam::DVec2, glam::DVec2)> {
+    let mut lo = glam::DVec2::splat(f64::INFINITY);
+    let mut hi = glam::DVec2::splat(f64::NEG_INFINITY);
+    for f in part.features {
+        let (center, reach) = match &f.geometry {
+            FeatureGeometry::Circle { center, radius, .. } => (center, *radius),
+            FeatureGeometry::Rectangle {
+                center,
+                half_extents,
+                ..
+            } => (center, half_extents[0].1.hypot(half_extents[1].1)),
+        };
+        let c = glam::DVec2::new(center.x, center.y);
+        lo = lo.min(c - glam::DVec2::splat(reach));
+        hi = hi.max(c + glam::DVec2::splat(reach));
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let margin = glam::DVec2::splat(grow * (hi - lo).length());
+    Some((lo - margin, hi + margin))
+}
+
+/// Whether two parts touch or nearly touch in the drawing: their outline boxes, grown by
+/// `grow` of their diagonals, overlap. Orthogonality is a designed relation between
+/// parts that meet (a pipe on a box, a handle on a mug); between parts far apart a right
+/// angle is most often chance (see also [`joined`]).
+fn touching(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
+    match (outline_box(a, grow), outline_box(b, grow)) {
+        (Some((alo, ahi)), Some((blo, bhi))) => {
+            alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y
+        }
+        _ => false,
+    }
+}
+
+/// A straight solid's axis in the drawing: its end circles' projected centres and its
+/// largest end radius (`None` for spheres, boxes and bent tubes).
+fn axis_segment(part: &Part<'_>) -> Option<(glam::DVec2, glam::DVec2, f64)> {
+    if !matches!(
+        part.kind,
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
+    ) {
+        return None;
+    }
+    let end = |feature: Feature| {
+        part.features.iter().find_map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, radius, .. } if f.feature == feature => {
+                Some((glam::DVec2::new(center.x, center.y), *radius))
+            }
+            _ => None,
+        })
+    };
+    let ((a, ra), (b, rb)) = (end(Feature::Bottom)?, end(Feature::Top)?);
+    Some((a, b, ra.max(rb)))
+}
+
+/// Whether two parts may be orthogonal by design: they meet in the drawing
+/// ([`touching`]), and when both are straight solids of revolution, one's end lies on
+/// the other's body (a T or an L joint: a handle on a mug, a rung on a ladder's side),
+/// within `grow` of its length. Two tubes radiating from one ball meet only near the
+/// ball, end to end at a distance; their angle is the ball's design, not a right angle.
+fn joined(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
+    if !touching(a, b, grow) {
+        return false;
+    }
+    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (axis_segment(a), axis_segment(b)) else {
+        return true;
+    };
+    let end_on = |p: glam::DVec2, s0: glam::DVec2, s1: glam::DVec2, r: f64| {
+        segment_distance(s0, s1, p) <= r + grow * s0.distance(s1)
+    };
+    end_on(a0, b0, b1, rb)
+        || end_on(a1, b0, b1, rb)
+        || end_on(b0, a0, a1, ra)
+        || end_on(b1, a0, a1, ra)
+}
+
+/// What of a part an entity of inference is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Slot {
+    /// The part as a whole: its axis line, its length, a cylinder's one radius.
+    Whole,
+    /// One of its features: a centre, a plane, a radius.
+    Feature(Feature),
+    /// One of its direction classes ([`Feature::direction_class`]).
+    Direction(usize),
+}
+
+/// An entity of inference: a part (by index) and what of it.
+type Entity = (usize, Slot);
+
+/// A union–find over entities.
+#[derive(Default)]
+struct Classes {
+    parent: HashMap<Entity, Entity>,
+}
+
+impl Classes {
+    fn find(&mut self, x: Entity) -> Entity {
+        let mut root = x;
+        while let Some(&p) = self.parent.get(&root) {
+            if p == root {
+                break;
+            }
+            root = p;
+        }
+        // Path compression.
+        let mut cur = x;
+        while cur != root {
+            let next = self.parent.get(&cur).copied().unwrap_or(root);
+            self.parent.insert(cur, root);
+            cur = next;
+        }
+        root
+    }
+
+    /// Joins two entities; false when they were joined already.
+    fn union(&mut self, a: Entity, b: Entity) -> bool {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return false;
+        }
+        self.parent.insert(ra, rb);
+        true
+    }
+}
+
+/// What the kept relations already say.
+#[derive(Default)]
+struct Known {
+    parallel: Classes,
+    coaxial: Classes,
+    concentric: Classes,
+    coplanar: Classes,
+    radius: Classes,
+    length: Classes,
+    orthogonal: BTreeSet<(Entity, Entity)>,
+    others: Vec<Proposal>,
+}
+
+impl Known {
+    /// Records `p`; false when it follows from what is known.
+    fn add(&mut self, parts: &[Part<'_>], p: &Proposal) -> bool {
+        let entity = |i: usize| {
+            (
+                p.members[i],
+                p.features[i].map_or(Slot::Whole, Slot::Feature),
+            )
+        };
+        let direction = |i: usize| {
+            let class = p.features[i].map_or(0, Feature::direction_class);
+            (p.members[i], Slot::Direction(class))
+        };
+        let whole = |i: usize| (p.members[i], Slot::Whole);
+        match p.kind {
+            RelationKind::Parallel => self.parallel.union(direction(0), direction(1)),
+            RelationKind::Coaxial => {
+                let new = self.coaxial.union(whole(0), whole(1));
+                self.parallel.union(direction(0), direction(1));
+                new
+            }
+            RelationKind::Concentric => self.concentric.union(entity(0), entity(1)),
+            RelationKind::Coplanar => self.coplanar.union(entity(0), entity(1)),
+            RelationKind::SameRadius => {
+                // A cylinder has one radius, whichever end names it.
+                let radius = |i: usize| match parts[p.members[i]].kind {
+                    PrimitiveKind::Cylinder => whole(i),
+                    _ => entity(i),
+                };
+                self.radius.union(radius(0), radius(1))
+            }
+            RelationKind::EqualLength => self.length.union(whole(0), whole(1)),
+            RelationKind::Orthogonal => {
+                let (a, b) = (
+                    self.parallel.find(direction(0)),
+                    self.parallel.find(direction(1)),
+                );
+                let key = if a <= b { (a, b) } else { (b, a) };
+                self.orthogonal.insert(key)
+            }
+            RelationKind::OnSphere | RelationKind::CollinearCenters => {
+                if self.others.contains(p) {
+                    false
+                } else {
+                    self.others.push(p.clone());
+                    true
+                }
+            }
+        }
+    }
+
+    /// Whether two parts are on one axis already.
+    fn coaxial(&mut self, a: usize, b: usize) -> bool {
+        self.coaxial.find((a, Slot::Whole)) == self.coaxial.find((b, Slot::Whole))
+    }
+}
+
+/// The projected centre of a part: the mean of its features' centres.
+fn centre(part: &Part<'_>) -> glam::DVec2 {
+    let n = part.features.len().max(1) as f64;
+    part.features
+        .iter()
+        .map(|f| match &f.geometry {
+            FeatureGeometry::Circle { center, .. } | FeatureGeometry::Rectangle { center, .. } => {
+                glam::DVec2::new(center.x, center.y)
+            }
+        })
+        .sum::<glam::DVec2>()
+        / n
+}
+
+/// The relations between part `new` and the others, given the relations already in the
+/// model (`existing`, whose modes are not off). See the module docs for the rules.
+pub fn infer(
+    parts: &[Part<'_>],
+    new: usize,
+    existing: &[Proposal],
+    settings: &InferenceSettings,
+) -> Vec<Proposal> {
+    if new >= parts.len() {
+        return Vec::new();
+    }
+    let mut run = Inference {
+        parts,
+        new,
+        settings,
+        known: Known::default(),
+        out: Vec::new(),
+    };
+    for p in existing {
+        run.known.add(parts, p);
+    }
+    let here = centre(&parts[new]);
+    let mut others: Vec<usize> = (0..parts.len()).filter(|&i| i != new).collect();
+    others.sort_by(|&a, &b| {
+        centre(&parts[a])
+            .distance(here)
+            .total_cmp(&centre(&parts[b]).distance(here))
+    });
+    for &other in &others {
+        let coaxial = run.axes(other);
+        run.circles_and_planes(other, coaxial);
+        run.solids(other);
+    }
+    run.collinear(&others);
+    run.out
+}
+
+/// One run of [`infer`]: what is known so far and what was found.
+struct Inference<'p, 'a> {
+    parts: &'p [Part<'a>],
+    new: usize,
+    settings: &'p InferenceSettings,
+    known: Known,
+    out: Vec<Proposal>,
+}
+
+impl Inference<'_, '_> {
+    /// Whether `p` nearly holds.
+    fn holds(&self, p: &Proposal) -> bool {
+        let members: Vec<Member<'_, f64>> = p
+            .members
+            .iter()
+            .zip(&p.features)
+            .map(|(&i, f)| Member {
+                features: self.parts[i].features,
+                feature: *f,
+            })
+            .collect();
+        self.settings.enabled(p.kind) && holds(p.kind, &members, self.settings)
+    }
+
+    /// Whether some direction of `other` is parallel to one of the new part's.
+    fn parallel_to_new(&self, other: usize) -> bool {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        directions(&new_part).iter().any(|&a| {
+            directions(&other_part)
+                .iter()
+                .any(|&b| self.holds(&self.pair(RelationKind::Parallel, other, a, b)))
+        })
+    }
+
+    /// Keeps `p` if it holds and says something new; whether it was kept.
+    fn propose(&mut self, p: Proposal) -> bool {
+        if self.holds(&p) && self.known.add(self.parts, &p) {
+            self.out.push(p);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// A relation between the new part's feature `a` and `other`'s feature `b`.
+    fn pair(&self, kind: RelationKind, other: usize, a: Feature, b: Feature) -> Proposal {
+        Proposal {
+            kind,
+            members: vec![self.new, other],
+            features: vec![Some(a), Some(b)],
+        }
+    }
+
+    /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
+    /// some direction is parallel and only between parts that touch in the drawing.
+    /// Returns whether the parts are coaxial.
+    fn axes(&mut self, other: usize) -> bool {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let mut coaxial = false;
+        if new_part.kind != PrimitiveKind::Bgc && other_part.kind != PrimitiveKind::Bgc {
+            'pairs: for &a in ends(&new_part) {
+                for &b in ends(&other_part) {
+                    if self.propose(self.pair(RelationKind::Coaxial, other, a, b)) {
+                        coaxial = true;
+                        break 'pairs;
+                    }
+                }
+            }
+        }
+        let mut parallel_somewhere = coaxial;
+        for &a in directions(&new_part) {
+            for &b in directions(&other_part) {
+                let p = self.pair(RelationKind::Parallel, other, a, b);
+                parallel_somewhere |= self.holds(&p);
+                self.propose(p);
+            }
+        }
+        if !parallel_somewhere && joined(&new_part, &other_part, self.settings.distance) {
+            for &a in directions(&new_part) {
+                for &b in directions(&other_part) {
+                    self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
+                }
+            }
+        }
+        coaxial
+    }
+
+    /// Centres and radii of circles; then planes: ends on ends, ends on faces (studs on
+    /// a brick) and faces on faces, tested both ways round (the test asks for the second
+    /// centre inside the first outline).
+    fn circles_and_planes(&mut self, other: usize, coaxial: bool) {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let mut centred = Vec::new();
+        for &a in circles(&new_part) {
+            for &b in circles(&other_part) {
+                if (a == Feature::Outline) != (b == Feature::Outline) {
+                    continue; // a tube's end at a ball's centre is inside the ball
+                }
+                if let (Some((_, na)), Some((_, nb))) =
+                    (plane_of(&new_part, a), plane_of(&other_part, b))
+                {
+                    // Two ends sharing a centre and facing the same way put one solid
+                    // inside the other: parts drawn one behind the other, not a stack.
+                    if a != Feature::Outline
+                        && na.dot(nb) > self.settings.angle_degrees.to_radians().cos()
+                    {
+                        continue;
+                    }
+                }
+                let p = self.pair(RelationKind::Concentric, other, a, b);
+                if self.holds(&p) {
+                    centred.push((a, b));
+                }
+                self.propose(p);
+                if a != Feature::Outline && b != Feature::Outline {
+                    self.propose(self.pair(RelationKind::SameRadius, other, a, b));
+                }
+            }
+        }
+        // At most one plane per pair of parts: a leg's top drawn inside a table top's
+        // outline lies, in the drawing, within both faces of the top, but it can meet
+        // one only. The faces in contact (outward normals opposed: a leg's top under
+        // the table's underside, a stud's bottom on a brick's top) win, then the pair
+        // whose centres are nearer in the drawing.
+        let mut planar: Vec<(bool, f64, Proposal)> = Vec::new();
+        for &a in planes(&new_part) {
+            for &b in planes(&other_part) {
+                if coaxial && centred.contains(&(a, b)) {
+                    continue; // one axis and one centre: one plane already
+                }
+                let p = self.pair(RelationKind::Coplanar, other, a, b);
+                let p = if self.holds(&p.clone().swapped()) {
+                    p.swapped()
+                } else if self.holds(&p) {
+                    p
+                } else {
+                    continue;
+                };
+                let (Some((ca, na)), Some((cb, nb))) =
+                    (plane_of(&new_part, a), plane_of(&other_part, b))
+                else {
+                    continue;
+                };
+                planar.push((na.dot(nb) < 0.0, ca.distance(cb), p));
+            }
+        }
+        planar.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.total_cmp(&y.1)));
+        if let Some((_, _, p)) = planar.into_iter().next() {
+            self.propose(p);
+        }
+    }
+
+    /// Whole solids: equal lengths, and a tube on a ball either way round.
+    fn solids(&mut self, other: usize) {
+        let (new, new_part, other_part) = (self.new, self.parts[self.new], self.parts[other]);
+        if !ends(&new_part).is_empty() && !ends(&other_part).is_empty() {
+            self.propose(Proposal {
+                kind: RelationKind::EqualLength,
+                members: vec![new, other],
+                features: vec![None, None],
+            });
+        }
+        for (sphere, tube) in [(other, new), (new, other)] {
+            if self.parts[sphere].kind != PrimitiveKind::Sphere {
+                continue;
+            }
+            for &end in ends(&self.parts[tube]) {
+                let p = Proposal {
+                    kind: RelationKind::OnSphere,
+                    members: vec![sphere, tube],
+                    features: vec![Some(Feature::Outline), Some(end)],
+                };
+                if self.propose(p) {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Collinear centres: the new part's two ends and one other circle, off any known
+    /// axis.
+    fn collinear(&mut self, others: &[usize]) {
+        let new = self.new;
+        let [a, b] = ends(&self.parts[new]) else {
+            return;
+        };
+        for &other in others {
+            if self.known.coaxial(new, other) || self.parallel_to_new(other) {
+                // On a parallel part's end the line is its axis: coaxial says it; and
+                // parts drawn one behind the other would line up by chance.
+                continue;
+            }
+            for &c in circles(&self.parts[other]) {
+                let p = Proposal {
+                    kind: RelationKind::CollinearCenters,
+                    members: vec![new, new, other],
+                    features: vec![Some(*a), Some(*b), Some(c)],
+                };
+                if self.propose(p) {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+impl Proposal {
+    /// The same relation between (member 1, member 0): used to build a pair with the new
+    /// part second and put it first again.
+    fn swapped(mut self) -> Self {
+        self.members.swap(0, 1);
+        self.features.swap(0, 1);
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DQuat, DVec3};
+
+    use super::{infer, Part, Proposal};
+    use crate::primitive::{Axis, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
+    use crate::relation::{InferenceSettings, RelationKind};
+
+    /// Relations inferred placing `primitives` one by one, as on release.
+    fn place_all(primitives: &[Primitive]) -> Vec<Proposal> {
+        let features: Vec<Vec<FeatureCurve<f64>>> = primitives
+            .iter()
+            .map(|p| p.current_shape().features)
+            .collect();
+        let parts: Vec<Part<'_>> = primitives
+            .iter()
+            .zip(&features)
+            .map(|(p, f)| Part {
+                kind: p.kind(),
+                features: f,
+            })
+            .collect();
+        let mut relations = Vec::new();
+        for new in 1..parts.len() {
+            let found = infer(
+                &parts[..=new],
+                new,
+                &relations,
+                &InferenceSettings::default(),
+            );
+            relations.extend(found);
+        }
+        relations
+    }
+
+    fn count(relations: &[Proposal], kind: RelationKind) -> usize {
+        relations.iter().filter(|r| r.kind == kind).count()
+    }
+
+    const TILT: DVec3 = DVec3::new(0.0, 0.94, 0.34);
+
+    fn cylinder(center: DVec3, length: f64, radius: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center,
+            axis: TILT.normalize(),
+            length,
+            radius,
+        })
+    }
+
+    #[test]
+    fn three_legs_give_chains_not_triangles() {
+        let legs: Vec<Primitive> = [0.0, 40.0, 80.0]
+            .iter()
+            .map(|x| cylinder(DVec3::X * *x, 60.0, 3.0))
+            .collect();
+        let r = place_all(&legs);
+        assert_eq!(count(&r, RelationKind::Parallel), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::SameRadius), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::EqualLength), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Coaxial), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+    }
+
+    #[test]
+    fn a_stack_is_coaxial_and_concentric_where_it_touches() {
+        let axis = TILT.normalize();
+        let stack = [
+            cylinder(DVec3::ZERO, 20.0, 10.0),
+            cylinder(axis * 15.0, 10.0, 6.0),
+            cylinder(axis * 25.0, 10.0, 3.0),
+        ];
+        let r = place_all(&stack);
+        assert_eq!(count(&r, RelationKind::Coaxial), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Parallel), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Concentric), 2, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Coplanar), 0, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::CollinearCenters), 0, "{r:#?}");
+        let first = r
+            .iter()
+            .find(|p| p.kind == RelationKind::Concentric)
+            .expect("concentric");
+        assert_eq!(
+            first.features,
+            vec![Some(Feature::Bottom), Some(Feature::Top)]
+        );
+    }
+
+    fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center,
+            axis: axis.normalize(),
+            length,
+            radius: 2.0,
+        })
+    }
+
+    #[test]
+    fn only_joined_rods_are_orthogonal() {
+        // Two tubes leaving a ball of radius 5 at right angles: their outlines meet near
+        // the ball, but their ends are 7 units apart, neither on the other's body.
+        let (x, y) = (DVec3::X, DVec3::Y);
+        let tubes = [rod(x * 20.0, x, 30.0), rod(y * 20.0, y, 30.0)];
+        let r = place_all(&tubes);
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+        // A T: the second rod's end lies on the first one's side.
+        let tee = [rod(DVec3::ZERO, x, 60.0), rod(y * 16.0, y, 30.0)];
+        let r = place_all(&tee);
+        assert_eq!(count(&r, RelationKind::Orthogonal), 1, "{r:#?}");
+    }
+
+    #[test]
+    fn a_stud_sits_on_the_brick_and_stands_up_from_it() {
+        let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let up = view * DVec3::Y;
+        let brick = Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: view,
+            size: DVec3::new(80.0, 20.0, 40.0),
+        });
+        let stud = Primitive::Cylinder(Cylinder {
+            center: up * 13.0 + view * DVec3::new(25.0, 0.0, 10.0),
+            axis: up,
+            length: 6.0,
+            radius: 5.0,
+        });
+        let r = place_all(&[brick, stud]);
+        assert_eq!(count(&r, RelationKind::Parallel), 1, "{r:#?}");
+        assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+        let on = r
+            .iter()
+            .find(|p| p.kind == RelationKind::Coplanar)
+            .expect("coplanar");
+        assert_eq!(on.members, vec![0, 1]);
+        assert_eq!(
+            on.features,
+            vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)]
+        );
+    }
+}

@@ -1,0 +1,837 @@
+//! Curve assignment: which strokes correspond to which projected curves of a primitive
+//! at a given pose.
+//!
+//! Each stroke is tested against each visible projected curve whose class it suits
+//! (feature strokes for end ellipses, silhouette strokes for outlines, straight strokes
+//! of either class for box edges; a stroke of the other class is still accepted at a
+//! threefold worse score, so a misclassified stroke is not lost). The distances of the
+//! stroke's samples to the curve decide:
+//! - a stroke whose samples lie within the *gate* (a distance relative to the
+//!   primitive's size, never an absolute number of pixels; for an ellipse, at most its
+//!   semi-major axis; once the pose is fitted, for an outline at most the distance to
+//!   the part's own outline across from it, see `assign_within`) for at least 80 % is
+//!   taken whole;
+//! - a longer stroke that runs along the curve for at least half the curve's length is
+//!   taken for that part only (one stroke may outline two stacked parts);
+//! - among the curves a stroke qualifies for, the closest wins;
+//! - within a curve, only strokes that fit about as well as its best one stay (twice the
+//!   best score plus a tenth of the gate), so that a neighbouring part's stroke that
+//!   merely passes the gate does not drag the fit.
+//!
+//! Straight strokes must also run within 35° of a straight curve's direction. Several
+//! strokes may share a curve (a silhouette drawn in pieces, gaps are normal), and a stroke
+//! may serve several primitives. The result depends only on the inputs (no hashing, no
+//! threads), so it is deterministic.
+
+use glam::DVec2;
+
+use super::context::{SnapContext, SnapStroke};
+use crate::ad::ellipse_distance;
+pub(crate) use crate::geom::segment_distance;
+use crate::primitive::{Curve2, CurveClass, ProjectedCurve};
+use crate::sketch::{StrokeClass, StrokeId};
+
+/// Samples of one stroke that a curve takes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AssignedStroke {
+    /// The stroke.
+    pub stroke: StrokeId,
+    /// The samples used, in view-plane coordinates (all of the stroke, or the part that
+    /// runs along the curve).
+    pub samples: Vec<DVec2>,
+    /// Mean distance of the samples to the curve at assignment time.
+    pub mean_distance: f64,
+    /// When only part of the stroke runs along the curve, the indices of the samples
+    /// taken among [`stroke_samples`] of the stroke, ascending; `None` when the whole
+    /// stroke is taken. With the stroke id this is all a file needs to store to
+    /// [`restore_assignment`].
+    pub part: Option<Vec<usize>>,
+}
+
+/// The strokes assigned to each projected curve of one primitive.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Assignment {
+    /// One entry per projected curve of the primitive's shape, in order.
+    pub curves: Vec<Vec<AssignedStroke>>,
+}
+
+impl Assignment {
+    /// The ids of all assigned strokes, sorted and without repeats.
+    pub fn stroke_ids(&self) -> Vec<StrokeId> {
+        let mut ids: Vec<StrokeId> = self.curves.iter().flatten().map(|a| a.stroke).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        ids
+    }
+
+    /// Whether curve `k` has at least one stroke.
+    pub fn has(&self, k: usize) -> bool {
+        self.curves.get(k).is_some_and(|c| !c.is_empty())
+    }
+
+    /// The same strokes per curve (ignoring samples), for telling whether a re-assignment
+    /// changed anything.
+    pub fn same_strokes(&self, other: &Self) -> bool {
+        self.curves.len() == other.curves.len()
+            && self
+                .curves
+                .iter()
+                .zip(&other.curves)
+                .all(|(a, b)| a.iter().map(|s| s.stroke).eq(b.iter().map(|s| s.stroke)))
+    }
+}
+
+/// The distance from `p` to a numeric curve.
+pub(crate) fn curve_distance(curve: &Curve2<f64>, p: DVec2) -> f64 {
+    match curve {
+        Curve2::Ellipse { center, a, b } => {
+            ellipse_distance(center.to_dvec2(), a.to_dvec2(), b.to_dvec2(), p).0
+        }
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| segment_distance(w[0].to_dvec2(), w[1].to_dvec2(), p))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// The length of a numeric curve (an ellipse's by Ramanujan's approximation).
+pub(crate) fn curve_length(curve: &Curve2<f64>) -> f64 {
+    match curve {
+        Curve2::Ellipse { a, b, .. } => {
+            // Conjugate semi-diameters → semi-axes via the singular values of [a b].
+            let m = glam::DMat2::from_cols(a.to_dvec2(), b.to_dvec2());
+            let (p, q) = singular_values(m);
+            let h = ((p - q) / (p + q + f64::MIN_POSITIVE)).powi(2);
+            std::f64::consts::PI * (p + q) * (1.0 + 3.0 * h / (10.0 + (4.0 - 3.0 * h).sqrt()))
+        }
+        Curve2::Polyline(points) => points
+            .windows(2)
+            .map(|w| w[0].to_dvec2().distance(w[1].to_dvec2()))
+            .sum(),
+    }
+}
+
+/// The singular values (larger first) of a 2×2 matrix.
+pub(crate) fn singular_values(m: glam::DMat2) -> (f64, f64) {
+    let (a, b, c, d) = (m.x_axis.x, m.y_axis.x, m.x_axis.y, m.y_axis.y);
+    let s1 = (a * a + b * b + c * c + d * d) / 2.0;
+    let s2 = (((a * a + b * b - c * c - d * d) / 2.0).powi(2) + (a * c + b * d).powi(2)).sqrt();
+    ((s1 + s2).max(0.0).sqrt(), (s1 - s2).max(0.0).sqrt())
+}
+
+/// Whether a stroke suits a curve, and the score factor if it does. A sphere's outline is
+/// an ellipse like an end's, and a closed elliptical stroke is classified a feature
+/// whichever it draws, so feature strokes suit it fully.
+fn suitability(curve: &ProjectedCurve<f64>, stroke: &SnapStroke) -> Option<f64> {
+    match (curve.class, stroke.class) {
+        (CurveClass::Silhouette, StrokeClass::Feature)
+            if matches!(curve.curve, Curve2::Ellipse { .. }) =>
+        {
+            Some(1.0)
+        }
+        (CurveClass::Edge, _) if stroke.straight => Some(1.0),
+        (CurveClass::Edge, _) => (stroke.straightness <= ROUGHLY_STRAIGHT).then_some(1.5),
+        (CurveClass::Feature, StrokeClass::Feature)
+        | (CurveClass::Silhouette, StrokeClass::Silhouette) => Some(1.0),
+        _ => Some(3.0),
+    }
+}
+
+/// The straightness (see [`SnapStroke::straightness`]) up to which a stroke that is not
+/// quite straight may still draw a box edge, at a worse score: a short edge drawn by a
+/// shaky hand.
+pub(crate) const ROUGHLY_STRAIGHT: f64 = 0.06;
+
+/// At most this many samples of a stroke are tested and used per curve.
+const MAX_SAMPLES: usize = 32;
+
+/// The samples of a stroke that assignment tests and takes: at most 32, evenly chosen
+/// along it, its end points included (view-plane coordinates).
+pub fn stroke_samples(stroke: &SnapStroke) -> Vec<DVec2> {
+    subsample(&stroke.points)
+}
+
+/// The samples taken of a stroke: all of `samples`, or those at the indices of `part`;
+/// `None` when an index is out of range or the indices are not strictly ascending.
+fn taken(samples: &[DVec2], part: Option<&[usize]>) -> Option<Vec<DVec2>> {
+    let Some(part) = part else {
+        return Some(samples.to_vec());
+    };
+    if part.windows(2).any(|w| w[0] >= w[1]) {
+        return None;
+    }
+    part.iter().map(|i| samples.get(*i).copied()).collect()
+}
+
+/// Evenly chosen samples of a stroke (its end points included).
+fn subsample(points: &[DVec2]) -> Vec<DVec2> {
+    if points.len() <= MAX_SAMPLES {
+        return points.to_vec();
+    }
+    (0..MAX_SAMPLES)
+        .map(|i| points[i * (points.len() - 1) / (MAX_SAMPLES - 1)])
+        .collect()
+}
+
+/// Assigns strokes to the curves of `curves` (a primitive's projected curves at its
+/// current pose), with the gate distance `gate` in view-plane units.
+pub fn assign(context: &SnapContext, curves: &[ProjectedCurve<f64>], gate: f64) -> Assignment {
+    assign_within(context, curves, gate, false)
+}
+
+/// As [`assign`], and when `fitted` (the curves are those of a fitted pose, not of a
+/// hand's drop) an outline's gate is also no wider than the part itself there: see
+/// `outline_caps`.
+pub(crate) fn assign_within(
+    context: &SnapContext,
+    curves: &[ProjectedCurve<f64>],
+    gate: f64,
+    fitted: bool,
+) -> Assignment {
+    let caps = if fitted {
+        outline_caps(curves)
+    } else {
+        vec![f64::INFINITY; curves.len()]
+    };
+    let mut assignment = Assignment {
+        curves: vec![Vec::new(); curves.len()],
+    };
+    // Bounds of the primitive's curves, grown by the gate, to skip far strokes quickly.
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for c in curves {
+        let (clo, chi) = curve_bounds(&c.curve);
+        lo = lo.min(clo);
+        hi = hi.max(chi);
+    }
+    lo -= DVec2::splat(gate);
+    hi += DVec2::splat(gate);
+    let lengths: Vec<f64> = curves.iter().map(|c| curve_length(&c.curve)).collect();
+    let mut scored: Vec<Vec<(f64, AssignedStroke)>> = vec![Vec::new(); curves.len()];
+    for stroke in &context.strokes {
+        let (slo, shi) = stroke.bounds;
+        if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
+            continue;
+        }
+        for (score, k, c) in pieces(stroke, curves, &lengths, gate, &caps) {
+            scored[k].push((score, c));
+        }
+    }
+    // Competition within a curve: keep the strokes that fit about as well as its best one
+    // (twice its score plus a tenth of the gate), so a neighbouring part's stroke that
+    // merely passes the gate does not drag the fit.
+    for (k, mut candidates) in scored.into_iter().enumerate() {
+        let best = candidates
+            .iter()
+            .map(|(s, _)| *s)
+            .fold(f64::INFINITY, f64::min);
+        candidates.retain(|(s, _)| *s <= 2.0 * best + 0.1 * gate);
+        assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
+    }
+    assignment
+}
+
+/// The curves one stroke is assigned to, with its score for each: the curve it fits best,
+/// and, when that takes only a piece of it, the curves that other pieces of it fit (a
+/// stroke drawn round a corner, or one that runs down an outline, round an end and back
+/// up the other outline). Pieces may not share more than a sample.
+fn pieces(
+    stroke: &SnapStroke,
+    curves: &[ProjectedCurve<f64>],
+    lengths: &[f64],
+    gate: f64,
+    caps: &[f64],
+) -> Vec<(f64, usize, AssignedStroke)> {
+    let samples = subsample(&stroke.points);
+    let mut candidates: Vec<Piece> = Vec::new();
+    for (k, curve) in curves.iter().enumerate() {
+        if !curve.visible {
+            continue;
+        }
+        let gate = curve_gate(&curve.curve, gate).min(caps[k]);
+        let d: Vec<f64> = samples
+            .iter()
+            .map(|p| curve_distance(&curve.curve, *p))
+            .collect();
+        let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
+        let part = if near.len() * 5 >= d.len() * 4 {
+            None
+        } else {
+            let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
+            if near.len() < 4 || near_length < 0.5 * lengths[k] {
+                continue;
+            }
+            Some(near)
+        };
+        // A piece is judged by its own shape: the straight leg of a stroke drawn round a
+        // box corner draws an edge, though the whole stroke is not straight.
+        let piece;
+        let judged = match &part {
+            None => stroke,
+            Some(near) => {
+                let points: Vec<DVec2> = near.iter().map(|i| samples[*i]).collect();
+                let Some(p) = super::context::prepare(stroke.id, points, stroke.class) else {
+                    continue;
+                };
+                piece = p;
+                &piece
+            }
+        };
+        let Some(factor) = suitability(curve, judged) else {
+            continue;
+        };
+        if !direction_ok(&curve.curve, judged) {
+            continue;
+        }
+        candidates.push(Piece {
+            factor,
+            k,
+            whole: part.is_none(),
+            indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
+            distances: d,
+        });
+    }
+    candidates.sort_by(|a, b| a.score().total_cmp(&b.score()).then(a.k.cmp(&b.k)));
+    let accepted: Vec<Piece> = match candidates.first() {
+        None => Vec::new(),
+        // The stroke fits one curve whole: it draws that curve.
+        Some(first) if first.whole => candidates.into_iter().take(1).collect(),
+        // Pieces: where two meet (a corner, an outline running into its end), a sample
+        // near both curves goes to the nearer; a piece left with less than half of its
+        // samples was mostly another curve's and is dropped.
+        Some(_) => {
+            candidates.retain(|p| !p.whole);
+            let owner: Vec<Option<usize>> = (0..samples.len())
+                .map(|i| {
+                    candidates
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, p)| p.indices.binary_search(&i).is_ok())
+                        .min_by(|(_, a), (_, b)| a.distances[i].total_cmp(&b.distances[i]))
+                        .map(|(c, _)| c)
+                })
+                .collect();
+            let mut kept = Vec::new();
+            for (c, mut piece) in candidates.into_iter().enumerate() {
+                let before = piece.indices.len();
+                piece.indices.retain(|i| owner[*i] == Some(c));
+                if piece.indices.len() >= 4 && 2 * piece.indices.len() >= before {
+                    kept.push(piece);
+                }
+            }
+            kept
+        }
+    };
+    accepted
+        .into_iter()
+        .filter_map(|piece| {
+            let part = (!piece.whole).then(|| piece.indices.clone());
+            let mean_distance = piece.mean_distance();
+            Some((
+                mean_distance * piece.factor,
+                piece.k,
+                AssignedStroke {
+                    stroke: stroke.id,
+                    samples: taken(&samples, part.as_deref())?,
+                    mean_distance,
+                    part,
+                },
+            ))
+        })
+        .collect()
+}
+
+/// A stroke, or a piece of one, that suits a curve.
+struct Piece {
+    /// The score factor of its class against the curve's (see `suitability`).
+    factor: f64,
+    /// The curve.
+    k: usize,
+    /// Whether it is the whole stroke.
+    whole: bool,
+    /// The indices of its samples among the stroke's.
+    indices: Vec<usize>,
+    /// The distance of every sample of the stroke to the curve.
+    distances: Vec<f64>,
+}
+
+impl Piece {
+    fn mean_distance(&self) -> f64 {
+        self.indices.iter().map(|i| self.distances[*i]).sum::<f64>()
+            / self.indices.len().max(1) as f64
+    }
+
+    fn score(&self) -> f64 {
+        self.mean_distance() * self.factor
+    }
+}
+
+/// The strokes of one projected curve as a file stores them: each stroke's id with the
+/// indices of the samples taken ([`AssignedStroke::part`]; `None`: the whole stroke).
+pub type CurveStrokes = Vec<(StrokeId, Option<Vec<usize>>)>;
+
+/// Why an assignment could not be restored.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RestoreError {
+    /// There is not one list of strokes per projected curve.
+    #[error("{found} curve(s) of strokes for a primitive with {expected} projected curves")]
+    CurveCount {
+        /// The primitive's projected curves.
+        expected: usize,
+        /// The lists given.
+        found: usize,
+    },
+    /// A stroke is not among the strokes that can be snapped to (it is not in the
+    /// sketch, or too short to keep).
+    #[error("stroke {} is not in the sketch", stroke.0)]
+    MissingStroke {
+        /// The stroke.
+        stroke: StrokeId,
+    },
+    /// A stroke's sample indices are out of range or not strictly ascending.
+    #[error("stroke {} has invalid sample indices", stroke.0)]
+    InvalidSamples {
+        /// The stroke.
+        stroke: StrokeId,
+    },
+}
+
+/// Rebuilds an assignment from the strokes of each projected curve, as a file stores
+/// it: per curve, each stroke's id with the indices of the samples taken when only part
+/// of it was (see [`AssignedStroke::part`]). The samples are chosen exactly as
+/// [`assign`] chooses them, from the same `context`; the mean distances are measured
+/// to `curves` (the primitive's projected curves now).
+///
+/// # Errors
+///
+/// [`RestoreError`] when the number of curves differs from `curves`, a stroke is not in
+/// `context`, or sample indices are invalid.
+pub fn restore_assignment(
+    context: &SnapContext,
+    curves: &[ProjectedCurve<f64>],
+    strokes: &[CurveStrokes],
+) -> Result<Assignment, RestoreError> {
+    if strokes.len() != curves.len() {
+        return Err(RestoreError::CurveCount {
+            expected: curves.len(),
+            found: strokes.len(),
+        });
+    }
+    let curves = curves
+        .iter()
+        .zip(strokes)
+        .map(|(curve, assigned)| {
+            assigned
+                .iter()
+                .map(|(id, part)| {
+                    let stroke = context
+                        .stroke(*id)
+                        .ok_or(RestoreError::MissingStroke { stroke: *id })?;
+                    let samples = taken(&stroke_samples(stroke), part.as_deref())
+                        .filter(|s| !s.is_empty())
+                        .ok_or(RestoreError::InvalidSamples { stroke: *id })?;
+                    let mean_distance = samples
+                        .iter()
+                        .map(|p| curve_distance(&curve.curve, *p))
+                        .sum::<f64>()
+                        / samples.len() as f64;
+                    Ok(AssignedStroke {
+                        stroke: *id,
+                        samples,
+                        mean_distance,
+                        part: part.clone(),
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Assignment { curves })
+}
+
+/// The gate of one curve: `gate`, but for an ellipse no more than its semi-major axis. A
+/// stroke further from an end ellipse than that ellipse's own radius is not drawing it:
+/// without this, the thin stem of a goblet, whose size is its length, would take the
+/// base's wide rim for its small end.
+fn curve_gate(curve: &Curve2<f64>, gate: f64) -> f64 {
+    match curve {
+        Curve2::Ellipse { a, b, .. } => {
+            let m = glam::DMat2::from_cols(a.to_dvec2(), b.to_dvec2());
+            gate.min(singular_values(m).0)
+        }
+        Curve2::Polyline(_) => gate,
+    }
+}
+
+/// Per curve, the widest gate the part's own shape allows once it is fitted: for an
+/// outline (a polyline), the distance from its middle to the nearest other visible
+/// outline of the part running within 35° of it (the opposite silhouette of a tube, the
+/// parallel edge across a box face); no bound for the rest. A stroke further from an
+/// outline than the part is wide there is not drawing it: without this, the gate of a
+/// rod, a tenth of its length, is wider than the rod, and a neighbouring leg's outline
+/// (or the far side of a U drawn round its end) passes it.
+fn outline_caps(curves: &[ProjectedCurve<f64>]) -> Vec<f64> {
+    let chord = |c: &Curve2<f64>| match c {
+        Curve2::Polyline(p) if p.len() >= 2 => {
+            let (a, b) = (p[0].to_dvec2(), p[p.len() - 1].to_dvec2());
+            Some((a.lerp(b, 0.5), (b - a).normalize_or_zero()))
+        }
+        _ => None,
+    };
+    curves
+        .iter()
+        .enumerate()
+        .map(|(k, curve)| {
+            let Some((mid, dir)) = chord(&curve.curve).filter(|_| curve.visible) else {
+                return f64::INFINITY;
+            };
+            curves
+                .iter()
+                .enumerate()
+                .filter(|(j, other)| *j != k && other.visible)
+                .filter_map(|(_, other)| {
+                    let (_, d) = chord(&other.curve)?;
+                    (d.dot(dir).abs() >= ROUGHLY_PARALLEL)
+                        .then(|| curve_distance(&other.curve, mid))
+                })
+                .filter(|d| *d > 0.0)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// cos 35°: two outlines this close in direction run alongside each other.
+const ROUGHLY_PARALLEL: f64 = 0.819;
+
+/// Straight strokes must run within 35° of a two-point curve's direction.
+fn direction_ok(curve: &Curve2<f64>, stroke: &SnapStroke) -> bool {
+    match curve {
+        Curve2::Polyline(points)
+            if points.len() == 2 && stroke.straightness <= ROUGHLY_STRAIGHT =>
+        {
+            let dir = (points[1].to_dvec2() - points[0].to_dvec2()).normalize_or_zero();
+            dir.dot(stroke.direction).abs() >= 35f64.to_radians().cos()
+        }
+        _ => true,
+    }
+}
+
+/// Axis-aligned bounds of a numeric curve.
+pub(crate) fn curve_bounds(curve: &Curve2<f64>) -> (DVec2, DVec2) {
+    match curve {
+        Curve2::Ellipse { center, a, b } => {
+            let (c, a, b) = (center.to_dvec2(), a.to_dvec2(), b.to_dvec2());
+            let half = DVec2::new(a.x.hypot(b.x), a.y.hypot(b.y));
+            (c - half, c + half)
+        }
+        Curve2::Polyline(points) => points.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p.to_dvec2()), hi.max(p.to_dvec2())),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::{assign, assign_within, curve_length};
+    use crate::primitive::{Cylinder, Primitive};
+    use crate::sketch::{StrokeClass, StrokeId};
+    use crate::snap::SnapContext;
+
+    #[test]
+    fn strokes_go_to_the_curves_they_trace() {
+        // A side-on cylinder (axis up, radius 10, length 40 at the origin) drawn as two
+        // vertical lines and the top ellipse; a far stroke is ignored.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let line = |x: f64| -> Vec<DVec2> {
+            (0..=10)
+                .map(|i| DVec2::new(x, -19.0 + 3.8 * f64::from(i)))
+                .collect()
+        };
+        let top: Vec<DVec2> = (0..=24)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 24.0;
+                // Sketch space: y down, so the model top (y ≈ 19.2) is at −19.2.
+                DVec2::new(10.0 * t.cos(), -19.2 + 2.8 * t.sin())
+            })
+            .collect();
+        let far = line(500.0);
+        let strokes = [
+            (StrokeId(0), line(-10.3), StrokeClass::Silhouette),
+            (StrokeId(1), line(9.8), StrokeClass::Silhouette),
+            (StrokeId(2), top, StrokeClass::Feature),
+            (StrokeId(3), far, StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        let names: Vec<(String, Vec<StrokeId>)> = shape
+            .curves
+            .iter()
+            .zip(&a.curves)
+            .map(|(c, s)| (c.name.clone(), s.iter().map(|x| x.stroke).collect()))
+            .collect();
+        assert_eq!(
+            names,
+            vec![
+                ("top".to_owned(), vec![StrokeId(2)]),
+                ("bottom".to_owned(), vec![]),
+                ("left".to_owned(), vec![StrokeId(0)]),
+                ("right".to_owned(), vec![StrokeId(1)]),
+            ]
+        );
+        assert_eq!(a.stroke_ids(), vec![StrokeId(0), StrokeId(1), StrokeId(2)]);
+        assert!((curve_length(&shape.curves[2].curve) - 40.0 * 0.96).abs() < 1e-6);
+    }
+
+    #[test]
+    fn one_stroke_down_an_outline_round_an_end_and_back_up_is_taken_in_pieces() {
+        // The cylinder of the test above, its left outline, the front arc of its bottom
+        // end and its right outline drawn as one U-shaped stroke (sketch space, y down),
+        // and its top ellipse.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let mut u: Vec<DVec2> = (0..=12)
+            .map(|i| DVec2::new(-10.0, -19.2 + 3.2 * f64::from(i)))
+            .collect();
+        u.extend((1..24).map(|i| {
+            let t = std::f64::consts::PI * (1.0 - f64::from(i) / 24.0);
+            DVec2::new(10.0 * t.cos(), 19.2 + 2.8 * t.sin())
+        }));
+        u.extend((0..=12).map(|i| DVec2::new(10.0, 19.2 - 3.2 * f64::from(i))));
+        let top: Vec<DVec2> = (0..=24)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 24.0;
+                DVec2::new(10.0 * t.cos(), -19.2 + 2.8 * t.sin())
+            })
+            .collect();
+        let strokes = [
+            (StrokeId(0), u, StrokeClass::Silhouette),
+            (StrokeId(1), top, StrokeClass::Feature),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        for (curve, strokes) in shape.curves.iter().zip(&a.curves) {
+            let expected = if curve.name == "top" {
+                StrokeId(1)
+            } else {
+                StrokeId(0)
+            };
+            assert_eq!(
+                strokes.iter().map(|s| s.stroke).collect::<Vec<_>>(),
+                vec![expected],
+                "{}: {strokes:?}",
+                curve.name
+            );
+        }
+        // The pieces do not overlap: each sample of the U serves one curve.
+        let mut seen: Vec<usize> = a
+            .curves
+            .iter()
+            .flatten()
+            .filter(|s| s.stroke == StrokeId(0))
+            .flat_map(|s| s.part.clone().expect("taken in part"))
+            .collect();
+        let n = seen.len();
+        seen.sort_unstable();
+        seen.dedup();
+        assert!(
+            n - seen.len() <= 2,
+            "{n} samples taken, {} distinct",
+            seen.len()
+        );
+    }
+
+    #[test]
+    fn a_stroke_drawn_round_a_box_corner_draws_both_edges() {
+        use crate::primitive::Cuboid;
+        let b = Cuboid {
+            center: DVec3::ZERO,
+            rotation: glam::DQuat::from_rotation_x(0.4) * glam::DQuat::from_rotation_y(0.6),
+            size: DVec3::new(60.0, 40.0, 30.0),
+        };
+        let shape = Primitive::Cuboid(b).current_shape();
+        // Two visible edges that meet at a corner, drawn as one L-shaped stroke.
+        let edges: Vec<(usize, DVec2, DVec2)> = shape
+            .curves
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.visible)
+            .filter_map(|(k, c)| match &c.curve {
+                crate::primitive::Curve2::Polyline(p) if p.len() == 2 => {
+                    Some((k, p[0].to_dvec2(), p[1].to_dvec2()))
+                }
+                _ => None,
+            })
+            .collect();
+        let (ka, kb, corner, a_end, b_end) = edges
+            .iter()
+            .flat_map(|a| edges.iter().map(move |b| (a, b)))
+            .find_map(|((ka, a0, a1), (kb, b0, b1))| {
+                if ka >= kb {
+                    return None;
+                }
+                let ends = [
+                    (*a0, *a1, *b0, *b1),
+                    (*a1, *a0, *b0, *b1),
+                    (*a0, *a1, *b1, *b0),
+                    (*a1, *a0, *b1, *b0),
+                ];
+                ends.into_iter()
+                    .find(|(pa, _, pb, _)| pa.distance(*pb) < 1e-6)
+                    .map(|(c, ae, _, be)| (*ka, *kb, c, ae, be))
+            })
+            .expect("two visible edges meet");
+        let leg = |from: DVec2, to: DVec2| -> Vec<DVec2> {
+            (0..=20)
+                .map(|i| from.lerp(to, f64::from(i) / 20.0))
+                .collect()
+        };
+        let mut l = leg(a_end, corner);
+        l.extend(leg(corner, b_end).into_iter().skip(1));
+        // View plane → sketch space (y down) for the context.
+        let l: Vec<DVec2> = l.into_iter().map(|p| DVec2::new(p.x, -p.y)).collect();
+        let ctx = SnapContext::new([(StrokeId(7), l.as_slice(), StrokeClass::Silhouette)]);
+        let a = assign(&ctx, &shape.curves, 5.0);
+        for k in [ka, kb] {
+            assert_eq!(
+                a.curves[k].iter().map(|s| s.stroke).collect::<Vec<_>>(),
+                vec![StrokeId(7)],
+                "edge {k}: {:?}",
+                a.curves
+            );
+        }
+    }
+
+    #[test]
+    fn a_fitted_rods_hidden_outline_does_not_take_a_neighbours() {
+        // A side-on rod (radius 5, length 200) whose right outline is hidden; a
+        // neighbouring leg's outline runs 15 to its right: within the tight gate (a tenth
+        // of the rod's length) but further from that outline than the rod is wide.
+        let rod = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 200.0,
+            radius: 5.0,
+        });
+        let shape = rod.current_shape();
+        let line = |x: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| DVec2::new(x, -90.0 + 4.5 * f64::from(i)))
+                .collect()
+        };
+        let strokes = [
+            (StrokeId(0), line(-5.0), StrokeClass::Silhouette),
+            (StrokeId(1), line(20.0), StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let taken = |a: &super::Assignment| -> Vec<StrokeId> {
+            let mut ids = a.stroke_ids();
+            ids.dedup();
+            ids
+        };
+        // From a hand's drop the gate is the gate: the neighbour may be the outline.
+        let dropped = assign(&ctx, &shape.curves, 20.0);
+        assert_eq!(taken(&dropped), vec![StrokeId(0), StrokeId(1)]);
+        // Once fitted, an outline is no wider than the rod.
+        let fitted = assign_within(&ctx, &shape.curves, 20.0, true);
+        assert_eq!(taken(&fitted), vec![StrokeId(0)]);
+    }
+
+    #[test]
+    fn a_thin_parts_end_does_not_take_a_wide_rim_nearby() {
+        // A stem (radius 4, length 60) standing on a wide rim (radius 40) drawn 12 below
+        // its bottom end: the rim is well within 30 % of the stem's size, but further from
+        // the stem's small end ellipse than that ellipse's own radius.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(0.0, 30.0, 0.0),
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 60.0,
+            radius: 4.0,
+        });
+        let shape = stem.current_shape();
+        let rim: Vec<DVec2> = (0..=48)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 48.0;
+                DVec2::new(40.0 * t.cos(), 12.0 + 11.0 * t.sin())
+            })
+            .collect();
+        let ctx = SnapContext::new([(StrokeId(0), rim.as_slice(), StrokeClass::Feature)]);
+        let a = assign(&ctx, &shape.curves, 0.3 * stem.size());
+        assert!(a.stroke_ids().is_empty(), "{a:?}");
+    }
+
+    #[test]
+    fn an_assignment_is_restored_from_its_stroke_ids_and_parts() {
+        use super::{restore_assignment, RestoreError};
+
+        // A long stroke runs along the left outline and on past the cylinder, so only
+        // part of it is taken; the right outline is taken whole.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let shape = cyl.current_shape();
+        let line = |x: f64, from: f64, to: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| DVec2::new(x, from + (to - from) * f64::from(i) / 40.0))
+                .collect()
+        };
+        let strokes = [
+            (
+                StrokeId(5),
+                line(-10.2, -19.0, 60.0),
+                StrokeClass::Silhouette,
+            ),
+            (StrokeId(8), line(9.9, -19.0, 19.0), StrokeClass::Silhouette),
+        ];
+        let ctx = SnapContext::new(strokes.iter().map(|(id, p, c)| (*id, p.as_slice(), *c)));
+        let a = assign(&ctx, &shape.curves, 5.0);
+        assert!(
+            a.curves.iter().flatten().any(|s| s.part.is_some()),
+            "one stroke is taken in part: {a:?}"
+        );
+        let ids: Vec<Vec<(StrokeId, Option<Vec<usize>>)>> = a
+            .curves
+            .iter()
+            .map(|c| c.iter().map(|s| (s.stroke, s.part.clone())).collect())
+            .collect();
+        assert_eq!(restore_assignment(&ctx, &shape.curves, &ids), Ok(a));
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves[..2], &ids),
+            Err(RestoreError::CurveCount {
+                expected: 2,
+                found: 4
+            })
+        );
+        let mut missing = ids.clone();
+        missing[0].push((StrokeId(77), None));
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves, &missing),
+            Err(RestoreError::MissingStroke {
+                stroke: StrokeId(77)
+            })
+        );
+        let mut bad = ids;
+        bad[3] = vec![(StrokeId(8), Some(vec![3, 1]))];
+        assert_eq!(
+            restore_assignment(&ctx, &shape.curves, &bad),
+            Err(RestoreError::InvalidSamples {
+                stroke: StrokeId(8)
+            })
+        );
+    }
+}

@@ -1,0 +1,650 @@
+//! A starting pose for a bent generalized cylinder from the strokes around its drop.
+//!
+//! A BGC is dropped straight and in the view plane, but the drawing shows where its spine
+//! runs and how it leaves the view plane:
+//! - the **medial axis** of its two outlines: every sample of a silhouette stroke near
+//!   the drop is paired with the nearest point of another such stroke that lies across
+//!   the tube (roughly perpendicular to the stroke, running roughly parallel to it, at a
+//!   plausible width; only the samples near the drop, so an outline that runs on into
+//!   another part gives only the piece near the drop); the midpoints of the pairs trace
+//!   the projected spine and their half distances the radius. A quadratic through the
+//!   midpoints, in the frame of their principal direction (a C: a bend of up to about
+//!   120° is a graph over its chord), or a cubic when it fits them at least twice as
+//!   closely (an S), is the projected spine, from the first to the last midpoint;
+//! - the **end ellipses**: each feature stroke near the tube goes to the nearer end of
+//!   that spine and is read as a whole ellipse (it ends near where it began; a free fit)
+//!   or a front arc (its extent across the spine is the major axis); the one nearest an
+//!   end moves the end to its centre; its minor/major ratio is |t_z|, the out-of-plane
+//!   component of the spine's end tangent (at least 0.12, so that the start shows each
+//!   end on its drawn side), its minor axis the projected end tangent; and whether it is
+//!   drawn whole (the end faces the viewer, its outward normal has z > 0) or as a front
+//!   arc (the end faces away) gives the sign of t_z, which the fit keeps (see
+//!   [`Bgc`]'s "end keeps its side"). The spine's plane z = a·x + b·y then follows from
+//!   the slopes dz/ds = t_z/√(1 − t_z²) along the two projected end tangents (least
+//!   squares with a small pull towards the view plane: with one ellipse, or none, the
+//!   least tilted plane that explains what is drawn).
+//!
+//! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
+//! measured half-widths linearly. `None` when the strokes show no tube near the drop, and
+//! for a BGC that is already bent (an earlier fit snaps from itself).
+
+use glam::{DVec2, DVec3};
+
+use super::assign::{stroke_samples, Assignment};
+use super::context::{prepare, SnapContext};
+use super::{SnapError, SnapResult, SnapSettings};
+use crate::geom::{fit_ellipse, fit_line, Ellipse2};
+use crate::primitive::{Bgc, Primitive};
+use crate::sketch::StrokeClass;
+use crate::solve::{CancelFlag, Clock};
+
+mod medial;
+
+/// A tube's outlines pair when they are between these multiples of its dropped radius
+/// apart.
+const WIDTHS: (f64, f64) = (0.8, 4.0);
+/// Samples of the projected spine curve before the 3D resampling.
+const DENSE: usize = 200;
+
+/// The end ellipses drawn near the ends `ends` of the projected spine (where it runs
+/// along the unit `taus`, outwards or inwards), for a tube of half-width about `widths`:
+/// per end (ellipse, drawn whole). Each feature stroke near the tube is read on its own:
+/// a stroke drawn all round is a whole ellipse (a free fit; its minor axis lies along the
+/// spine there); otherwise it is a front arc, whose extent across the spine is the major
+/// axis (the arc's own principal direction, not the spine's estimated tangent: the ends
+/// of the medial axis are its least certain part). A stroke goes to the end nearer its
+/// centre, and each end keeps the nearest.
+fn end_ellipses(
+    context: &SnapContext,
+    ends: [DVec2; 2],
+    taus: [DVec2; 2],
+    widths: [f64; 2],
+) -> [Option<(Ellipse2, bool)>; 2] {
+    let mut best: [Option<(f64, Ellipse2, bool)>; 2] = [None, None];
+    for stroke in &context.strokes {
+        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+            continue;
+        }
+        let (lo, hi) = stroke.bounds;
+        let centre = (lo + hi) / 2.0;
+        let side = usize::from(centre.distance(ends[1]) < centre.distance(ends[0]));
+        let (at, radius) = (ends[side], widths[side]);
+        let near = DVec2::new(at.x.clamp(lo.x, hi.x), at.y.clamp(lo.y, hi.y));
+        if near.distance(at) > 2.0 * radius {
+            continue;
+        }
+        let Some((fit, whole)) = whole_ellipse(&stroke.points)
+            .or_else(|| front_arc(&stroke.points, at, across_of(&stroke.points, taus[side])))
+        else {
+            continue;
+        };
+        let rms = fit.rms_distance(&stroke.points);
+        let d = fit.center.distance(at);
+        let ratio = fit.semi_major / radius;
+        if rms <= 0.15 * fit.semi_major
+            && d <= 2.0 * radius
+            && (0.4..=2.5).contains(&ratio)
+            && best[side].as_ref().is_none_or(|(b, _, _)| d < *b)
+        {
+            best[side] = Some((d, fit, whole));
+        }
+    }
+    best.map(|b| b.map(|(_, e, whole)| (e, whole)))
+}
+
+/// The direction along the spine at a front arc: across its principal direction (the
+/// arc's extent is the end circle's diameter, across the spine), signed like `tau`.
+fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
+    let Some(line) = fit_line(points) else {
+        return tau;
+    };
+    let t = line.direction.perp();
+    if t.dot(tau) < 0.0 {
+        -t
+    } else {
+        t
+    }
+}
+
+/// A reading of the drawing: medial samples (midpoint, half-width), and the strokes to fit
+/// to (see [`Start`]).
+type Reading = (Vec<(DVec2, f64)>, Option<Clipped>);
+
+/// The drawing a tube is fitted to when its outlines stop at junctions (see [`Start`]).
+type Clipped = (SnapContext, SnapContext, Vec<medial::Wall>);
+
+/// Medial samples (midpoint, half-width) of the tube dropped from `first` to `last` with
+/// radius about `r` (see [`medial`]): the silhouette strokes near the drop are paired
+/// within `reach` of its centre, the pairs grouped into chains, the chains cut at their
+/// junctions, and the piece nearest the drop kept with its continuations. With them, the
+/// drawing with the tube's outlines clipped where they stop at a junction (`None` when
+/// none does), so that its fit does not run on along them into the part beyond.
+fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> Vec<Reading> {
+    let center = (drop[0] + drop[1]) / 2.0;
+    let indices: Vec<usize> = (0..context.strokes.len())
+        .filter(|i| {
+            let s = &context.strokes[*i];
+            s.class == StrokeClass::Silhouette
+                && s.points.len() >= 2
+                && s.points.iter().any(|p| p.distance(center) <= reach)
+        })
+        .collect();
+    let outlines: Vec<&[DVec2]> = indices
+        .iter()
+        .map(|i| context.strokes[*i].points.as_slice())
+        .collect();
+    let samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
+    let all: Vec<(DVec2, f64)> = samples.iter().map(|m| (m.at, m.half)).collect();
+    let chains = medial::chains(samples);
+    let pieces = medial::cut_at_junctions(&chains, drop);
+    let tube = medial::tube_of(&pieces, drop);
+    if tube.stops.is_empty() {
+        // No junction: every pair near the drop is read together (a hand's outline that
+        // breaks up or wanders off its partner for a stretch breaks the chains).
+        return vec![(all, None)];
+    }
+    let mut clipped = context.clone();
+    for (k, index) in indices.iter().enumerate() {
+        let mine: Vec<&medial::Stop> = tube.stops.iter().filter(|s| s.stroke == k).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let stroke = &mut clipped.strokes[*index];
+        if let Some(points) = medial::clipped(&stroke.points, &mine) {
+            if let Some(s) = prepare(stroke.id, points, stroke.class) {
+                *stroke = s;
+            }
+        }
+    }
+    // Other strokes drawn on across the part the tube meets (an outline drawn in two
+    // strokes, the second running on past the junction) stop there too.
+    let own: Vec<usize> = tube.stops.iter().map(|s| indices[s.stroke]).collect();
+    for (i, stroke) in clipped.strokes.iter_mut().enumerate() {
+        if own.contains(&i) || stroke.class != StrokeClass::Silhouette {
+            continue;
+        }
+        for wall in &tube.walls {
+            if let Some(points) = medial::trimmed(&stroke.points, wall) {
+                match prepare(stroke.id, points, stroke.class) {
+                    Some(s) => *stroke = s,
+                    // Nothing left on the tube's side: the stroke is the other part's.
+                    None => stroke.points.clear(),
+                }
+            }
+        }
+    }
+    // The parts the tube meets at its junctions cross it: their outlines are none of
+    // its own (nor its end ellipses).
+    let across: Vec<_> = tube
+        .across
+        .iter()
+        .map(|k| context.strokes[indices[*k]].id)
+        .collect();
+    clipped
+        .strokes
+        .retain(|s| !across.contains(&s.id) && s.points.len() >= 2);
+    let mut whole = context.clone();
+    whole.strokes.retain(|s| !across.contains(&s.id));
+    vec![(tube.samples, Some((clipped, whole, tube.walls)))]
+}
+
+/// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
+/// `None` when the stroke is no whole ellipse. A stroke drawn round ends near where it
+/// began (a hand misses or overlaps by a little), a front arc ends a diameter away from
+/// its start; a free fit to a front arc often finds a larger, flatter ellipse that the
+/// arc wraps most of the way round, so its sweep does not tell.
+fn whole_ellipse(points: &[DVec2]) -> Option<(Ellipse2, bool)> {
+    let (first, last) = (*points.first()?, *points.last()?);
+    let (lo, hi) = points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if first.distance(last) > 0.4 * lo.distance(hi) {
+        return None;
+    }
+    let fit = fit_ellipse(points)?;
+    let sweep = fit.angular_span(points).map_or(0.0, |s| s.sweep);
+    (sweep > 1.5 * std::f64::consts::PI && fit.semi_minor.is_finite()).then_some((fit, true))
+}
+
+/// The half ellipse with its minor axis along `tau` that a front arc draws: it runs from
+/// one end of the major axis to the other, so the major axis is the arc's extent across
+/// the spine, and q − q₀ = c·√(1 − (p − p₀)²/A²) is fitted linearly for q₀ and c = ±B.
+/// (ellipse, false).
+fn front_arc(points: &[DVec2], at: DVec2, tau: DVec2) -> Option<(Ellipse2, bool)> {
+    let across = tau.perp();
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let x = (*p - at).dot(across);
+            (lo.min(x), hi.max(x))
+        });
+    let (x0, semi) = (f64::midpoint(lo, hi), (hi - lo) / 2.0);
+    if !(semi > 0.0) {
+        return None;
+    }
+    let rows: Vec<DVec2> = points
+        .iter()
+        .map(|p| {
+            let d = *p - at;
+            let x = (d.dot(across) - x0) / semi;
+            DVec2::new((1.0 - x * x).max(0.0).sqrt(), d.dot(tau))
+        })
+        .collect();
+    let (y0, c) = linear(&rows)?;
+    let fit = Ellipse2 {
+        center: at + across * x0 + tau * y0,
+        semi_major: semi,
+        semi_minor: c.abs(),
+        angle: across.y.atan2(across.x),
+    };
+    (fit.semi_minor > 0.0).then_some((fit, false))
+}
+
+/// A starting BGC read off the drawing, and the drawing to fit it to: `None` for the
+/// whole drawing, or the drawing with the tube's outlines clipped where they stop at a
+/// junction (see [`medial`]) and the one to name its strokes in.
+pub(crate) struct Start {
+    /// The starting pose.
+    pose: Primitive,
+    /// The strokes to fit it to, when not all of the drawing's: the tube's outlines
+    /// clipped at its junctions, the drawing without the outlines of the parts it meets
+    /// there (whose strokes the result names), and the far sides of those junctions.
+    context: Option<Clipped>,
+}
+
+/// The starting BGCs for the dropped `primitive`, best first, or none (see the module
+/// docs).
+pub(crate) fn starts(context: &SnapContext, primitive: &Primitive) -> Vec<Start> {
+    starting_poses(context, primitive).unwrap_or_default()
+}
+
+fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<Start>> {
+    let Primitive::Bgc(dropped) = primitive else {
+        return None;
+    };
+    let k = dropped.spine.len();
+    // Only a straight drop (as the palette or a script places one) is replaced: a bent
+    // BGC, such as an earlier fit, snaps from itself.
+    let straight = is_straight(dropped);
+    if !straight {
+        return None;
+    }
+    let first = dropped.spine.first()?.truncate();
+    let last = dropped.spine.last()?.truncate();
+    let length = first.distance(last);
+    let r = dropped.radii.iter().sum::<f64>() / k as f64;
+    if !(length > 0.0 && r > 0.0) {
+        return None;
+    }
+    let readings = medial_axis(context, [first, last], length + 3.0 * r, r);
+    let starts: Vec<Start> = readings
+        .into_iter()
+        .filter_map(|(medial, clipped)| {
+            pose_from(context, dropped, &medial).map(|pose| Start {
+                pose,
+                context: clipped,
+            })
+        })
+        .collect();
+    Some(starts)
+}
+
+/// The starting BGC for `dropped` from the medial samples `medial` of its outlines (see
+/// the module docs).
+fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> Option<Primitive> {
+    let k = dropped.spine.len();
+    let first = dropped.spine.first()?.truncate();
+    let last = dropped.spine.last()?.truncate();
+    let axis = (last - first).normalize_or(DVec2::Y);
+    let length = first.distance(last);
+    let r = dropped.radii.iter().sum::<f64>() / k as f64;
+    if medial.len() < 8 {
+        return None;
+    }
+    // The projected spine: y = c₀ + c₁·x + c₂·x² in the principal frame.
+    let points: Vec<DVec2> = medial.iter().map(|(p, _)| *p).collect();
+    let line = fit_line(&points)?;
+    let mut dir = line.direction;
+    if dir.dot(axis) < 0.0 {
+        dir = -dir;
+    }
+    let normal = dir.perp();
+    let origin = line.centroid;
+    let local: Vec<DVec2> = points
+        .iter()
+        .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
+        .collect();
+    let coef = spine_curve(&local)?;
+    let (mut x0, mut x1) = local
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.x), hi.max(p.x))
+        });
+    let curve = |x: f64| {
+        origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])))
+    };
+    let slope_dir =
+        |x: f64| (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize();
+    // Radius profile: half-width linear in x.
+    let widths: Vec<DVec2> = local
+        .iter()
+        .zip(medial)
+        .map(|(p, (_, w))| DVec2::new(p.x, *w))
+        .collect();
+    let (w0, w1) = linear(&widths)?;
+    let width = |x: f64| (w0 + w1 * x).max(0.2 * r);
+    // End ellipses move the ends and tell the tilt.
+    let [bottom, top] = end_ellipses(
+        context,
+        [curve(x0), curve(x1)],
+        [slope_dir(x0), slope_dir(x1)],
+        [width(x0), width(x1)],
+    );
+    let to_x = |p: DVec2| (p - origin).dot(dir);
+    if let Some((e, _)) = &bottom {
+        x0 = to_x(e.center);
+    }
+    if let Some((e, _)) = &top {
+        x1 = to_x(e.center);
+    }
+    if !(x1 - x0 > 0.1 * length) {
+        return None;
+    }
+    let rows = tilt_rows(
+        bottom.as_ref(),
+        top.as_ref(),
+        [slope_dir(x0), slope_dir(x1)],
+    );
+    let tilt = plane_tilt(&rows);
+    let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
+    let mid = curve(f64::midpoint(x0, x1));
+    // Lift onto the plane, then resample evenly in 3D.
+    let lifted: Vec<DVec3> = (0..=DENSE)
+        .map(|i| {
+            let p = curve(x0 + (x1 - x0) * i as f64 / DENSE as f64);
+            DVec3::new(p.x, p.y, depth + tilt.dot(p - mid))
+        })
+        .collect();
+    let spine = resample(&lifted, k);
+    let mut radii: Vec<f64> = spine.iter().map(|p| width(to_x(p.truncate()))).collect();
+    if let Some((e, _)) = &bottom {
+        radii[0] = f64::midpoint(radii[0], e.semi_major);
+    }
+    if let Some((e, _)) = &top {
+        radii[k - 1] = f64::midpoint(radii[k - 1], e.semi_major);
+    }
+    let mut bgc = Bgc::through(spine, r);
+    bgc.radii = radii;
+    bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
+    let pose = Primitive::Bgc(bgc);
+    pose.is_finite().then_some(pose)
+}
+
+/// Snaps a starting pose: fitted to its own strokes (see [`Start`]), then assigned the
+/// drawing's strokes as they are (whole or in pieces, but for the outlines of the parts
+/// it meets at its junctions) at the tight gate, so that the result names them, unless
+/// that loses strokes the fit needs.
+pub(crate) fn snap_start(
+    context: &SnapContext,
+    start: &Start,
+    settings: &SnapSettings,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let Some((clipped, whole, walls)) = &start.context else {
+        return super::snap_rounds(context, &start.pose, settings, None, cancel, clock);
+    };
+    let mut result = super::snap_rounds(clipped, &start.pose, settings, None, cancel, clock)?;
+    let tight = settings.tight_gate * result.primitive.size();
+    let curves = result.primitive.current_shape().curves;
+    let mut named = super::assign::assign_within(whole, &curves, tight, true);
+    within_walls(&mut named, whole, walls);
+    if super::check_enough(&result.primitive, &named).is_ok() {
+        result.rms = super::fit_rms(&result.primitive, &named);
+        result.assignment = named;
+    }
+    Ok(result)
+}
+
+/// Drops from `assignment` the stroke samples beyond the junctions' `walls` (an outline
+/// drawn on across the part the tube meets is the tube's only up to the junction): a
+/// stroke taken whole becomes a piece of it.
+fn within_walls(assignment: &mut Assignment, context: &SnapContext, walls: &[medial::Wall]) {
+    for curve in &mut assignment.curves {
+        for taken in curve.iter_mut() {
+            let Some(stroke) = context.strokes.iter().find(|s| s.id == taken.stroke) else {
+                continue;
+            };
+            let samples = stroke_samples(stroke);
+            let indices: Vec<usize> = taken
+                .part
+                .clone()
+                .unwrap_or_else(|| (0..samples.len()).collect());
+            let kept: Vec<usize> = indices
+                .iter()
+                .copied()
+                .filter(|i| {
+                    samples
+                        .get(*i)
+                        .is_some_and(|p| !walls.iter().any(|w| w.beyond(*p)))
+                })
+                .collect();
+            if kept.len() < indices.len() {
+                taken.samples = kept.iter().map(|i| samples[*i]).collect();
+                taken.part = Some(kept);
+            }
+        }
+        curve.retain(|taken| taken.samples.len() >= 2);
+    }
+}
+
+/// The gradient tolerance of a BGC's fit, in the normalised frame (objective values are
+/// squared fractions of the size).
+const GRADIENT_TOL: f64 = 3e-4;
+
+/// The constraint tolerance of a BGC's fit: its constraints are bounds that keep it
+/// sane (a positive radius, a moderate turn), met to a millionth of its size.
+const CONSTRAINT_TOL: f64 = 1e-4;
+
+/// The settings of a BGC's snap: `settings` with the solver's gradient tolerance no
+/// tighter than [`GRADIENT_TOL`].
+pub(crate) fn settings(settings: &SnapSettings) -> SnapSettings {
+    let mut s = settings.clone();
+    if s.solver.gradient_tol() < GRADIENT_TOL {
+        if let Ok(solver) = s.solver.clone().with_gradient_tol(GRADIENT_TOL) {
+            s.solver = solver;
+        }
+    }
+    if s.solver.constraint_tol() < CONSTRAINT_TOL {
+        if let Ok(solver) = s.solver.clone().with_constraint_tol(CONSTRAINT_TOL) {
+            s.solver = solver;
+        }
+    }
+    s
+}
+
+/// `k` points evenly spaced by arc length along a polyline of at least two points.
+fn resample(points: &[DVec3], k: usize) -> Vec<DVec3> {
+    let mut cumulative = vec![0.0];
+    for w in points.windows(2) {
+        cumulative.push(cumulative[cumulative.len() - 1] + w[0].distance(w[1]));
+    }
+    let n = points.len() - 1;
+    let total = cumulative[n];
+    (0..k)
+        .map(|i| {
+            let s = total * i as f64 / (k - 1) as f64;
+            let j = cumulative.partition_point(|c| *c < s).clamp(1, n);
+            let seg = cumulative[j] - cumulative[j - 1];
+            let t = if seg > 0.0 {
+                (s - cumulative[j - 1]) / seg
+            } else {
+                0.0
+            };
+            points[j - 1].lerp(points[j], t)
+        })
+        .collect()
+}
+
+/// Whether a BGC's spine is a straight line (as dropped).
+fn is_straight(b: &Bgc) -> bool {
+    let (first, last) = (b.spine[0], b.spine[b.spine.len() - 1]);
+    let chord = (last - first).normalize_or_zero();
+    b.spine.iter().all(|p| {
+        let d = *p - first;
+        (d - chord * d.dot(chord)).length() <= 1e-9 * b.spine_length()
+    })
+}
+
+/// The rows (projected end tangent, dz/ds) of [`plane_tilt`] from the end ellipses,
+/// with `along` the projected spine's directions at its two ends (bottom to top).
+fn tilt_rows(
+    bottom: Option<&(Ellipse2, bool)>,
+    top: Option<&(Ellipse2, bool)>,
+    along: [DVec2; 2],
+) -> Vec<(DVec2, f64)> {
+    // Slopes dz/ds along the projected end tangents (bottom to top).
+    let slope = |e: &Ellipse2, outward_up: bool| {
+        let z = (e.semi_minor / e.semi_major).clamp(0.12, 0.94);
+        let g = z / (1.0 - z * z).sqrt();
+        if outward_up {
+            g
+        } else {
+            -g
+        }
+    };
+    // The projected end tangent: the ellipse's minor axis, unless it is nearly a circle.
+    let end_dir = |e: &Ellipse2, along: DVec2| {
+        let m = e.minor_axis();
+        if e.semi_minor > 0.8 * e.semi_major {
+            along
+        } else if m.dot(along) < 0.0 {
+            -m
+        } else {
+            m
+        }
+    };
+    let mut rows: Vec<(DVec2, f64)> = Vec::new();
+    if let Some((e, whole)) = bottom {
+        // The bottom's outward normal is −t₀: whole (faces the viewer) means t₀.z < 0.
+        rows.push((end_dir(e, along[0]), slope(e, !*whole)));
+    }
+    if let Some((e, whole)) = top {
+        rows.push((end_dir(e, along[1]), slope(e, *whole)));
+    }
+    rows
+}
+
+/// The plane's gradient (a, b) with (a, b)·τᵢ = gᵢ for rows (τᵢ, gᵢ), least squares with
+/// a small pull towards zero.
+fn plane_tilt(rows: &[(DVec2, f64)]) -> DVec2 {
+    let lambda = 0.05;
+    let (mut m00, mut m01, mut m11, mut v0, mut v1) = (lambda, 0.0, lambda, 0.0, 0.0);
+    for (t, g) in rows {
+        m00 += t.x * t.x;
+        m01 += t.x * t.y;
+        m11 += t.y * t.y;
+        v0 += t.x * g;
+        v1 += t.y * g;
+    }
+    let det = m00 * m11 - m01 * m01;
+    let tilt = DVec2::new(m11 * v0 - m01 * v1, m00 * v1 - m01 * v0) / det;
+    // At most 70° out of the view plane.
+    let limit = 70f64.to_radians().tan();
+    if tilt.length() > limit {
+        tilt * (limit / tilt.length())
+    } else {
+        tilt
+    }
+}
+
+/// The projected spine over its chord: a quadratic (a C), or a cubic when that fits the
+/// medial samples at least twice as closely (an S: it bends one way, then the other); a
+/// cubic's freedom would otherwise bend a C's noisy ends.
+fn spine_curve(points: &[DVec2]) -> Option<[f64; 4]> {
+    let rss = |c: &[f64; 4]| {
+        points
+            .iter()
+            .map(|p| (p.y - (c[0] + p.x * (c[1] + p.x * (c[2] + p.x * c[3])))).powi(2))
+            .sum::<f64>()
+    };
+    let three = polynomial::<4>(points)?;
+    let two = polynomial::<3>(points).map(|c| [c[0], c[1], c[2], 0.0]);
+    match two {
+        Some(two) if rss(&three) >= 0.5 * rss(&two) => Some(two),
+        _ => Some(three),
+    }
+}
+
+/// Least-squares y = c₀ + c₁·x + … + c_{N−1}·x^{N−1} (x rescaled to [−1, 1] for the
+/// normal equations' conditioning).
+fn polynomial<const N: usize>(points: &[DVec2]) -> Option<[f64; N]> {
+    let scale = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()))
+        .max(1e-300);
+    let mut a = [[0.0; N]; N];
+    let mut b = [0.0; N];
+    for p in points {
+        let x = p.x / scale;
+        let mut row = [1.0; N];
+        for k in 1..N {
+            row[k] = row[k - 1] * x;
+        }
+        for i in 0..N {
+            for j in 0..N {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i] * p.y;
+        }
+    }
+    let mut c = solve(a, b)?;
+    let mut power = 1.0;
+    for ck in &mut c {
+        *ck /= power;
+        power *= scale;
+    }
+    Some(c)
+}
+
+/// Least-squares y = c₀ + c₁·x.
+fn linear(points: &[DVec2]) -> Option<(f64, f64)> {
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec2>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.x - mean.x).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.x - mean.x) * (p.y - mean.y)).sum();
+    let c1 = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    Some((mean.y - c1 * mean.x, c1)).filter(|(a, b)| a.is_finite() && b.is_finite())
+}
+
+/// Solves a small linear system by Gaussian elimination with partial pivoting.
+fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    let scale = a
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    for col in 0..N {
+        let pivot = (col..N).max_by(|i, j| a[*i][col].abs().total_cmp(&a[*j][col].abs()))?;
+        if !(a[pivot][col].abs() > 1e-12 * scale) {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let pivot_row = a[col];
+        for row in col + 1..N {
+            let f = a[row][col] / pivot_row[col];
+            for (value, p) in a[row].iter_mut().zip(&pivot_row).skip(col) {
+                *value -= f * p;
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; N];
+    for row in (0..N).rev() {
+        let tail: f64 = (row + 1..N).map(|j| a[row][j] * x[j]).sum();
+        x[row] = (b[row] - tail) / a[row][row];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

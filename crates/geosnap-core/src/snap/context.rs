@@ -1,0 +1,132 @@
+//! The strokes as the snapper sees them: view-plane points, class, straightness and
+//! bounds, computed once per sketch.
+
+use glam::DVec2;
+
+use crate::geom::projection::view_from_sketch;
+use crate::sketch::{
+    classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, Sketch, StrokeClass, StrokeId,
+};
+
+/// One stroke prepared for matching.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapStroke {
+    /// The stroke's id.
+    pub id: StrokeId,
+    /// Its points in view-plane coordinates (y up), evenly spaced.
+    pub points: Vec<DVec2>,
+    /// Its effective class.
+    pub class: StrokeClass,
+    /// Whether it is (nearly) straight: RMS distance to its chord line ≤ 2 % of its
+    /// length. Box edges take straight strokes of either class.
+    pub straight: bool,
+    /// Its RMS distance to its principal line over its extent along that line: 0 for a
+    /// ruler-straight stroke, about 0.1 for a quarter of a circle. A hand's jitter makes a
+    /// short straight stroke score a few hundredths.
+    pub straightness: f64,
+    /// Its unit principal direction (sign arbitrary).
+    pub direction: DVec2,
+    /// Axis-aligned bounds `(min, max)`.
+    pub bounds: (DVec2, DVec2),
+    /// Its length.
+    pub length: f64,
+}
+
+/// The strokes of a sketch ready for snapping.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SnapContext {
+    /// The strokes.
+    pub strokes: Vec<SnapStroke>,
+}
+
+impl SnapContext {
+    /// Prepares strokes given in sketch space with their effective classes. Strokes with
+    /// fewer than two finite points are left out.
+    pub fn new<'a>(
+        strokes: impl IntoIterator<Item = (StrokeId, &'a [DVec2], StrokeClass)>,
+    ) -> Self {
+        let strokes = strokes
+            .into_iter()
+            .filter_map(|(id, points, class)| {
+                let points: Vec<DVec2> = points
+                    .iter()
+                    .filter(|p| p.is_finite())
+                    .map(|p| view_from_sketch(*p))
+                    .collect();
+                prepare(id, points, class)
+            })
+            .collect();
+        Self { strokes }
+    }
+
+    /// Prepares a whole sketch: preprocessing (dots and duplicates dropped, strokes
+    /// resampled and lightly smoothed, all relative to the sketch's size) and automatic
+    /// classification, with user overrides winning. Stroke ids are kept.
+    pub fn from_sketch(sketch: &Sketch) -> Self {
+        let (clean, _notes) = preprocess(sketch, &PreprocessOptions::default());
+        let classes = classify_sketch(&clean, &ClassifyOptions::default());
+        Self::new(
+            clean
+                .strokes
+                .iter()
+                .zip(&classes)
+                .map(|(stroke, c)| (stroke.id, stroke.points.as_slice(), c.class)),
+        )
+    }
+
+    /// The stroke with this id.
+    pub fn stroke(&self, id: StrokeId) -> Option<&SnapStroke> {
+        self.strokes.iter().find(|s| s.id == id)
+    }
+}
+
+/// A stroke (or a piece of one) prepared for matching: its length, bounds, principal
+/// direction and straightness; `None` for fewer than two points or no length.
+pub(crate) fn prepare(id: StrokeId, points: Vec<DVec2>, class: StrokeClass) -> Option<SnapStroke> {
+    if points.len() < 2 {
+        return None;
+    }
+    let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+    if !(length > 0.0) {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec2>() / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in &points {
+        let d = *p - mean;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    // Principal direction of the 2×2 scatter matrix.
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let direction = DVec2::from_angle(angle);
+    let normal = direction.perp();
+    let rms = (points
+        .iter()
+        .map(|p| (*p - mean).dot(normal).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let t = p.dot(direction);
+            (lo.min(t), hi.max(t))
+        });
+    let straightness = rms / (hi - lo).max(f64::MIN_POSITIVE);
+    let bounds = points.iter().fold((points[0], points[0]), |(lo, hi), p| {
+        (lo.min(*p), hi.max(*p))
+    });
+    Some(SnapStroke {
+        id,
+        straight: rms <= 0.02 * length,
+        straightness,
+        direction,
+        bounds,
+        length,
+        points,
+        class,
+    })
+}

@@ -1,0 +1,1145 @@
+//! Better starting poses than the dropped one, read off the drawing near it.
+//!
+//! A dropped primitive has a fixed tilt, but the strokes say how the part really sits,
+//! and the fit converges far more reliably from there. Three readings are made:
+//! - solids of revolution, from their end ellipses (below);
+//! - boxes, from the directions of their drawn edges ([`box_poses`]);
+//! - spheres, from the circle their outline draws near the drop ([`sphere_poses`]).
+//!
+//! # End ellipses
+//!
+//! An end circle of a solid of revolution seen at elevation φ projects (orthographically)
+//! to an ellipse with minor/major = |sin φ| (the axis' z component) whose minor axis runs
+//! along the projected axis, whatever the part's proportions. Every stroke near the drop,
+//! and every run of fragments that continue one another end to end (an ellipse drawn in
+//! three or four arcs), is fitted with an ellipse (Halíř–Flusser, refined); one it fits
+//! well (RMS within 8 % of
+//! the ellipse) over a quarter of a turn or more (an arc the classifier took for an
+//! outline must cover more: 2.5 rad), whose centre lies near an end of the dropped
+//! primitive and whose major semi-axis is within a factor 2 of the dropped radii, may
+//! draw an end.
+//!
+//! Two such ellipses draw the two ends when they agree as a solid's ends must: about the
+//! same minor/major and orientation, their centres offset along their minor axes. Of the
+//! pairs that agree, the one nearest the dropped ends (in place and radius) is taken; the
+//! tilt, the image axis (the minor axes, signed by the offset), the centre (midway), the
+//! length (the offset along the axis) and the radii then all come from the drawing. This
+//! holds for a rod as for a thin disc, whose two large concentric ellipses a tenth of a
+//! radius apart say its tilt and thickness although its outlines are too short to.
+//! Without a pair, the single ellipse nearest a dropped end gives the tilt, the image
+//! axis (its minor axis), the radius and, with the dropped projected length, the centre
+//! on the side of the drop.
+//!
+//! The mirror sign of the tilt does not change the projection, so the positive one is
+//! used.
+
+use glam::{DMat3, DQuat, DVec2, DVec3};
+
+use super::assign::{curve_bounds, ROUGHLY_STRAIGHT};
+use super::context::{SnapContext, SnapStroke};
+use crate::geom::{fit_circle, fit_ellipse, refine_ellipse, Circle2, Ellipse2};
+use crate::primitive::{Cuboid, Primitive, Sphere};
+use crate::sketch::{StrokeClass, StrokeId};
+
+/// The starting poses worth a try besides the dropped one (none when the drawing near it
+/// says nothing more).
+pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Vec<Primitive> {
+    match primitive {
+        Primitive::Cuboid(c) => box_poses(context, c)
+            .into_iter()
+            .map(Primitive::Cuboid)
+            .collect(),
+        Primitive::Sphere(s) => sphere_poses(context, s)
+            .into_iter()
+            .map(Primitive::Sphere)
+            .collect(),
+        _ => repose_from_ellipses(context, primitive)
+            .into_iter()
+            .collect(),
+    }
+}
+
+/// An ellipse fitted to a stroke, with its major axis the larger (`semi_major ≥
+/// semi_minor`).
+fn normalised(e: Ellipse2) -> Ellipse2 {
+    if e.semi_minor.abs() > e.semi_major.abs() {
+        Ellipse2 {
+            center: e.center,
+            semi_major: e.semi_minor.abs(),
+            semi_minor: e.semi_major.abs(),
+            angle: e.angle + std::f64::consts::FRAC_PI_2,
+        }
+    } else {
+        Ellipse2 {
+            semi_major: e.semi_major.abs(),
+            semi_minor: e.semi_minor.abs(),
+            ..e
+        }
+    }
+}
+
+/// An ellipse that a stroke, or a run of fragments, draws (see [`drawn_ellipses`]).
+struct Drawn {
+    /// The fitted ellipse.
+    ellipse: Ellipse2,
+    /// The strokes that draw it (one, or the fragments of a run in order).
+    strokes: Vec<StrokeId>,
+    /// Their points.
+    points: Vec<DVec2>,
+    /// The points' RMS distance to it.
+    rms: f64,
+}
+
+/// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
+/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed). Besides
+/// single strokes, runs of fragments ([`fragment_runs`]) are read together: a hand
+/// often draws an ellipse in three or four arcs, none of which says its shape alone.
+fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f64)) -> Vec<Drawn> {
+    let nearby: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|stroke| {
+            let (lo, hi) = stroke.bounds;
+            let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
+            stroke.points.len() >= 3 && closest.distance(near) <= reach + 2.0 * radii.1
+        })
+        .collect();
+    let mut out = Vec::new();
+    let mut read = |run: &[&SnapStroke]| {
+        let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
+        if points.len() < 5 {
+            return;
+        }
+        let Some(fit) = fit_ellipse(&points) else {
+            return;
+        };
+        let fit = normalised(refine_ellipse(&fit, &points));
+        if fit.center.distance(near) > reach || !(radii.0..=radii.1).contains(&fit.semi_major) {
+            return;
+        }
+        // Only strokes the ellipse really fits (RMS within 8 % of its size) and that
+        // cover a good part of it tell the tilt; an arc classified as an outline must
+        // cover more of the turn, as an outline bent by the hand may fit a short arc.
+        let min_sweep = if run.iter().all(|s| s.class == StrokeClass::Feature) {
+            1.5
+        } else {
+            2.5
+        };
+        let rms = fit.rms_distance(&points);
+        let covered = fit.angular_span(&points).map_or(0.0, |s| s.sweep);
+        if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
+            out.push(Drawn {
+                ellipse: fit,
+                strokes: run.iter().map(|s| s.id).collect(),
+                points,
+                rms,
+            });
+        }
+    };
+    for stroke in &nearby {
+        read(std::slice::from_ref(stroke));
+    }
+    for run in fragment_runs(&nearby, radii.1) {
+        // Every stretch of two or more consecutive fragments: a run may carry on from an
+        // end arc into the outline it meets.
+        for len in 2..=run.len() {
+            for window in run.windows(len) {
+                read(window);
+            }
+        }
+    }
+    out
+}
+
+/// The longest run of fragments [`fragment_runs`] follows.
+const MAX_RUN: usize = 6;
+
+/// Runs of strokes that continue one another, as the fragments of one curve do: an end
+/// of one lies within a small gap of an end of the next (at most a third of the shorter
+/// one's length and half of `radius`), and the curve carries on through the joint in
+/// about the same direction (within 35°). Each end joins its nearest such partner when
+/// that partner's end chooses it too. Runs of one stroke are left out.
+fn fragment_runs<'a>(strokes: &[&'a SnapStroke], radius: f64) -> Vec<Vec<&'a SnapStroke>> {
+    let n = strokes.len();
+    // Per stroke end (2·i: its start, 2·i + 1: its end): the point and the unit
+    // direction leaving the stroke there.
+    let end = |k: usize| {
+        let points = &strokes[k / 2].points;
+        let m = points.len();
+        let (p, q) = if k.is_multiple_of(2) {
+            (points[0], points[(m / 5).clamp(1, m - 1)])
+        } else {
+            (points[m - 1], points[m - 1 - (m / 5).clamp(1, m - 1)])
+        };
+        (p, (p - q).normalize_or_zero())
+    };
+    let partner = |k: usize| {
+        let (p, out) = end(k);
+        (0..2 * n)
+            .filter(|j| j / 2 != k / 2)
+            .filter_map(|j| {
+                let (q, back) = end(j);
+                let gap = p.distance(q);
+                let shorter = strokes[k / 2].length.min(strokes[j / 2].length);
+                // Leaving one stroke along `out`, the next is entered against its own
+                // leaving direction.
+                let continues = out.dot(-back) >= 35f64.to_radians().cos();
+                (continues && gap <= (shorter / 3.0).min(radius / 2.0)).then_some((gap, j))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, j)| j)
+    };
+    let link: Vec<Option<usize>> = (0..2 * n)
+        .map(|k| partner(k).filter(|j| partner(*j) == Some(k)))
+        .collect();
+    let mut used = vec![false; n];
+    let mut runs = Vec::new();
+    for first in 0..n {
+        if used[first] {
+            continue;
+        }
+        // Walk back to the run's first stroke (or all the way round a closed run).
+        let mut at = first;
+        let mut entry = 0;
+        for _ in 0..n {
+            match link[2 * at + entry] {
+                Some(j) if j / 2 != first => {
+                    at = j / 2;
+                    entry = 1 - j % 2;
+                }
+                _ => break,
+            }
+        }
+        // Then forward, leaving each stroke by its other end.
+        let mut run = Vec::new();
+        let mut exit = 1 - entry;
+        while !used[at] && run.len() < MAX_RUN {
+            used[at] = true;
+            run.push(strokes[at]);
+            match link[2 * at + exit] {
+                Some(j) => {
+                    at = j / 2;
+                    exit = 1 - j % 2;
+                }
+                None => break,
+            }
+        }
+        if run.len() >= 2 {
+            runs.push(run);
+        }
+    }
+    runs
+}
+
+/// Whether two readings draw one ellipse between them (pieces of one end, or one end
+/// drawn twice) rather than two: they share a stroke, or one ellipse fits both about as
+/// well (RMS within 1.5 × the worse of their own) as each fits its own.
+fn one_ellipse(a: &Drawn, b: &Drawn) -> bool {
+    if a.strokes.iter().any(|s| b.strokes.contains(s)) {
+        return true;
+    }
+    let points: Vec<DVec2> = a.points.iter().chain(&b.points).copied().collect();
+    fit_ellipse(&points).is_some_and(|e| {
+        let e = refine_ellipse(&e, &points);
+        e.rms_distance(&points) <= 1.5 * a.rms.max(b.rms)
+    })
+}
+
+/// The axis with image direction `dir` and out-of-plane component `z` (|z| < 1).
+fn tilted(dir: DVec2, z: f64) -> DVec3 {
+    let xy = dir.normalize_or(DVec2::Y) * (1.0 - z * z).max(0.0).sqrt();
+    DVec3::new(xy.x, xy.y, z)
+}
+
+/// Minor over major of an ellipse, clamped below 0.95 (a rounder end says little of the
+/// image axis, and a tilt of 1 none of its length).
+fn roundness(e: &Ellipse2) -> f64 {
+    (e.semi_minor / e.semi_major.max(f64::MIN_POSITIVE)).clamp(0.0, 0.95)
+}
+
+/// Ellipses rounder than this do not tell the image axis by their minor axes.
+const ROUND: f64 = 0.9;
+
+/// Whether ellipses `b` and `t` can draw the two ends of one solid of revolution (module
+/// docs): the same roundness within 0.2, major axes within 20° (unless both are nearly
+/// round), and centres offset along the minor axes (across them by at most a quarter of
+/// the major semi-axis).
+fn ends_agree(b: &Ellipse2, t: &Ellipse2) -> bool {
+    let (rb, rt) = (roundness(b), roundness(t));
+    if (rb - rt).abs() > 0.2 {
+        return false;
+    }
+    let round = rb.min(rt) >= ROUND;
+    if !round && b.major_axis().perp_dot(t.major_axis()).abs() > 20f64.to_radians().sin() {
+        return false;
+    }
+    let across = (t.center - b.center).dot(b.major_axis()).abs();
+    round || across <= 0.25 * b.semi_major.max(t.semi_major)
+}
+
+/// What the drawn ends say of a solid of revolution: its image axis (unit, signed
+/// bottom to top), tilt, image centre, projected length and end radii.
+struct Reading {
+    dir: DVec2,
+    z: f64,
+    center: DVec2,
+    projected: f64,
+    radii: (f64, f64),
+}
+
+/// The drawn ends' reading (module docs), or `None` when no ellipse near the drop
+/// draws an end. `ends` are the dropped ends' image centres (bottom, top), `radii` their
+/// radii, `image_dir` the dropped image axis and `projected` its projected length.
+fn read_ends(
+    context: &SnapContext,
+    ends: (DVec2, DVec2),
+    radii: (f64, f64),
+    image_dir: DVec2,
+    projected: f64,
+    gate: f64,
+) -> Option<Reading> {
+    let mid = ends.0.midpoint(ends.1);
+    let reach = gate + ends.0.distance(ends.1) / 2.0;
+    let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
+    let drawn = drawn_ellipses(context, mid, reach, allowed);
+    let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
+    // How far an ellipse is from drawing an end: its centre's distance in gates, its
+    // radius' in log ratio; beyond a gate it does not draw that end.
+    let cost = |e: &Ellipse2, at: DVec2, r: f64| {
+        let d = e.center.distance(at) / gate;
+        (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
+    };
+    let mut pair: Option<(f64, usize, usize)> = None;
+    for (i, b) in ellipses.iter().enumerate() {
+        for (j, t) in ellipses.iter().enumerate() {
+            if i == j || !ends_agree(b, t) {
+                continue;
+            }
+            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1)) else {
+                continue;
+            };
+            if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
+                pair = Some((cb + ct, i, j));
+            }
+        }
+    }
+    if let Some((_, i, j)) = pair {
+        let (b, t) = (ellipses[i], ellipses[j]);
+        let z = roundness(b).max(roundness(t));
+        let offset = t.center - b.center;
+        // The image axis: the minor axes (sign-aligned), unless the ends are too round to
+        // tell, then the offset, then the drop's.
+        let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
+        let reference = if offset.length() > 1e-9 * gate {
+            offset
+        } else {
+            image_dir
+        };
+        let dir = if z < ROUND {
+            (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
+                .normalize_or(image_dir)
+        } else {
+            reference.normalize_or(image_dir)
+        };
+        return Some(Reading {
+            dir,
+            z,
+            center: b.center.midpoint(t.center),
+            projected: offset.dot(dir).abs(),
+            radii: (b.semi_major, t.semi_major),
+        });
+    }
+    // One end drawn: the nearest ellipse to either dropped end.
+    let (e, top) = ellipses
+        .iter()
+        .flat_map(|e| {
+            [
+                cost(e, ends.0, radii.0).map(|c| (c, e, false)),
+                cost(e, ends.1, radii.1).map(|c| (c, e, true)),
+            ]
+        })
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, e, top)| (e, top))?;
+    let z = roundness(e);
+    let dir = if z < ROUND {
+        let m = e.minor_axis();
+        if m.dot(image_dir) < 0.0 {
+            -m
+        } else {
+            m
+        }
+    } else {
+        image_dir.normalize_or(DVec2::Y)
+    };
+    // The drop's projected length at the drawn tilt; the centre on the drop's side of
+    // the end.
+    let drop_centre = ends.0.midpoint(ends.1);
+    let side = if (drop_centre - e.center).dot(dir) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let scale = e.semi_major / if top { radii.1 } else { radii.0 };
+    Some(Reading {
+        dir,
+        z,
+        center: e.center + dir * (side * projected / 2.0),
+        projected,
+        radii: (radii.0 * scale, radii.1 * scale),
+    })
+}
+
+/// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
+/// a solid of revolution or no end ellipse is drawn near it.
+pub(crate) fn repose_from_ellipses(
+    context: &SnapContext,
+    primitive: &Primitive,
+) -> Option<Primitive> {
+    let (center, axis, length, r_bottom, r_top) = match primitive {
+        Primitive::Cylinder(c) => (c.center, c.axis, c.length, c.radius, c.radius),
+        Primitive::Cone(c) => (c.center, c.axis, c.length, c.radius_bottom, c.radius_top),
+        Primitive::Sgc(s) => (
+            s.center,
+            s.axis,
+            s.length,
+            *s.radii.first()?,
+            *s.radii.last()?,
+        ),
+        _ => return None,
+    };
+    let gate = 0.3 * primitive.size();
+    let half = axis * (length / 2.0);
+    let ends = ((center - half).truncate(), (center + half).truncate());
+    let image_dir = axis.truncate();
+    let reading = read_ends(
+        context,
+        ends,
+        (r_bottom, r_top),
+        image_dir,
+        length * image_dir.length(),
+        gate,
+    )?;
+    let new_center = DVec3::new(reading.center.x, reading.center.y, center.z);
+    let new_axis = tilted(reading.dir, reading.z);
+    let new_length = reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt();
+    let (rb, rt) = reading.radii;
+    Some(match primitive {
+        Primitive::Cylinder(c) => {
+            let mut c = c.clone();
+            c.center = new_center;
+            c.axis = new_axis;
+            c.length = new_length;
+            c.radius = f64::midpoint(rb, rt);
+            Primitive::Cylinder(c)
+        }
+        Primitive::Cone(c) => {
+            let mut c = c.clone();
+            c.center = new_center;
+            c.axis = new_axis;
+            c.length = new_length;
+            c.radius_bottom = rb;
+            c.radius_top = rt;
+            Primitive::Cone(c)
+        }
+        Primitive::Sgc(s) => {
+            let mut s = s.clone();
+            s.center = new_center;
+            s.axis = new_axis;
+            s.length = new_length;
+            let k = s.radii.len().max(2) - 1;
+            for (i, r) in s.radii.iter_mut().enumerate() {
+                let t = i as f64 / k as f64;
+                // Keep the drawn profile's shape between the measured end radii.
+                *r *= (rb * (1.0 - t) + rt * t) / (r_bottom * (1.0 - t) + r_top * t);
+            }
+            Primitive::Sgc(s)
+        }
+        _ => return None,
+    })
+}
+
+/// The circles a sphere's outline may draw near a drop: a centre within half the dropped
+/// radius of the dropped centre and a radius within a factor 1.6 of the dropped one, as
+/// a hand's rough drop misses by less.
+const SPHERE_REACH: f64 = 0.5;
+
+/// The sweep (radians) of `points` round `center`: the full turn less the widest gap
+/// between their directions.
+fn sweep_round(points: &[DVec2], center: DVec2) -> f64 {
+    let mut angles: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            let d = *p - center;
+            d.y.atan2(d.x)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let (Some(first), Some(last)) = (angles.first(), angles.last()) else {
+        return 0.0;
+    };
+    let wrap = first + std::f64::consts::TAU - last;
+    let widest = angles.windows(2).map(|w| w[1] - w[0]).fold(wrap, f64::max);
+    std::f64::consts::TAU - widest
+}
+
+/// Starting poses for a sphere, read off the circles drawn near its drop. A sphere's
+/// outline is a circle whatever the view, and the hand draws it as one or a few arcs;
+/// a rough drop (off by a tenth of the size, a quarter too big or small) may meet other
+/// circles first: the ends of tubes joined to a ball, a neighbour's outline. So every
+/// stroke near the drop, and every run of fragments ([`fragment_runs`]), that a circle
+/// fits closely (RMS within 8 % of its radius, as for an end ellipse) over a fifth of a
+/// turn or more proposes a circle; each circle is scored by how much of its length the
+/// nearby strokes draw (samples within a tenth of the radius of it), and the best drawn
+/// one is the start. A
+/// start read off the drawing lands on the same outline from any drop near it.
+fn sphere_poses(context: &SnapContext, dropped: &Sphere) -> Vec<Sphere> {
+    let (c0, r0) = (dropped.center.truncate(), dropped.radius);
+    if !(r0 > 0.0) {
+        return Vec::new();
+    }
+    let reach = SPHERE_REACH * r0;
+    let nearby: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|stroke| {
+            let (lo, hi) = stroke.bounds;
+            let closest = DVec2::new(c0.x.clamp(lo.x, hi.x), c0.y.clamp(lo.y, hi.y));
+            stroke.points.len() >= 3 && closest.distance(c0) <= reach + 1.6 * r0
+        })
+        .collect();
+    let mut circles: Vec<Circle2> = Vec::new();
+    let mut propose = |run: &[&SnapStroke]| {
+        let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
+        let Some(circle) = fit_circle(&points) else {
+            return;
+        };
+        let fits = circle.rms_residual <= 0.08 * circle.radius
+            && circle.center.distance(c0) <= reach
+            && (r0 / 1.6..=r0 * 1.6).contains(&circle.radius)
+            && sweep_round(&points, circle.center) >= 0.2 * std::f64::consts::TAU;
+        if fits {
+            circles.push(circle);
+        }
+    };
+    for stroke in &nearby {
+        propose(std::slice::from_ref(stroke));
+    }
+    for run in fragment_runs(&nearby, 1.6 * r0) {
+        for len in 2..=run.len() {
+            for window in run.windows(len) {
+                propose(window);
+            }
+        }
+    }
+    // How much of a circle the nearby strokes draw: the share of its directions (in 96
+    // sectors) that a stroke sample near it covers.
+    let drawn = |circle: &Circle2| {
+        let mut covered = [false; 96];
+        for p in nearby.iter().flat_map(|s| &s.points) {
+            if circle.distance(*p) <= 0.1 * circle.radius {
+                let d = *p - circle.center;
+                let a = d.y.atan2(d.x) + std::f64::consts::PI;
+                let k = ((a / std::f64::consts::TAU * 96.0) as usize).min(95);
+                covered[k] = true;
+            }
+        }
+        covered.iter().filter(|c| **c).count() as f64 / 96.0
+    };
+    circles
+        .iter()
+        .map(|c| (drawn(c), c))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| Sphere {
+            center: DVec3::new(c.center.x, c.center.y, dropped.center.z),
+            radius: c.radius,
+        })
+        .into_iter()
+        .collect()
+}
+
+/// Strokes closer in direction than this (radians) belong to one edge direction.
+const SAME_DIRECTION: f64 = 0.14;
+
+/// A straight stroke of one edge direction: its extent along its direction (not its
+/// length: a hand's jitter makes a polyline longer than the edge it draws) and bounds.
+#[derive(Clone, Copy)]
+struct Edge {
+    extent: f64,
+    bounds: (DVec2, DVec2),
+}
+
+/// The three edge directions of a drawn box: groups of straight strokes by direction
+/// (mod π), strongest (longest in total) first; each is (unit direction, its strokes).
+fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
+    // Directions as doubled angles, so that d and −d agree.
+    let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
+    let gap = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(std::f64::consts::PI);
+        d.min(std::f64::consts::PI - d)
+    };
+    let mut left: Vec<&SnapStroke> = strokes.to_vec();
+    let mut groups = Vec::with_capacity(3);
+    for _ in 0..3 {
+        let support = |a: f64| -> f64 {
+            left.iter()
+                .filter(|s| gap(angle(s), a) <= SAME_DIRECTION)
+                .map(|s| s.length)
+                .sum()
+        };
+        let seed = left
+            .iter()
+            .map(|s| angle(s))
+            .max_by(|a, b| support(*a).total_cmp(&support(*b)))?;
+        let (members, rest): (Vec<&SnapStroke>, Vec<&SnapStroke>) = left
+            .iter()
+            .partition(|s| gap(angle(s), seed) <= 2.0 * SAME_DIRECTION);
+        // The length-weighted mean direction, on doubled angles.
+        let doubled = members.iter().fold(DVec2::ZERO, |acc, s| {
+            let a = 2.0 * angle(s);
+            acc + DVec2::new(a.cos(), a.sin()) * s.length
+        });
+        let a = doubled.y.atan2(doubled.x) / 2.0;
+        let edges = members
+            .iter()
+            .map(|s| {
+                let (lo, hi) =
+                    s.points
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                            let t = p.dot(s.direction);
+                            (lo.min(t), hi.max(t))
+                        });
+                Edge {
+                    extent: hi - lo,
+                    bounds: s.bounds,
+                }
+            })
+            .collect();
+        groups.push((DVec2::new(a.cos(), a.sin()), edges));
+        left = rest;
+    }
+    groups.try_into().ok()
+}
+
+/// The orientations (mirror pair) of a box whose axes project along the unit directions
+/// `d`: the 3D axes (dᵢ, wᵢ) are orthogonal when dᵢ·dⱼ + wᵢwⱼ = 0 for each pair, which
+/// fixes w₁² = −(d₁·d₂)(d₁·d₃)/(d₂·d₃) and the others from it; `None` when the directions
+/// cannot come from a box or an axis would lie within 8° of the view.
+fn box_axes(d: [DVec2; 3]) -> Option<[[DVec3; 3]; 2]> {
+    let (d12, d13, d23) = (d[0].dot(d[1]), d[0].dot(d[2]), d[1].dot(d[2]));
+    if d12.abs().min(d13.abs()).min(d23.abs()) < 1e-3 {
+        return None;
+    }
+    let w1_sq = -d12 * d13 / d23;
+    if !(w1_sq > 0.0) {
+        return None;
+    }
+    let w1 = w1_sq.sqrt();
+    let w = [w1, -d12 / w1, -d13 / w1];
+    // An axis within 8° of the view (|w| > cot 8° ≈ 7.1) is not seen well enough.
+    if w.iter().any(|w| w.abs() > 7.1) {
+        return None;
+    }
+    let axes = |sign: f64| [0, 1, 2].map(|i| DVec3::new(d[i].x, d[i].y, sign * w[i]).normalize());
+    Some([axes(1.0), axes(-1.0)])
+}
+
+/// The sizes of a box with `axes` (labelled as the dropped box's by `perm`: its axis `j`
+/// draws as edge direction `perm[j]`) and its image centre, read off the edges of each
+/// direction: the longest stroke of a direction gives the size along that axis, and the
+/// middle of the strokes' bounds the centre (a box's outline is symmetric about its
+/// centre). A stroke more than twice as long as the dropped box's edge of that direction
+/// draws something else that runs the same way (a table's leg under a thin top runs
+/// along the top's thickness) and does not count, unless no stroke of the direction is
+/// that short (then all count). `None` when no stroke counts.
+fn sizes_and_centre(
+    groups: &[(DVec2, Vec<Edge>); 3],
+    axes: &[DVec3; 3],
+    perm: [usize; 3],
+    dropped: &Cuboid,
+) -> Option<(DVec3, DVec2)> {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let size = [0, 1, 2].map(|j| {
+        let shrink = axes[perm[j]].truncate().length().max(1e-3);
+        let expected = dropped.size[j] * shrink;
+        let edges = &groups[perm[j]].1;
+        let counted: Vec<&Edge> = edges
+            .iter()
+            .filter(|e| e.extent <= 2.0 * expected)
+            .collect();
+        // Without a stroke as short, the drop's labels did not match (its edge of that
+        // direction is another one): all count.
+        let counted = if counted.is_empty() {
+            edges.iter().collect()
+        } else {
+            counted
+        };
+        let mut longest: f64 = 0.0;
+        for edge in counted {
+            longest = longest.max(edge.extent);
+            lo = lo.min(edge.bounds.0);
+            hi = hi.max(edge.bounds.1);
+        }
+        longest / shrink
+    });
+    lo.cmple(hi)
+        .all()
+        .then(|| (DVec3::from_array(size), (lo + hi) / 2.0))
+}
+
+/// Starting poses of a dropped box from the straight strokes around it: the three edge
+/// directions give its orientation up to the mirror of the view (both are returned), and
+/// the strokes of each direction its sizes and centre (see `sizes_and_centre`). The axes
+/// are labelled and signed as the dropped box's nearest ones, so its width stays its
+/// width.
+pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> {
+    let shape = Primitive::Cuboid(dropped.clone()).current_shape();
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for c in &shape.curves {
+        let (clo, chi) = curve_bounds(&c.curve);
+        lo = lo.min(clo);
+        hi = hi.max(chi);
+    }
+    let grow = DVec2::splat(0.3 * dropped.size.max_element());
+    let (lo, hi) = (lo - grow, hi + grow);
+    let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
+    let strokes: Vec<&SnapStroke> = context
+        .strokes
+        .iter()
+        .filter(|s| s.straightness <= ROUGHLY_STRAIGHT && s.points.iter().all(inside))
+        .collect();
+    let Some(groups) = edge_directions(&strokes) else {
+        return Vec::new();
+    };
+    let Some(orientations) = box_axes([0, 1, 2].map(|i| groups[i].0)) else {
+        return Vec::new();
+    };
+    let dropped_axes = dropped.axes();
+    orientations
+        .iter()
+        .filter_map(|axes| {
+            // The labelling (a permutation with signs) nearest to the dropped axes.
+            let perms = [
+                [0, 1, 2],
+                [0, 2, 1],
+                [1, 0, 2],
+                [1, 2, 0],
+                [2, 0, 1],
+                [2, 1, 0],
+            ];
+            let perm = perms.into_iter().max_by(|p, q| {
+                let fit = |p: &[usize; 3]| -> f64 {
+                    (0..3).map(|j| dropped_axes[j].dot(axes[p[j]]).abs()).sum()
+                };
+                fit(p).total_cmp(&fit(q))
+            })?;
+            let mut new_axes = [0, 1, 2].map(|j| {
+                let a = axes[perm[j]];
+                if a.dot(dropped_axes[j]) < 0.0 {
+                    -a
+                } else {
+                    a
+                }
+            });
+            // A box is its own mirror image: make the frame right-handed by turning the
+            // axis least like the dropped one.
+            if new_axes[0].cross(new_axes[1]).dot(new_axes[2]) < 0.0 {
+                let worst = (0..3).min_by(|i, j| {
+                    let fit = |k: &usize| new_axes[*k].dot(dropped_axes[*k]);
+                    fit(i).total_cmp(&fit(j))
+                })?;
+                new_axes[worst] = -new_axes[worst];
+            }
+            let (size, centre) = sizes_and_centre(&groups, axes, perm, dropped)?;
+            Some(Cuboid {
+                center: DVec3::new(centre.x, centre.y, dropped.center.z),
+                rotation: DQuat::from_mat3(&DMat3::from_cols(
+                    new_axes[0],
+                    new_axes[1],
+                    new_axes[2],
+                ))
+                .normalize(),
+                size,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use glam::{DQuat, DVec2, DVec3};
+
+    use super::{box_poses, fragment_runs, repose_from_ellipses, starting_poses};
+    use crate::primitive::{Cuboid, Curve2, Cylinder, Primitive, Sphere};
+    use crate::sketch::{StrokeClass, StrokeId};
+    use crate::snap::context::SnapStroke;
+    use crate::snap::SnapContext;
+
+    /// The visible edges of `truth` as straight strokes (sketch space, y down).
+    pub(in crate::snap) fn drawn(truth: &Cuboid) -> SnapContext {
+        drawn_past_corners(truth, 0.0)
+    }
+
+    /// `truth`'s visible edges as strokes, each carried `past` of its length beyond both
+    /// corners (a hand's overshoot).
+    pub(in crate::snap) fn drawn_past_corners(truth: &Cuboid, past: f64) -> SnapContext {
+        let shape = Primitive::Cuboid(truth.clone()).current_shape();
+        let strokes: Vec<Vec<DVec2>> = shape
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .filter_map(|c| match &c.curve {
+                Curve2::Polyline(p) => {
+                    let (a, b) = (p[0].to_dvec2(), p[1].to_dvec2());
+                    let (a, b) = (a - (b - a) * past, b + (b - a) * past);
+                    Some(
+                        (0..=20)
+                            .map(|i| {
+                                let q = a.lerp(b, f64::from(i) / 20.0);
+                                DVec2::new(q.x, -q.y)
+                            })
+                            .collect(),
+                    )
+                }
+                Curve2::Ellipse { .. } => None,
+            })
+            .collect();
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        )
+    }
+
+    /// A box turned so that its three visible faces show.
+    pub(in crate::snap) fn turned_box() -> Cuboid {
+        Cuboid {
+            center: DVec3::new(400.0, -300.0, 0.0),
+            rotation: DQuat::from_rotation_y(0.7) * DQuat::from_rotation_x(0.45),
+            size: DVec3::new(200.0, 120.0, 90.0),
+        }
+    }
+
+    #[test]
+    fn a_drawn_box_gives_its_orientation_and_sizes() {
+        let truth = turned_box();
+        // Dropped upright, in the palette's default orientation, a little off.
+        let dropped = Cuboid {
+            center: DVec3::new(420.0, -280.0, 0.0),
+            rotation: DQuat::from_rotation_x(20f64.to_radians())
+                * DQuat::from_rotation_y(-30f64.to_radians()),
+            size: DVec3::new(150.0, 150.0, 150.0),
+        };
+        let poses = box_poses(&drawn(&truth), &dropped);
+        assert_eq!(poses.len(), 2, "the pose and its mirror image");
+        let truth_axes = truth.axes();
+        // Some pose has the true axes (up to order and sign, and the view's mirror) and
+        // sizes, and the true centre.
+        let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
+        let found = poses.iter().any(|pose| {
+            let axes = pose.axes();
+            (0..3).all(|i| {
+                (0..3).any(|j| {
+                    let same = |a: DVec3| a.dot(truth_axes[j]).abs() > 0.9998;
+                    (same(axes[i]) || same(mirror(axes[i])))
+                        && (pose.size[i] - truth.size[j]).abs() < 0.01 * truth.size[j]
+                })
+            })
+        });
+        assert!(found, "{poses:#?}");
+        for pose in &poses {
+            assert!(pose.center.truncate().distance(truth.center.truncate()) < 1e-6);
+        }
+    }
+
+    #[test]
+    fn too_few_edge_directions_give_no_pose() {
+        // Only two directions: a rectangle seen head-on says nothing of the depth.
+        let line = |a: DVec2, b: DVec2| -> Vec<DVec2> {
+            (0..=10).map(|i| a.lerp(b, f64::from(i) / 10.0)).collect()
+        };
+        let strokes = [
+            line(DVec2::new(0.0, 0.0), DVec2::new(100.0, 0.0)),
+            line(DVec2::new(0.0, 50.0), DVec2::new(100.0, 50.0)),
+            line(DVec2::new(0.0, 0.0), DVec2::new(0.0, 50.0)),
+            line(DVec2::new(100.0, 0.0), DVec2::new(100.0, 50.0)),
+        ];
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        );
+        let dropped = Cuboid {
+            center: DVec3::new(50.0, -25.0, 0.0),
+            rotation: DQuat::IDENTITY,
+            size: DVec3::new(100.0, 50.0, 50.0),
+        };
+        assert!(box_poses(&context, &dropped).is_empty());
+    }
+
+    /// A circle of `radius` about `centre` square to `axis`, from angle `from` to `to`
+    /// (radians), as a stroke in sketch space (y down).
+    fn rim(centre: DVec3, axis: DVec3, radius: f64, from: f64, to: f64) -> Vec<DVec2> {
+        let u = axis.any_orthonormal_vector();
+        let v = axis.cross(u);
+        (0..=48)
+            .map(|i| {
+                let t = from + (to - from) * f64::from(i) / 48.0;
+                let p = centre + radius * (t.cos() * u + t.sin() * v);
+                DVec2::new(p.x, -p.y)
+            })
+            .collect()
+    }
+
+    fn feature_strokes(strokes: &[Vec<DVec2>]) -> SnapContext {
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Feature)),
+        )
+    }
+
+    /// A table top: radius 200, a tenth as thick, tilted 37° out of the view plane.
+    fn disc() -> Cylinder {
+        Cylinder {
+            center: DVec3::new(500.0, -400.0, 0.0),
+            axis: DVec3::new(0.48, 0.64, 0.6),
+            length: 20.0,
+            radius: 200.0,
+        }
+    }
+
+    /// The disc dropped as a hand would: in the palette's tilt, turned, smaller, off.
+    fn dropped_disc() -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::new(515.0, -390.0, 0.0),
+            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
+            length: 30.0,
+            radius: 160.0,
+        })
+    }
+
+    #[test]
+    fn two_concentric_large_ellipses_make_a_disc() {
+        let truth = disc();
+        let half = truth.axis * (truth.length / 2.0);
+        let tau = std::f64::consts::TAU;
+        let context = feature_strokes(&[
+            rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
+            rim(
+                truth.center - half,
+                truth.axis,
+                truth.radius,
+                0.0,
+                tau / 2.0,
+            ),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        let mirror = DVec3::new(c.axis.x, c.axis.y, -c.axis.z);
+        let angle = c
+            .axis
+            .dot(truth.axis)
+            .abs()
+            .max(mirror.dot(truth.axis).abs())
+            .min(1.0)
+            .acos();
+        assert!(angle.to_degrees() < 0.5, "{c:?}");
+        assert!(
+            (c.length - truth.length).abs() < 0.02 * truth.length,
+            "{c:?}"
+        );
+        assert!(
+            (c.radius - truth.radius).abs() < 0.01 * truth.radius,
+            "{c:?}"
+        );
+        assert!(c.center.truncate().distance(truth.center.truncate()) < 0.5);
+    }
+
+    #[test]
+    fn two_halves_of_one_ellipse_are_one_end() {
+        // Only the near end is drawn, in two strokes: they are not the disc's two ends
+        // (which would make it a disc of no thickness).
+        let truth = disc();
+        let near = truth.center + truth.axis * (truth.length / 2.0);
+        let pi = std::f64::consts::PI;
+        let context = feature_strokes(&[
+            rim(near, truth.axis, truth.radius, 0.0, pi),
+            rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
+        ]);
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
+            panic!("no pose");
+        };
+        // The tilt and image axis are the drawn end's; the length is the drop's.
+        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.01, "{c:?}");
+        let dir = c.axis.truncate().normalize();
+        assert!(
+            dir.dot(truth.axis.truncate().normalize()).abs() > 0.9999,
+            "{c:?}"
+        );
+        assert!(c.length > 20.0, "{c:?}");
+    }
+
+    #[test]
+    fn ends_drawn_in_fragments_are_read_together() {
+        // A rod whose top is drawn in five short arcs and whose bottom's half in three,
+        // with small gaps: no arc alone sweeps enough of a turn to tell the tilt.
+        let truth = Cylinder {
+            center: DVec3::new(300.0, -300.0, 0.0),
+            axis: DVec3::new(0.3, 0.8, 0.52).normalize(),
+            length: 150.0,
+            radius: 60.0,
+        };
+        let half = truth.axis * (truth.length / 2.0);
+        let tau = std::f64::consts::TAU;
+        let arcs = |centre: DVec3, from: f64, to: f64, n: usize| {
+            (0..n)
+                .map(|k| {
+                    let step = (to - from) / n as f64;
+                    let a = from + step * k as f64;
+                    rim(centre, truth.axis, truth.radius, a + 0.04, a + step - 0.04)
+                })
+                .collect::<Vec<_>>()
+        };
+        let mut strokes = arcs(truth.center + half, 0.0, tau, 5);
+        strokes.extend(arcs(truth.center - half, 0.0, tau / 2.0, 3));
+        let context = feature_strokes(&strokes);
+        let dropped = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(310.0, -290.0, 0.0),
+            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
+            length: 120.0,
+            radius: 50.0,
+        });
+        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped) else {
+            panic!("no pose");
+        };
+        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.02, "{c:?}");
+        assert!(
+            (c.length - truth.length).abs() < 0.05 * truth.length,
+            "{c:?}"
+        );
+        assert!(
+            (c.radius - truth.radius).abs() < 0.03 * truth.radius,
+            "{c:?}"
+        );
+        assert!(
+            c.center.truncate().distance(truth.center.truncate()) < 3.0,
+            "{c:?}"
+        );
+    }
+
+    #[test]
+    fn fragments_that_continue_one_another_form_one_run() {
+        let tau = std::f64::consts::TAU;
+        let centre = DVec3::new(0.0, 0.0, 0.0);
+        let axis = DVec3::Z;
+        // Three arcs of one circle with small gaps, given out of order, and a stroke
+        // across the circle's middle that meets none of them end to end.
+        let mut strokes: Vec<Vec<DVec2>> = [2, 0, 1]
+            .iter()
+            .map(|k| {
+                let a = tau / 3.0 * f64::from(*k);
+                rim(centre, axis, 100.0, a + 0.03, a + tau / 3.0 - 0.03)
+            })
+            .collect();
+        strokes.push(vec![
+            DVec2::new(-50.0, 0.0),
+            DVec2::new(50.0, 0.0),
+            DVec2::new(60.0, 1.0),
+        ]);
+        let context = feature_strokes(&strokes);
+        let all: Vec<&SnapStroke> = context.strokes.iter().collect();
+        let runs = fragment_runs(&all, 100.0);
+        assert_eq!(runs.len(), 1, "{}", runs.len());
+        let mut ids: Vec<u32> = runs[0].iter().map(|s| s.id.0).collect();
+        ids.sort_unstable();
+        assert_eq!(ids, vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn a_sphere_starts_from_the_circle_drawn_round_a_rough_drop() {
+        // A ball drawn as two arcs, a tube's end ellipse on its rim and a stroke across
+        // it; dropped a quarter too big and off by a tenth of its size.
+        let arc = |c: DVec2, r: f64, from: f64, to: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| c + r * DVec2::from_angle(from + (to - from) * f64::from(i) / 40.0))
+                .collect()
+        };
+        let ball = DVec2::new(300.0, -200.0);
+        let strokes = [
+            arc(ball, 100.0, 0.3, 3.0),
+            arc(ball, 100.0, 3.3, 6.0),
+            arc(
+                ball + DVec2::new(95.0, 0.0),
+                30.0,
+                0.0,
+                std::f64::consts::TAU,
+            ),
+            vec![ball - DVec2::new(60.0, 10.0), ball + DVec2::new(40.0, 30.0)],
+        ];
+        // Strokes are given in sketch space (y down).
+        let strokes: Vec<Vec<DVec2>> = strokes
+            .iter()
+            .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
+            .collect();
+        let context = feature_strokes(&strokes);
+        let dropped = Sphere {
+            center: DVec3::new(ball.x + 15.0, ball.y - 12.0, 0.0),
+            radius: 125.0,
+        };
+        let poses = starting_poses(&context, &Primitive::Sphere(dropped));
+        let [Primitive::Sphere(s)] = poses.as_slice() else {
+            panic!("{poses:?}");
+        };
+        assert!(s.center.truncate().distance(ball) < 1.0, "{s:?}");
+        assert!((s.radius - 100.0).abs() < 1.0, "{s:?}");
+    }
+
+    #[test]
+    fn a_long_stroke_along_a_slabs_thin_edges_is_not_its_thickness() {
+        let mut truth = turned_box();
+        truth.size = DVec3::new(200.0, 16.0, 150.0);
+        let mut context = drawn(&truth);
+        // Two table legs under the slab, along its thin axis, five times as long as it is
+        // thick.
+        let [x, y, z] = truth.axes();
+        let legs: Vec<Vec<DVec2>> = [-1.0, 1.0]
+            .iter()
+            .map(|side| {
+                let top = truth.center + x * (side * 60.0) - y * 8.0 + z * 40.0;
+                (0..=20)
+                    .map(|i| {
+                        let p = top - y * (80.0 * f64::from(i) / 20.0);
+                        DVec2::new(p.x, -p.y)
+                    })
+                    .collect()
+            })
+            .collect();
+        let extra = SnapContext::new(legs.iter().enumerate().map(|(i, s)| {
+            (
+                StrokeId(100 + i as u32),
+                s.as_slice(),
+                StrokeClass::Silhouette,
+            )
+        }));
+        context.strokes.extend(extra.strokes);
+        let dropped = Cuboid {
+            center: truth.center + DVec3::new(10.0, -8.0, 0.0),
+            size: DVec3::new(230.0, 20.0, 120.0),
+            ..truth.clone()
+        };
+        let poses = box_poses(&context, &dropped);
+        assert!(!poses.is_empty());
+        for pose in &poses {
+            assert!(
+                (pose.size.y - truth.size.y).abs() < 0.05 * truth.size.y,
+                "{pose:?}"
+            );
+        }
+    }
+}

@@ -1,0 +1,984 @@
+//! Snapping: curve assignment and the per-primitive fit, and the session that serves a
+//! drag frame by frame.
+//!
+//! A snap alternates assignment and fitting, as ICP does: strokes are assigned with a
+//! wide gate around the dropped pose (30 % of the primitive's size, which covers the
+//! error of a hand placement), the primitive is fitted, then strokes are re-assigned with
+//! a tight gate (10 %) around the fitted pose and the fit is refined; a third round runs
+//! only if the assignment changed. [`snap`] does one snap; [`SnapSession`] serves a drag,
+//! warm-starting each frame from the last (a warm frame stops after its first fit when the
+//! tight gate takes the same strokes).
+
+mod assign;
+mod bgc_start;
+mod confidence;
+mod context;
+pub(crate) mod initial;
+mod objective;
+
+use thiserror::Error;
+
+pub use assign::{
+    assign, restore_assignment, stroke_samples, AssignedStroke, Assignment, CurveStrokes,
+    RestoreError,
+};
+pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
+pub use context::{SnapContext, SnapStroke};
+pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
+
+use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
+use crate::solve::{
+    AugLagSettings, CancelFlag, Clock, Multipliers, SettingsError, SolveContext, SolveError,
+    SolveReport, Solver, Start, Termination,
+};
+
+/// Why a primitive could not be snapped.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum SnapError {
+    /// Too few strokes near the primitive to determine it.
+    #[error("not enough strokes near the {kind}: {found}")]
+    NotEnoughStrokes {
+        /// The kind.
+        kind: &'static str,
+        /// What was found, in words.
+        found: String,
+    },
+    /// The placement or the fit is not finite.
+    #[error("the {0} has non-finite parameters")]
+    NonFinite(&'static str),
+    /// The fit ran away from the drop: its size changed by more than [`MAX_SIZE_CHANGE`]
+    /// times (strokes that do not describe one such part, such as a drawing that
+    /// contradicts itself).
+    #[error("the {kind} fit ran away (its size changed {factor:.1}×): the strokes near it do not describe one {kind}")]
+    RanAway {
+        /// The kind.
+        kind: &'static str,
+        /// The fitted size over the dropped size.
+        factor: f64,
+    },
+    /// The snap was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// Settings of snapping; the defaults are those documented in the module. Made by
+/// [`SnapSettings::new`], which checks them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapSettings {
+    wide_gate: f64,
+    tight_gate: f64,
+    solver: AugLagSettings,
+}
+
+impl SnapSettings {
+    /// Settings with a first, wide assignment gate `wide_gate` and a refined one
+    /// `tight_gate`, both relative to the primitive's size, and the `solver` settings of
+    /// each fit.
+    ///
+    /// # Errors
+    ///
+    /// [`SettingsError::NotPositive`] for a gate that is not finite and above zero,
+    /// [`SettingsError::OutOfRange`] for a tight gate wider than the wide one.
+    pub fn new(
+        wide_gate: f64,
+        tight_gate: f64,
+        solver: AugLagSettings,
+    ) -> Result<Self, SettingsError> {
+        for (name, value) in [("wide_gate", wide_gate), ("tight_gate", tight_gate)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SettingsError::NotPositive { name, value });
+            }
+        }
+        if tight_gate > wide_gate {
+            return Err(SettingsError::OutOfRange {
+                name: "tight_gate",
+                value: tight_gate,
+                range: "(0, wide_gate]",
+            });
+        }
+        Ok(Self {
+            wide_gate,
+            tight_gate,
+            solver,
+        })
+    }
+
+    /// The first, wide assignment gate, relative to the primitive's size.
+    pub fn wide_gate(&self) -> f64 {
+        self.wide_gate
+    }
+
+    /// The refined assignment gate, relative to the primitive's size.
+    pub fn tight_gate(&self) -> f64 {
+        self.tight_gate
+    }
+
+    /// The solver settings of each fit.
+    pub fn solver(&self) -> &AugLagSettings {
+        &self.solver
+    }
+}
+
+impl Default for SnapSettings {
+    fn default() -> Self {
+        let solver = AugLagSettings::default()
+            .with_constraint_tol(1e-7)
+            .and_then(|s| s.with_gradient_tol(1e-7))
+            .and_then(|s| s.with_max_outer_iterations(40))
+            .and_then(|s| s.with_max_evaluations(4000))
+            .unwrap_or_default();
+        Self {
+            wide_gate: 0.3,
+            tight_gate: 0.1,
+            solver,
+        }
+    }
+}
+
+/// A snapped primitive: the result of a snap or of one drag frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnapResult {
+    /// The fitted primitive, in model space.
+    pub primitive: Primitive,
+    /// The strokes assigned to each projected curve (at the fitted pose).
+    pub assignment: Assignment,
+    /// RMS distance of the assigned stroke samples to their curves, in sketch units.
+    pub rms: f64,
+    /// How the last fit ended.
+    pub termination: Termination,
+    /// Solver iterations and evaluations over all rounds.
+    pub evaluations: u64,
+    /// How much of the drawing it explains, as a length in view units: the stroke length
+    /// it takes, weighted by closeness, less its visible outline where nothing is drawn.
+    /// Computed for cold snaps, which are compared with other readings.
+    pub explained: Option<f64>,
+    /// The other readings of the drawing a cold snap found (poses whose outline differs
+    /// from this one's), best first; empty for a warm drag frame.
+    pub alternatives: Vec<Alternative>,
+    /// The last fit's multipliers, for a warm start.
+    multipliers: Option<Multipliers>,
+}
+
+/// Another reading of the drawing that a snap found and did not choose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Alternative {
+    /// The fitted primitive.
+    pub primitive: Primitive,
+    /// Its strokes per projected curve.
+    pub assignment: Assignment,
+    /// Its fit RMS in sketch units.
+    pub rms: f64,
+    /// How much of the drawing it explains (see [`SnapResult::explained`]).
+    pub explained: f64,
+    /// How far its outline lies from the chosen snap's, relative to the size.
+    pub distance: f64,
+}
+
+impl SnapResult {
+    /// The snap's confidence (see [`judge`]), with `owner` telling which part placed
+    /// before owns a stroke, if any, and the drop it was snapped from. A stroke supports
+    /// a curve within the tight gate of the smaller of the snapped and dropped sizes.
+    pub fn confidence(
+        &self,
+        dropped: &Primitive,
+        owner: &Owner<'_>,
+        settings: &SnapSettings,
+    ) -> Confidence {
+        // A snap that grew is held to the scale it was dropped at: its own size would
+        // widen the gate within which strokes count as drawing its outline.
+        let scale = self.primitive.size().min(dropped.size());
+        judge(self, dropped, owner, settings.tight_gate * scale)
+    }
+
+    /// This snap with its alternative number `index` chosen instead (the snap it was
+    /// becomes the first alternative): for cycling through the readings a snap found.
+    /// `None` when there is no such alternative.
+    pub fn with_alternative(&self, index: usize) -> Option<Self> {
+        let alt = self.alternatives.get(index)?;
+        let mut alternatives = self.alternatives.clone();
+        alternatives.remove(index);
+        alternatives.insert(
+            0,
+            Alternative {
+                primitive: self.primitive.clone(),
+                assignment: self.assignment.clone(),
+                rms: self.rms,
+                explained: self.explained.unwrap_or(0.0),
+                distance: alt.distance,
+            },
+        );
+        for a in alternatives.iter_mut().skip(1) {
+            a.distance = confidence::outline_distance(&alt.primitive, &a.primitive);
+        }
+        Some(Self {
+            primitive: alt.primitive.clone(),
+            assignment: alt.assignment.clone(),
+            rms: alt.rms,
+            termination: self.termination,
+            evaluations: self.evaluations,
+            explained: Some(alt.explained),
+            alternatives,
+            multipliers: None,
+        })
+    }
+}
+
+/// A cold snap with how much of the drawing it explains (see [`explanation`]), for
+/// choosing between the snaps of one drop. Warm drag frames are never compared, so they
+/// skip the score.
+struct Scored {
+    result: SnapResult,
+    explained: f64,
+}
+
+impl Scored {
+    /// `result` scored at the smaller of its size and the `dropped` size: a snap that
+    /// grew must not widen the gate within which strokes count for it (as its confidence
+    /// is judged, see [`SnapResult::confidence`]).
+    fn of(mut result: SnapResult, dropped: f64, settings: &SnapSettings) -> Self {
+        let gate = settings.tight_gate * result.primitive.size().min(dropped);
+        let explained = explanation(&result.primitive, &result.assignment, gate);
+        result.explained = Some(explained);
+        Self { result, explained }
+    }
+}
+
+/// The best of `candidates` (see [`better`]) with the others that read the drawing
+/// differently as its alternatives, best first (good fits first, then by explanation);
+/// a candidate whose outline nearly coincides with a kept one's is the same reading.
+fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
+    let mut best: Option<Scored> = None;
+    let mut rest = Vec::with_capacity(candidates.len());
+    for c in candidates {
+        match best.take() {
+            None => best = Some(c),
+            Some(b) if better(&c, &b) => {
+                rest.push(b);
+                best = Some(c);
+            }
+            Some(b) => {
+                rest.push(c);
+                best = Some(b);
+            }
+        }
+    }
+    let mut best = best?.result;
+    rest.sort_by(|a, b| {
+        good(&b.result)
+            .cmp(&good(&a.result))
+            .then(b.explained.total_cmp(&a.explained))
+    });
+    let mut alternatives: Vec<Alternative> = Vec::new();
+    for c in rest {
+        let distance = confidence::outline_distance(&best.primitive, &c.result.primitive);
+        let seen = distance <= confidence::DISTINCT
+            || alternatives.iter().any(|a| {
+                confidence::outline_distance(&a.primitive, &c.result.primitive)
+                    <= confidence::DISTINCT
+            });
+        if seen || !c.result.primitive.is_finite() {
+            continue;
+        }
+        alternatives.push(Alternative {
+            primitive: c.result.primitive,
+            assignment: c.result.assignment,
+            rms: c.result.rms,
+            explained: c.explained,
+            distance,
+        });
+        if alternatives.len() == MAX_ALTERNATIVES {
+            break;
+        }
+    }
+    best.alternatives = alternatives;
+    Some(best)
+}
+
+/// A snap keeps at most this many alternatives.
+const MAX_ALTERNATIVES: usize = 3;
+
+/// Checks that an assignment determines the primitive (the original's `CanSnap`, but
+/// checked before every fit rather than ignored on release).
+fn check_enough(primitive: &Primitive, assignment: &Assignment) -> Result<(), SnapError> {
+    let shape = primitive.current_shape();
+    let assigned = |class: CurveClass| {
+        shape
+            .curves
+            .iter()
+            .zip(&assignment.curves)
+            .filter(|(c, a)| c.class == class && !a.is_empty())
+            .count()
+    };
+    let (features, silhouettes, edges) = (
+        assigned(CurveClass::Feature),
+        assigned(CurveClass::Silhouette),
+        assigned(CurveClass::Edge),
+    );
+    let enough = match primitive.kind() {
+        PrimitiveKind::Sphere => features + silhouettes >= 1,
+        PrimitiveKind::Cuboid => edges >= 3,
+        PrimitiveKind::Bgc => silhouettes >= 2,
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => {
+            silhouettes >= 1 && silhouettes + features >= 2 || features >= 2
+        }
+    };
+    if enough {
+        Ok(())
+    } else {
+        Err(SnapError::NotEnoughStrokes {
+            kind: primitive.kind().name(),
+            found: format!(
+                "{features} end ellipse(s), {silhouettes} outline(s), {edges} edge(s) matched"
+            ),
+        })
+    }
+}
+
+/// One fit of `primitive` to the strokes of `assignment`, from `start` multipliers.
+///
+/// # Errors
+///
+/// The solver's [`SolveError`] when it cannot start (a non-finite primitive).
+fn fit(
+    primitive: &Primitive,
+    assignment: &Assignment,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<(Primitive, SolveReport), SolveError> {
+    let frame = Frame::of(primitive);
+    let local = frame.into_frame(primitive);
+    let mut problem = build_problem(&local, assignment, &frame);
+    let start = Start {
+        x: local.params(),
+        multipliers: warm
+            .filter(|m| {
+                m.equality.len() == problem.equality_count()
+                    && m.inequality.len() == problem.inequality_count()
+            })
+            .cloned(),
+        penalty: None,
+    };
+    let context = SolveContext {
+        cancel,
+        clock,
+        observer: None,
+    };
+    let report = Solver::with_context(&settings.solver, context).solve(&mut problem, &start)?;
+    let fitted = frame.out_of_frame(&local.with_params(&report.x));
+    Ok((fitted, report))
+}
+
+/// Snaps `primitive` (as dropped) to the strokes of `context`.
+///
+/// # Errors
+///
+/// [`SnapError::NotEnoughStrokes`] when the strokes near it do not determine it,
+/// [`SnapError::NonFinite`] for a non-finite placement, [`SnapError::Cancelled`].
+///
+/// # Examples
+///
+/// ```
+/// use glam::{DVec2, DVec3};
+/// use geosnap_core::primitive::{Cylinder, Primitive};
+/// use geosnap_core::sketch::{StrokeClass, StrokeId};
+/// use geosnap_core::snap::{snap, SnapContext, SnapSettings};
+///
+/// // Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
+/// let line = |x: f64| (0..=20).map(|i| DVec2::new(x, 100.0 + 3.0 * f64::from(i))).collect::<Vec<_>>();
+/// let (a, b) = (line(40.0), line(60.0));
+/// let context = SnapContext::new([
+///     (StrokeId(0), a.as_slice(), StrokeClass::Silhouette),
+///     (StrokeId(1), b.as_slice(), StrokeClass::Silhouette),
+/// ]);
+/// // Dropped a little off, a little too big.
+/// let dropped = Primitive::Cylinder(Cylinder {
+///     center: DVec3::new(52.0, -128.0, 0.0),
+///     axis: DVec3::Y,
+///     length: 70.0,
+///     radius: 12.0,
+/// });
+/// let result = snap(&context, &dropped, &SnapSettings::default())?;
+/// let Primitive::Cylinder(c) = &result.primitive else { unreachable!() };
+/// assert!((c.radius - 10.0).abs() < 0.2 && (c.center.x - 50.0).abs() < 0.2);
+/// assert!((c.length - 60.0).abs() < 1.0);
+/// # Ok::<(), geosnap_core::snap::SnapError>(())
+/// ```
+pub fn snap(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+) -> Result<SnapResult, SnapError> {
+    snap_from(context, primitive, settings, None, None, None)
+}
+
+/// [`snap`] with a warm start, a cancel flag and a clock.
+fn snap_from(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let kind = primitive.kind().name();
+    if !primitive.is_finite() {
+        return Err(SnapError::NonFinite(kind));
+    }
+    // A BGC's fit stops at looser gradient and constraint tolerances (see
+    // `bgc_start::settings`): its many parameters make the last digits expensive, and
+    // they move nothing visible.
+    let bgc_settings;
+    let settings = if primitive.kind() == PrimitiveKind::Bgc {
+        bgc_settings = bgc_start::settings(settings);
+        &bgc_settings
+    } else {
+        settings
+    };
+    // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
+    // straight drop is tried only when that start gives no good fit.
+    if warm.is_some() {
+        return snap_rounds(context, primitive, settings, warm, cancel, clock);
+    }
+    let mut candidates: Vec<Scored> = Vec::new();
+    let mut errors: Vec<SnapError> = Vec::new();
+    let attempt_with = |start: &Primitive,
+                        settings: &SnapSettings,
+                        candidates: &mut Vec<Scored>,
+                        errors: &mut Vec<SnapError>| {
+        match snap_rounds(context, start, settings, None, cancel, clock) {
+            Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
+            Ok(r) => {
+                candidates.push(Scored::of(r, primitive.size(), settings));
+                Ok(())
+            }
+            Err(e) => {
+                errors.push(e);
+                Ok(())
+            }
+        }
+    };
+    let attempt = |start: &Primitive, candidates: &mut Vec<Scored>, errors: &mut Vec<SnapError>| {
+        attempt_with(start, settings, candidates, errors)
+    };
+    for start in bgc_start::starts(context, primitive) {
+        match bgc_start::snap_start(context, &start, settings, cancel, clock) {
+            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+            Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
+            Err(e) => errors.push(e),
+        }
+    }
+    if !candidates.iter().any(|c| good(&c.result)) {
+        // No good fit from the drawn spine: the straight drop and the starting poses
+        // compete alone, and the drop's error is the one reported when nothing snaps.
+        candidates.clear();
+        errors.clear();
+        attempt(primitive, &mut candidates, &mut errors)?;
+        // A cold drop is also tried from the starting poses the drawing itself suggests
+        // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
+        // drawn box); the better snap wins (see `better`).
+        // A pose read off the strokes is as close to them as the drawing is exact, not as
+        // a hand's drop: its first assignment already takes the tight gate, so that the
+        // strokes of parts next to a thin one (a table top's legs) are not taken.
+        let read = SnapSettings {
+            wide_gate: settings.tight_gate,
+            ..settings.clone()
+        };
+        for start in initial::starting_poses(context, primitive) {
+            if start.is_finite() {
+                attempt_with(&start, &read, &mut candidates, &mut errors)?;
+            }
+        }
+    }
+    match choose(candidates) {
+        Some(best) => Ok(best),
+        None => Err(errors
+            .into_iter()
+            .next()
+            .unwrap_or(SnapError::NotEnoughStrokes {
+                kind,
+                found: "no strokes".to_owned(),
+            })),
+    }
+}
+
+/// A snap may change the dropped size by at most this factor either way; beyond it the
+/// fit has run away (see [`SnapError::RanAway`]).
+pub const MAX_SIZE_CHANGE: f64 = 4.0;
+
+/// A fit RMS above this fraction of the size is a failed fit, whatever it explains.
+const GOOD_FIT: f64 = 0.05;
+
+/// Whether snap `a` is better than snap `b` of the same drop: a good fit (RMS within
+/// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, the one
+/// that explains more of the drawing wins (see [`explanation`]), then the closer one. A
+/// fit that takes more strokes by bending itself out of shape loses to one that explains
+/// fewer strokes well.
+fn better(a: &Scored, b: &Scored) -> bool {
+    let (ra, rb) = (&a.result, &b.result);
+    match (good(ra), good(rb)) {
+        (true, false) => true,
+        (false, true) => false,
+        _ => {
+            // Explanations within a quarter of the size apart are a tie: the closer fit
+            // wins.
+            let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
+            a.explained > b.explained + margin
+                || (a.explained >= b.explained - margin && ra.rms < rb.rms)
+        }
+    }
+}
+
+/// Whether a snap's RMS is within [`GOOD_FIT`] of its size.
+fn good(r: &SnapResult) -> bool {
+    r.rms <= GOOD_FIT * r.primitive.size()
+}
+
+/// How much of the drawing a snapped primitive explains, as a length in view units: the
+/// length of the stroke samples it takes, each piece weighted by how close it runs to its
+/// curve (1 on it, 0 at `gate`), less the length of its visible curves that no stroke of
+/// theirs comes within `gate` of.
+///
+/// Both halves matter in a cluttered drawing. Counting strokes alone favours a pose
+/// that grows to reach its neighbours' strokes: a table top stretched over its legs, or
+/// a brick read as the other box of its hexagonal outline (the Necker reversal), whose
+/// inner edges then run where nothing is drawn. A designer draws every visible edge, so
+/// a visible curve without strokes is evidence against the pose, as much as a stroke it
+/// takes is evidence for it.
+fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64 {
+    let gate = gate.max(f64::MIN_POSITIVE);
+    let shape = primitive.current_shape();
+    let mut taken = 0.0;
+    let mut missing = 0.0;
+    for (curve, strokes) in shape.curves.iter().zip(&assignment.curves) {
+        // Each piece of stroke counts by how close it runs: fully on the curve, nothing
+        // at the gate.
+        let closeness =
+            |p: glam::DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
+        taken += strokes
+            .iter()
+            .map(|s| {
+                s.samples
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]) * closeness(w[0].midpoint(w[1])))
+                    .sum::<f64>()
+            })
+            .sum::<f64>();
+        if !curve.visible {
+            continue;
+        }
+        let points = resampled(&curve.curve.points(96), gate / 2.0);
+        let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
+        let unsupported = points
+            .iter()
+            .filter(|p| {
+                !strokes
+                    .iter()
+                    .flat_map(|s| &s.samples)
+                    .any(|q| q.distance_squared(**p) <= gate * gate)
+            })
+            .count();
+        missing += step * unsupported as f64;
+    }
+    taken - missing
+}
+
+/// Points along a polyline no farther apart than `step` (each segment split evenly; the
+/// coverage count of [`explanation`] needs no uniform arc length).
+fn resampled(points: &[glam::DVec2], step: f64) -> Vec<glam::DVec2> {
+    let mut out = Vec::with_capacity(points.len());
+    for w in points.windows(2) {
+        // At most 64 points a segment: a degenerate fit (a curve huge against its
+        // size) must not ask for gigabytes.
+        let n = (w[0].distance(w[1]) / step).ceil().clamp(1.0, 64.0) as usize;
+        out.extend((0..n).map(|k| w[0].lerp(w[1], k as f64 / n as f64)));
+    }
+    out.extend(points.last().copied());
+    out
+}
+
+/// The assignment and fitting rounds of a snap from `primitive`.
+fn snap_rounds(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    warm: Option<&Multipliers>,
+    cancel: Option<&CancelFlag>,
+    clock: Option<&dyn Clock>,
+) -> Result<SnapResult, SnapError> {
+    let kind = primitive.kind().name();
+    let wide = settings.wide_gate * primitive.size();
+    let mut assignment = assign(context, &primitive.current_shape().curves, wide);
+    check_enough(primitive, &assignment)?;
+    let mut current = primitive.clone();
+    let mut multipliers = warm.cloned();
+    let mut evaluations = 0;
+    let mut termination = Termination::Converged;
+    for round in 0..3 {
+        // The solver refuses only a non-finite start.
+        let (fitted, report) = fit(
+            &current,
+            &assignment,
+            settings,
+            multipliers.as_ref(),
+            cancel,
+            clock,
+        )
+        .map_err(|_| SnapError::NonFinite(kind))?;
+        evaluations += report.evaluations;
+        termination = report.termination;
+        if termination == Termination::Cancelled {
+            return Err(SnapError::Cancelled);
+        }
+        if fitted.is_finite() {
+            current = fitted;
+            multipliers = Some(report.multipliers);
+        }
+        let tight = settings.tight_gate * current.size();
+        let next = assign::assign_within(context, &current.current_shape().curves, tight, true);
+        let changed = !next.same_strokes(&assignment);
+        if check_enough(&current, &next).is_err() {
+            // The tight gate lost strokes the fit needs: keep the wider assignment.
+            break;
+        }
+        assignment = next;
+        // A warm-started drag frame starts next to its answer: when the tight gate takes
+        // the same strokes, a second fit would only polish the preview.
+        if (round >= 1 || warm.is_some()) && !changed {
+            break;
+        }
+    }
+    if !current.is_finite() {
+        return Err(SnapError::NonFinite(kind));
+    }
+    let factor = current.size() / primitive.size();
+    if !(1.0 / MAX_SIZE_CHANGE..=MAX_SIZE_CHANGE).contains(&factor) {
+        return Err(SnapError::RanAway { kind, factor });
+    }
+    let rms = fit_rms(&current, &assignment);
+    Ok(SnapResult {
+        primitive: current,
+        assignment,
+        rms,
+        termination,
+        evaluations,
+        explained: None,
+        alternatives: Vec::new(),
+        multipliers,
+    })
+}
+
+/// Snapping while a primitive is dragged: each [`SnapSession::update`] takes the
+/// primitive where the cursor put it and returns the snapped preview, warm-started from
+/// the previous frame.
+///
+/// Threading is the caller's: run updates off the UI thread, keep the newest request and
+/// raise the [`CancelFlag`] of a running update when a newer one arrives.
+#[derive(Clone, Debug)]
+pub struct SnapSession {
+    context: SnapContext,
+    settings: SnapSettings,
+    last: Option<LastFrame>,
+}
+
+/// Whether two primitives are the same up to rounding (a BGC moved by an offset and
+/// back does not give the same bits).
+fn same_shape(a: &Primitive, b: &Primitive) -> bool {
+    let tolerance = 1e-9 * a.size().max(b.size());
+    let (x, y) = (a.params(), b.params());
+    a.kind() == b.kind()
+        && x.len() == y.len()
+        && x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= tolerance)
+}
+
+/// What a drag frame leaves for the next one.
+#[derive(Clone, Debug)]
+struct LastFrame {
+    /// The primitive where the cursor put it.
+    dragged: Primitive,
+    /// The strokes the wide gate took around it.
+    near: Assignment,
+    /// The snapped preview.
+    result: SnapResult,
+}
+
+impl SnapSession {
+    /// A session over the strokes of `context`.
+    pub fn new(context: SnapContext, settings: SnapSettings) -> Self {
+        Self {
+            context,
+            settings,
+            last: None,
+        }
+    }
+
+    /// The snapped preview of `dragged` (the primitive where the cursor put it).
+    ///
+    /// The preview is a function of the strokes around the cursor: when `dragged` only
+    /// moved since the last frame and the wide gate around it takes the strokes it took
+    /// last frame, the fit is warm-started from the last snapped primitive and its
+    /// multipliers (it only confirms the preview, which stays on its drawing). Otherwise
+    /// (other strokes under the cursor, a new kind, size or axis) the snap starts cold
+    /// from `dragged`, so a preview dragged off its drawing lets go of it.
+    ///
+    /// # Errors
+    ///
+    /// As [`snap`]; a failed frame leaves the session's warm start untouched.
+    pub fn update(
+        &mut self,
+        dragged: &Primitive,
+        cancel: Option<&CancelFlag>,
+    ) -> Result<SnapResult, SnapError> {
+        if !dragged.is_finite() {
+            return Err(SnapError::NonFinite(dragged.kind().name()));
+        }
+        let wide = self.settings.wide_gate * dragged.size();
+        let near = assign(&self.context, &dragged.current_shape().curves, wide);
+        let warm = self.last.as_ref().filter(|last| {
+            let offset = dragged.center() - last.dragged.center();
+            same_shape(&last.dragged.transformed(offset, 1.0), dragged)
+                && near.same_strokes(&last.near)
+        });
+        let result = match warm {
+            Some(last) => snap_from(
+                &self.context,
+                &last.result.primitive,
+                &self.settings,
+                last.result.multipliers.as_ref(),
+                cancel,
+                None,
+            )
+            .or_else(|_| snap_from(&self.context, dragged, &self.settings, None, cancel, None)),
+            None => snap_from(&self.context, dragged, &self.settings, None, cancel, None),
+        }?;
+        self.last = Some(LastFrame {
+            dragged: dragged.clone(),
+            near,
+            result: result.clone(),
+        });
+        Ok(result)
+    }
+
+    /// Forgets the previous frame (the next update starts cold).
+    pub fn reset(&mut self) {
+        self.last = None;
+    }
+
+    /// The strokes of the session.
+    pub fn context(&self) -> &SnapContext {
+        &self.context
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec2, DVec3};
+
+    use super::assign::curve_length;
+    use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
+    use crate::primitive::{Cuboid, Cylinder, Primitive};
+    use crate::sketch::{StrokeClass, StrokeId};
+
+    #[test]
+    fn bad_gates_are_refused() {
+        use crate::solve::{AugLagSettings, SettingsError};
+        let solver = AugLagSettings::default();
+        assert!(
+            SnapSettings::new(0.3, 0.1, solver.clone()).is_ok(),
+            "the defaults"
+        );
+        for (wide, tight, name) in [
+            (f64::NAN, 0.1, "wide_gate"),
+            (0.3, 0.0, "tight_gate"),
+            (-0.3, 0.1, "wide_gate"),
+            (0.3, f64::INFINITY, "tight_gate"),
+        ] {
+            let error = SnapSettings::new(wide, tight, solver.clone()).unwrap_err();
+            assert!(
+                matches!(error, SettingsError::NotPositive { name: n, .. } if n == name),
+                "{error}"
+            );
+        }
+        let error = SnapSettings::new(0.1, 0.3, solver).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                SettingsError::OutOfRange {
+                    name: "tight_gate",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_fit_from_a_non_finite_primitive_is_an_error() {
+        let nan = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(f64::NAN, 0.0, 0.0),
+            axis: DVec3::Y,
+            length: 4.0,
+            radius: 1.0,
+        });
+        let assignment = super::Assignment::default();
+        let settings = SnapSettings::default();
+        assert!(
+            super::fit(&nan, &assignment, &settings, None, None, None).is_err(),
+            "the solver's error is passed on"
+        );
+    }
+
+    #[test]
+    fn a_pose_with_visible_edges_where_nothing_is_drawn_explains_less() {
+        let truth = initial::tests::turned_box();
+        let context = initial::tests::drawn(&truth);
+        let score = |p: &Cuboid| {
+            let p = Primitive::Cuboid(p.clone());
+            let gate = 0.1 * p.size();
+            let a = assign(&context, &p.current_shape().curves, gate);
+            (a.stroke_ids().len(), explanation(&p, &a, gate))
+        };
+        // Stretched along its first axis, away from the drawn far end: its near edges
+        // still take strokes, but its far end stands where nothing is drawn.
+        let mut long = truth.clone();
+        long.size.x *= 1.6;
+        long.center += truth.axes()[0] * 0.3 * truth.size.x;
+        let ((n_true, e_true), (n_long, e_long)) = (score(&truth), score(&long));
+        assert_eq!(n_true, 9, "every visible edge takes its stroke");
+        assert!(
+            n_long >= 5,
+            "the stretched box still takes strokes: {n_long}"
+        );
+        assert!(
+            e_true > e_long + 0.25 * truth.size.max_element(),
+            "the drawn box explains {e_true:.0}, the stretched one {e_long:.0}"
+        );
+        // The drawn box's explanation is about its drawn edges' length.
+        let drawn: f64 = Primitive::Cuboid(truth.clone())
+            .current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| curve_length(&c.curve))
+            .sum();
+        assert!(
+            (e_true - drawn).abs() < 0.05 * drawn,
+            "{e_true:.0} against {drawn:.0}"
+        );
+    }
+
+    /// Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
+    fn outline() -> SnapContext {
+        let line = |x: f64| {
+            (0..=20)
+                .map(|i| DVec2::new(x, 100.0 + 3.0 * f64::from(i)))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (line(40.0), line(60.0));
+        SnapContext::new([
+            (StrokeId(0), a.as_slice(), StrokeClass::Silhouette),
+            (StrokeId(1), b.as_slice(), StrokeClass::Silhouette),
+        ])
+    }
+
+    fn dragged(x: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::new(x, -128.0, 0.0),
+            axis: DVec3::Y,
+            length: 70.0,
+            radius: 12.0,
+        })
+    }
+
+    #[test]
+    fn a_box_drawn_with_overshooting_edges_keeps_its_sizes() {
+        // Every visible edge carried a tenth of its length past both corners, as a quick
+        // hand does: the sizes come from where the edges lie, not from how far they run.
+        let truth = initial::tests::turned_box();
+        let context = initial::tests::drawn_past_corners(&truth, 0.1);
+        let result = super::snap(
+            &context,
+            &Primitive::Cuboid(truth.clone()),
+            &SnapSettings::default(),
+        )
+        .expect("it snaps");
+        let Primitive::Cuboid(b) = &result.primitive else {
+            panic!("not a box");
+        };
+        // Sizes are compared as a set (a box's axes may come back in another order);
+        // counted against the corners, the overshoots made it about 1 % too big.
+        let mut got = b.size.to_array();
+        let mut want = truth.size.to_array();
+        got.sort_by(f64::total_cmp);
+        want.sort_by(f64::total_cmp);
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < 0.003 * w, "sizes {got:?} for {want:?}");
+        }
+    }
+
+    #[test]
+    fn choosing_an_alternative_swaps_it_with_the_snap() {
+        let context = outline();
+        let result =
+            super::snap(&context, &dragged(52.0), &SnapSettings::default()).expect("it snaps");
+        assert!(
+            result.with_alternative(0).is_none(),
+            "{:?}",
+            result.alternatives
+        );
+        let other = dragged(80.0);
+        let mut with = result.clone();
+        with.alternatives.push(super::Alternative {
+            primitive: other.clone(),
+            assignment: result.assignment.clone(),
+            rms: 3.0,
+            explained: 10.0,
+            distance: 0.4,
+        });
+        let swapped = with.with_alternative(0).expect("one alternative");
+        assert_eq!(swapped.primitive, other);
+        assert!((swapped.rms - 3.0).abs() < 1e-12);
+        assert_eq!(swapped.alternatives.len(), 1);
+        assert_eq!(swapped.alternatives[0].primitive, result.primitive);
+        let back = swapped.with_alternative(0).expect("and back");
+        assert_eq!(back.primitive, result.primitive);
+    }
+
+    #[test]
+    fn a_preview_stays_on_its_strokes_while_the_cursor_stays_over_them() {
+        let mut session = SnapSession::new(outline(), SnapSettings::default());
+        let first = session.update(&dragged(52.0), None).expect("it snaps");
+        assert_eq!(first.assignment.stroke_ids(), [StrokeId(0), StrokeId(1)]);
+        for k in 1..20 {
+            let x = 52.0 + 2.0 * (f64::from(k) * 0.7).sin();
+            let frame = session.update(&dragged(x), None).expect("it stays snapped");
+            assert!(
+                frame.primitive.center().distance(first.primitive.center()) < 1e-3,
+                "frame {k} moved the snapped preview"
+            );
+            assert!(frame.evaluations <= 5, "frame {k}: {}", frame.evaluations);
+        }
+    }
+
+    #[test]
+    fn a_preview_dragged_off_its_strokes_lets_go_and_snaps_again_on_the_way_back() {
+        let mut session = SnapSession::new(outline(), SnapSettings::default());
+        assert!(session.update(&dragged(52.0), None).is_ok());
+        let mut x = 52.0;
+        while x < 300.0 {
+            x += 3.0;
+            let frame = session.update(&dragged(x), None);
+            assert!(
+                x <= 150.0 || frame.is_err(),
+                "still snapped at x = {x}: {frame:?}"
+            );
+        }
+        while x > 52.0 {
+            x -= 3.0;
+            let _ = session.update(&dragged(x), None);
+        }
+        let back = session.update(&dragged(52.0), None).expect("snapped again");
+        assert!((back.primitive.center().x - 50.0).abs() < 0.5);
+    }
+}
