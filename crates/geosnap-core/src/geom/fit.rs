@@ -325,9 +325,29 @@ pub fn fit_circle(points: &[DVec2]) -> Option<Circle2> {
     let frame = Frame::new(points)?;
     let n = points.len() as f64;
     let local: Vec<DVec2> = points.iter().map(|&p| frame.to_local(p)).collect();
+    let (center, radius) = kasa_circle(&local)?;
+    let (center, radius, current) = refine_circle(&local, center, radius);
+    let circle = Circle2 {
+        center: frame.to_world(center),
+        radius: radius * frame.scale,
+        rms_residual: (current / n).sqrt() * frame.scale,
+    };
+    (all_finite(&[
+        circle.center.x,
+        circle.center.y,
+        circle.radius,
+        circle.rms_residual,
+    ]) && circle.radius > 0.0)
+        .then_some(circle)
+}
+
+/// Kåsa's algebraic circle through `local` points (see [`fit_circle`]): its centre and
+/// radius, or `None` when the points are (numerically) collinear.
+fn kasa_circle(local: &[DVec2]) -> Option<(DVec2, f64)> {
+    let n = local.len() as f64;
     let mean = local.iter().copied().sum::<DVec2>() / n;
     let (mut suu, mut suv, mut svv, mut ru, mut rv) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for q in &local {
+    for q in local {
         let d = *q - mean;
         let r2 = d.length_squared();
         suu += d.x * d.x;
@@ -343,8 +363,14 @@ pub fn fit_circle(points: &[DVec2]) -> Option<Circle2> {
         return None;
     }
     let c = DVec2::new(ru * svv - rv * suv, rv * suu - ru * suv) / det;
-    let mut center = mean + c;
-    let mut radius = (c.length_squared() + (suu + svv) / n).sqrt();
+    Some((mean + c, (c.length_squared() + (suu + svv) / n).sqrt()))
+}
+
+/// Up to eight Gauss–Newton steps on the geometric residuals `|q − c| − r` of `local`
+/// points from the circle (`center`, `radius`), each halved until the cost decreases
+/// (see [`fit_circle`]). Returns the centre, the radius and the sum of squared
+/// residuals.
+fn refine_circle(local: &[DVec2], mut center: DVec2, mut radius: f64) -> (DVec2, f64, f64) {
     let cost = |center: DVec2, radius: f64| -> f64 {
         local
             .iter()
@@ -357,7 +383,7 @@ pub fn fit_circle(points: &[DVec2]) -> Option<Circle2> {
         // ∂ρᵢ/∂c = −(qᵢ − c)/|qᵢ − c|, ∂ρᵢ/∂r = −1.
         let mut jtj = [[0.0; 3]; 3];
         let mut jtr = [0.0; 3];
-        for q in &local {
+        for q in local {
             let d = *q - center;
             let len = d.length();
             if len <= 0.0 {
@@ -395,18 +421,7 @@ pub fn fit_circle(points: &[DVec2]) -> Option<Circle2> {
             break;
         }
     }
-    let circle = Circle2 {
-        center: frame.to_world(center),
-        radius: radius * frame.scale,
-        rms_residual: (current / n).sqrt() * frame.scale,
-    };
-    (all_finite(&[
-        circle.center.x,
-        circle.center.y,
-        circle.radius,
-        circle.rms_residual,
-    ]) && circle.radius > 0.0)
-        .then_some(circle)
+    (center, radius, current)
 }
 
 /// Fits an ellipse to `points` by the direct least-squares method of Fitzgibbon, Pilu and
@@ -564,34 +579,8 @@ pub fn refine_ellipse(initial: &Ellipse2, points: &[DVec2]) -> Ellipse2 {
     }
     let mut damping = 1e-3;
     for _ in 0..30 {
-        let (jtj, jtr) = geometric_normal_equations(&to_ellipse(&q), &local);
-        let mut improved = false;
-        for _ in 0..10 {
-            let mut damped = jtj;
-            for (i, row) in damped.iter_mut().enumerate() {
-                row[i] += damping * (jtj[i][i] + 1e-12);
-            }
-            let Some(delta) = solve_n(damped, jtr) else {
-                damping *= 10.0;
-                continue;
-            };
-            let trial: [f64; 5] = std::array::from_fn(|i| q[i] + delta[i]);
-            let trial_cost = if trial[2] > 0.0 && trial[3] > 0.0 {
-                cost_of(&trial)
-            } else {
-                f64::INFINITY
-            };
-            if trial_cost < cost {
-                let decrease = cost - trial_cost;
-                q = trial;
-                cost = trial_cost;
-                damping = (damping / 3.0).max(1e-12);
-                improved = decrease > 1e-10 * cost.max(1e-300);
-                break;
-            }
-            damping *= 4.0;
-        }
-        if !improved {
+        let equations = geometric_normal_equations(&to_ellipse(&q), &local);
+        if !damped_step(equations, &mut q, &mut cost, &mut damping, cost_of) {
             break;
         }
     }
@@ -613,6 +602,44 @@ pub fn refine_ellipse(initial: &Ellipse2, points: &[DVec2]) -> Ellipse2 {
     } else {
         *initial
     }
+}
+
+/// One Levenberg–Marquardt step of [`refine_ellipse`] from the normal `equations` at
+/// `q`: the damping grows until a step lowers `cost` (at most ten tries), then shrinks.
+/// Updates `q`, `cost` and `damping`; whether the step lowered the cost by more than
+/// rounding.
+fn damped_step(
+    (jtj, jtr): ([[f64; 5]; 5], [f64; 5]),
+    q: &mut [f64; 5],
+    cost: &mut f64,
+    damping: &mut f64,
+    cost_of: impl Fn(&[f64; 5]) -> f64,
+) -> bool {
+    for _ in 0..10 {
+        let mut damped = jtj;
+        for (i, row) in damped.iter_mut().enumerate() {
+            row[i] += *damping * (jtj[i][i] + 1e-12);
+        }
+        let Some(delta) = solve_n(damped, jtr) else {
+            *damping *= 10.0;
+            continue;
+        };
+        let trial: [f64; 5] = std::array::from_fn(|i| q[i] + delta[i]);
+        let trial_cost = if trial[2] > 0.0 && trial[3] > 0.0 {
+            cost_of(&trial)
+        } else {
+            f64::INFINITY
+        };
+        if trial_cost < *cost {
+            let decrease = *cost - trial_cost;
+            *q = trial;
+            *cost = trial_cost;
+            *damping = (*damping / 3.0).max(1e-12);
+            return decrease > 1e-10 * cost.max(1e-300);
+        }
+        *damping *= 4.0;
+    }
+    false
 }
 
 /// The Gauss–Newton normal equations `(JᵀJ, −Jᵀd)` of the signed geometric distances

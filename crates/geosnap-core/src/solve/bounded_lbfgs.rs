@@ -197,6 +197,52 @@ impl LineSearch<'_> {
 }
 
 impl BoundedLbfgs {
+    /// Drops the curvature pairs: the next direction is steepest descent.
+    fn forget(&mut self) {
+        self.s.clear();
+        self.y.clear();
+        self.rho.clear();
+    }
+
+    /// The two-loop direction into `d` and its slope gᵀd; when that is not a descent
+    /// direction (curvature information went stale), the pairs are dropped and the
+    /// steepest-descent direction is taken instead.
+    fn descent_direction(&mut self, g: &[f64], d: &mut [f64], alpha: &mut [f64]) -> f64 {
+        self.direction(g, d, alpha);
+        let slope = dot(g, d);
+        if slope.partial_cmp(&0.0) == Some(std::cmp::Ordering::Less) {
+            return slope;
+        }
+        self.forget();
+        self.direction(g, d, alpha);
+        dot(g, d)
+    }
+
+    /// Keeps the curvature pair of the step from `x` (gradient `g`) to `trial`
+    /// (gradient `trial_grad`), the oldest dropped beyond `memory` pairs; skipped when
+    /// sᵀy is not safely positive.
+    fn remember(&mut self, x: &[f64], g: &[f64], trial: &[f64], trial_grad: &[f64], memory: usize) {
+        let n = x.len();
+        let mut s_new = if self.s.len() == memory {
+            self.rho.pop_front();
+            self.y.pop_front();
+            self.s.pop_front().unwrap_or_default()
+        } else {
+            vec![0.0; n]
+        };
+        let mut y_new = vec![0.0; n];
+        for i in 0..n {
+            s_new[i] = trial[i] - x[i];
+            y_new[i] = trial_grad[i] - g[i];
+        }
+        let sy = dot(&s_new, &y_new);
+        if sy > f64::EPSILON * dot(&y_new, &y_new) {
+            self.rho.push_back(1.0 / sy);
+            self.s.push_back(s_new);
+            self.y.push_back(y_new);
+        }
+    }
+
     /// d = −H·g by the two-loop recursion.
     fn direction(&self, g: &[f64], d: &mut [f64], alpha: &mut [f64]) {
         for (di, gi) in d.iter_mut().zip(g) {
@@ -233,9 +279,7 @@ impl Minimizer for BoundedLbfgs {
         limits: InnerLimits,
     ) -> InnerOutcome {
         let n = x.len();
-        self.s.clear();
-        self.y.clear();
-        self.rho.clear();
+        self.forget();
         let mut g = vec![0.0; n];
         let mut f = match function.eval(x, &mut g) {
             Ok(f) => f,
@@ -258,16 +302,7 @@ impl Minimizer for BoundedLbfgs {
             if iterations >= limits.max_iterations {
                 break InnerStatus::IterationLimit;
             }
-            self.direction(&g, &mut d, &mut alpha);
-            let mut slope = dot(&g, &d);
-            if slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
-                // Not a descent direction (curvature information went stale): restart.
-                self.s.clear();
-                self.y.clear();
-                self.rho.clear();
-                self.direction(&g, &mut d, &mut alpha);
-                slope = dot(&g, &d);
-            }
+            let slope = self.descent_direction(&g, &mut d, &mut alpha);
             // Without curvature information the first step is scaled to move ~1 unit.
             let first_step = if self.s.is_empty() {
                 (1.0 / d.iter().fold(0.0f64, |m, v| m.max(v.abs()))).min(1.0)
@@ -287,34 +322,14 @@ impl Minimizer for BoundedLbfgs {
                 Search::Accepted(v) => v,
                 Search::Failed if !self.s.is_empty() => {
                     // Retry once along steepest descent before giving up.
-                    self.s.clear();
-                    self.y.clear();
-                    self.rho.clear();
+                    self.forget();
                     continue;
                 }
                 Search::Failed => break InnerStatus::NoProgress,
                 Search::Aborted(a) => break InnerStatus::Aborted(a),
             };
             iterations += 1;
-            // Curvature pair; skipped when sᵀy is not safely positive.
-            let mut s_new = if self.s.len() == limits.memory {
-                self.rho.pop_front();
-                self.y.pop_front();
-                self.s.pop_front().unwrap_or_default()
-            } else {
-                vec![0.0; n]
-            };
-            let mut y_new = vec![0.0; n];
-            for i in 0..n {
-                s_new[i] = trial[i] - x[i];
-                y_new[i] = trial_grad[i] - g[i];
-            }
-            let sy = dot(&s_new, &y_new);
-            if sy > f64::EPSILON * dot(&y_new, &y_new) {
-                self.rho.push_back(1.0 / sy);
-                self.s.push_back(s_new);
-                self.y.push_back(y_new);
-            }
+            self.remember(x, &g, &trial, &trial_grad, limits.memory);
             let step_size = s_last_norm(&trial, x);
             x.copy_from_slice(&trial);
             g.copy_from_slice(&trial_grad);
