@@ -57,44 +57,8 @@ impl Document {
             .values()
             .map(|p| p.primitive.kind())
             .collect();
-        let existing: Vec<Proposal> = self
-            .relations
-            .iter()
-            .filter(|r| r.mode != Mode::Off)
-            .filter_map(|r| {
-                let members: Option<Vec<usize>> = r
-                    .members
-                    .iter()
-                    .map(|m| ids.iter().position(|i| i == m))
-                    .collect();
-                let members = members?;
-                // A feature the member lacks leaves the relation out.
-                let chosen = members
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &i)| match r.features.get(k).copied().flatten() {
-                        Some(feature) => features[i]
-                            .iter()
-                            .any(|f| f.feature == feature)
-                            .then_some(Some(feature)),
-                        None => Some(None),
-                    })
-                    .collect::<Option<Vec<_>>>()?;
-                Some(Proposal {
-                    kind: r.kind,
-                    members,
-                    features: chosen,
-                })
-            })
-            .collect();
-        let snapped = self.primitives[&id].primitive.clone();
-        let mut variants = vec![snapped.clone()];
-        if matches!(
-            snapped.kind(),
-            PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
-        ) {
-            variants.push(snapped.mirrored_in_depth());
-        }
+        let existing = self.known_proposals(&ids, &features);
+        let variants = depth_variants(&self.primitives[&id].primitive);
         let mut best: Option<(Primitive, Vec<Proposal>)> = None;
         for variant in variants {
             features[new] = variant.current_shape().features;
@@ -124,6 +88,56 @@ impl Document {
         if let Some(placed) = self.primitives.get_mut(&id) {
             placed.primitive = chosen;
         }
+        self.add_hard_relations(&ids, proposals)
+    }
+
+    /// The relations of the model that are not off, as proposals over the parts'
+    /// positions in `ids` (with `features` their feature curves, in the same order), for
+    /// inference to count as known. A relation whose member is not in `ids`, or that
+    /// names a feature its member lacks, is left out.
+    fn known_proposals(
+        &self,
+        ids: &[PrimitiveId],
+        features: &[Vec<FeatureCurve<f64>>],
+    ) -> Vec<Proposal> {
+        self.relations
+            .iter()
+            .filter(|r| r.mode != Mode::Off)
+            .filter_map(|r| {
+                let members: Option<Vec<usize>> = r
+                    .members
+                    .iter()
+                    .map(|m| ids.iter().position(|i| i == m))
+                    .collect();
+                let members = members?;
+                // A feature the member lacks leaves the relation out.
+                let chosen = members
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &i)| match r.features.get(k).copied().flatten() {
+                        Some(feature) => features[i]
+                            .iter()
+                            .any(|f| f.feature == feature)
+                            .then_some(Some(feature)),
+                        None => Some(None),
+                    })
+                    .collect::<Option<Vec<_>>>()?;
+                Some(Proposal {
+                    kind: r.kind,
+                    members,
+                    features: chosen,
+                })
+            })
+            .collect()
+    }
+
+    /// Adds `proposals` (members as positions in `ids`) as hard relations and returns
+    /// the ids of those the model accepted.
+    fn add_hard_relations(
+        &mut self,
+        ids: &[PrimitiveId],
+        proposals: Vec<Proposal>,
+    ) -> Vec<RelationId> {
         let mut added = Vec::with_capacity(proposals.len());
         for p in proposals {
             let relation = Relation {
@@ -222,62 +236,15 @@ impl Document {
                 ))
             })
             .collect();
-        let misfit = |dz: f64| -> f64 {
-            let moved = part
-                .transformed(DVec3::new(0.0, 0.0, dz), 1.0)
-                .current_shape()
-                .features;
-            relations
-                .iter()
-                .filter_map(|r| {
-                    let members: Option<Vec<Member<'_, f64>>> = r
-                        .members
-                        .iter()
-                        .zip(&r.features)
-                        .map(|(m, f)| {
-                            let features = if *m == id { &moved } else { others.get(m)? };
-                            Some(Member {
-                                features,
-                                feature: *f,
-                            })
-                        })
-                        .collect();
-                    residuals(r.kind, &members?).ok()
-                })
-                // Relation by relation, with a robust loss: the depth where most of
-                // them hold wins over one that half-satisfies them all, so a relation
-                // inferred by mistake does not drag the part off the others.
-                .map(|psi| {
-                    let sq: f64 = psi.iter().map(|v| v * v).sum();
-                    (1.0 + sq / (DEPTH_SCALE * DEPTH_SCALE)).ln()
-                })
-                .sum()
-        };
-        // Depths within a few sizes of the parts involved, coarsely, then refined by
-        // golden sections around the best.
+        let misfit = |dz: f64| depth_misfit(&part, id, &relations, &others, dz);
+        // Depths within a few sizes of the parts involved.
         let reach = others
             .keys()
             .filter_map(|m| self.primitives.get(m))
             .map(|p| p.primitive.size() + (p.primitive.center().z - part.center().z).abs())
             .fold(part.size(), f64::max)
             * 2.0;
-        let step = 2.0 * reach / f64::from(DEPTH_STEPS);
-        let best = (0..=DEPTH_STEPS)
-            .map(|k| -reach + step * f64::from(k))
-            .map(|dz| (dz, misfit(dz)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(0.0, |(dz, _)| dz);
-        let (mut lo, mut hi) = (best - step, best + step);
-        let ratio = (5f64.sqrt() - 1.0) / 2.0;
-        for _ in 0..60 {
-            let (x1, x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
-            if misfit(x1) < misfit(x2) {
-                hi = x2;
-            } else {
-                lo = x1;
-            }
-        }
-        let dz = f64::midpoint(lo, hi);
+        let dz = least_misfit_depth(reach, misfit);
         let (before, after) = (misfit(0.0), misfit(dz));
         if !(after.is_finite() && after < 0.5 * before) {
             return 0.0;
@@ -287,6 +254,83 @@ impl Document {
         }
         dz
     }
+}
+
+/// The poses of a snapped part that the drawing cannot tell apart: the part itself and,
+/// for a solid of revolution, its mirror image in depth (see the module docs).
+fn depth_variants(snapped: &Primitive) -> Vec<Primitive> {
+    let mut variants = vec![snapped.clone()];
+    if matches!(
+        snapped.kind(),
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
+    ) {
+        variants.push(snapped.mirrored_in_depth());
+    }
+    variants
+}
+
+/// How badly `relations` hold with part `id` (whose pose is `part`) moved by `dz` along
+/// the view direction and the other members' feature curves in `others`: Σ ln(1 +
+/// ‖ψ‖²/σ²) over the relations whose residuals can be evaluated, σ = [`DEPTH_SCALE`].
+fn depth_misfit(
+    part: &Primitive,
+    id: PrimitiveId,
+    relations: &[&Relation],
+    others: &BTreeMap<PrimitiveId, Vec<FeatureCurve<f64>>>,
+    dz: f64,
+) -> f64 {
+    let moved = part
+        .transformed(DVec3::new(0.0, 0.0, dz), 1.0)
+        .current_shape()
+        .features;
+    relations
+        .iter()
+        .filter_map(|r| {
+            let members: Option<Vec<Member<'_, f64>>> = r
+                .members
+                .iter()
+                .zip(&r.features)
+                .map(|(m, f)| {
+                    let features = if *m == id { &moved } else { others.get(m)? };
+                    Some(Member {
+                        features,
+                        feature: *f,
+                    })
+                })
+                .collect();
+            residuals(r.kind, &members?).ok()
+        })
+        // Relation by relation, with a robust loss: the depth where most of them hold
+        // wins over one that half-satisfies them all, so a relation inferred by mistake
+        // does not drag the part off the others.
+        .map(|psi| {
+            let sq: f64 = psi.iter().map(|v| v * v).sum();
+            (1.0 + sq / (DEPTH_SCALE * DEPTH_SCALE)).ln()
+        })
+        .sum()
+}
+
+/// The depth offset in [−`reach`, `reach`] where `misfit` is least: the best of
+/// [`DEPTH_STEPS`] + 1 evenly spaced depths, refined by golden sections within a step
+/// of it.
+fn least_misfit_depth(reach: f64, misfit: impl Fn(f64) -> f64) -> f64 {
+    let step = 2.0 * reach / f64::from(DEPTH_STEPS);
+    let best = (0..=DEPTH_STEPS)
+        .map(|k| -reach + step * f64::from(k))
+        .map(|dz| (dz, misfit(dz)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(0.0, |(dz, _)| dz);
+    let (mut lo, mut hi) = (best - step, best + step);
+    let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..60 {
+        let (x1, x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+        if misfit(x1) < misfit(x2) {
+            hi = x2;
+        } else {
+            lo = x1;
+        }
+    }
+    f64::midpoint(lo, hi)
 }
 
 #[cfg(test)]

@@ -25,7 +25,7 @@ use glam::{DVec2, DVec3};
 
 use super::assign::Assignment;
 use crate::ad::{Expr, Graph, Real, Vec2};
-use crate::primitive::{Curve2, CurveClass, FeatureCurve, Primitive, ProjectedCurve};
+use crate::primitive::{Curve2, CurveClass, FeatureCurve, Primitive, ProjectedCurve, Shape};
 use crate::solve::Problem;
 
 /// The robust loss scale τ, relative to the primitive's size.
@@ -305,13 +305,10 @@ pub fn fit_terms<'g>(
     let shape = primitive.shape(x);
     let numeric = primitive.current_shape();
     let mut terms: Vec<Expr<'g>> = Vec::new();
-    let ellipse_assigned = |name: &str| {
-        shape
-            .curves
-            .iter()
-            .zip(&assignment.curves)
-            .any(|(c, a)| c.name == name && c.class == CurveClass::Feature && !a.is_empty())
-    };
+    let ends_fixed = [
+        end_ellipse_assigned(&shape.curves, assignment, "bottom"),
+        end_ellipse_assigned(&shape.curves, assignment, "top"),
+    ];
     for (k, (curve, assigned)) in shape.curves.iter().zip(&assignment.curves).enumerate() {
         let samples: Vec<DVec2> = assigned
             .iter()
@@ -320,65 +317,134 @@ pub fn fit_terms<'g>(
         if samples.is_empty() {
             continue;
         }
-        // A BGC's outline runs on past an end that an assigned end ellipse fixes (see
-        // [`OutlineRun`]).
-        let runs: Vec<OutlineRun<'g>> = match (primitive, curve.class, &curve.curve) {
-            (Primitive::Bgc(_), CurveClass::Silhouette, Curve2::Polyline(points)) => {
-                let ends = [ellipse_assigned("bottom"), ellipse_assigned("top")];
-                let now: Vec<DVec2> = match &numeric.curves[k].curve {
-                    Curve2::Polyline(now) => now.iter().map(|p| p.to_dvec2()).collect(),
-                    Curve2::Ellipse { .. } => Vec::new(),
-                };
-                OutlineRun::at_ends(g, points, &now, ends)
-            }
-            _ => Vec::new(),
-        };
+        let runs = outline_runs(g, primitive, curve, &numeric.curves[k], ends_fixed);
         let half = FarHalf::of(&shape.curves, &numeric.curves, k, &samples);
-        // A box edge runs on past its corners (see [`EDGE_RUN`]).
-        let measured = match (primitive, &curve.curve) {
-            (Primitive::Cuboid(_), Curve2::Polyline(points)) => edge_run(points),
-            _ => None,
-        };
-        let measured = measured.as_ref().unwrap_or(&curve.curve);
-        let per_sample: Vec<Expr<'g>> = samples
-            .iter()
-            .map(|p| {
-                let d2 = distance(g, measured, *p).square();
-                let d2 = runs
-                    .iter()
-                    .filter(|run| run.reaches(*p))
-                    .fold(d2, |d2, run| d2.min(run.distance2(*p)));
-                let d2 = half.as_ref().map_or(d2, |h| d2 + h.behind2(*p));
-                robust(d2)
-            })
-            .collect();
-        terms.push(g.sum(per_sample) * (1.0 / samples.len() as f64));
-        // Ends of outlines and edges.
-        if let (Curve2::Polyline(points), Curve2::Polyline(now)) =
-            (&curve.curve, &numeric.curves[k].curve)
-        {
-            let now: Vec<DVec2> = now.iter().map(|p| p.to_dvec2()).collect();
-            if let Some(targets) = end_targets(&now, &samples) {
-                let ends = [points[0], points[points.len() - 1]];
-                let names = ["bottom", "top"];
-                for ((end, target), name) in ends.iter().zip(targets).zip(names) {
-                    // Only an outline end with nothing else to fix it is pulled to the
-                    // drawn extreme: an assigned end ellipse fixes it better, and box
-                    // edges fix each other at the corners; a pull there would let
-                    // overshoots bias the sizes.
-                    if curve.class != CurveClass::Silhouette || ellipse_assigned(name) {
-                        continue;
-                    }
-                    let d2 = (end.x - target.x).square() + (end.y - target.y).square();
-                    terms.push(robust(d2) * END_WEIGHT);
-                }
-            }
-        }
+        terms.push(sample_term(
+            g,
+            primitive,
+            curve,
+            &runs,
+            half.as_ref(),
+            &samples,
+        ));
+        push_end_terms(curve, &numeric.curves[k], &samples, ends_fixed, &mut terms);
     }
+    push_regularizer_terms(&shape, assignment, &mut terms);
+    FitTerms {
+        objective: g.sum(terms),
+        equalities: shape.equalities,
+        inequalities: shape.inequalities,
+        features: shape.features,
+    }
+}
+
+/// Whether the end ellipse named `name` (`"bottom"` or `"top"`) among `curves` has
+/// strokes assigned in `assignment`.
+fn end_ellipse_assigned(
+    curves: &[ProjectedCurve<Expr<'_>>],
+    assignment: &Assignment,
+    name: &str,
+) -> bool {
+    curves
+        .iter()
+        .zip(&assignment.curves)
+        .any(|(c, a)| c.name == name && c.class == CurveClass::Feature && !a.is_empty())
+}
+
+/// The runs of a BGC's outline `curve` past its ends (first, last) that an assigned end
+/// ellipse fixes, as flagged in `ends_fixed` (see [`OutlineRun`]); `now` is the same
+/// curve at the current pose. None for other curves and kinds.
+fn outline_runs<'g>(
+    g: &'g Graph,
+    primitive: &Primitive,
+    curve: &ProjectedCurve<Expr<'g>>,
+    now: &ProjectedCurve<f64>,
+    ends_fixed: [bool; 2],
+) -> Vec<OutlineRun<'g>> {
+    match (primitive, curve.class, &curve.curve) {
+        (Primitive::Bgc(_), CurveClass::Silhouette, Curve2::Polyline(points)) => {
+            let now: Vec<DVec2> = match &now.curve {
+                Curve2::Polyline(now) => now.iter().map(|p| p.to_dvec2()).collect(),
+                Curve2::Ellipse { .. } => Vec::new(),
+            };
+            OutlineRun::at_ends(g, points, &now, ends_fixed)
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The mean robust distance of `samples` (in the frame) to `curve`: a box edge is
+/// measured lengthened past its corners (see [`EDGE_RUN`]), a sample near an outline's
+/// `runs` takes the nearer of the outline and the run, and a half-drawn end adds the
+/// sample's depth on the body's side (see [`FarHalf`]).
+fn sample_term<'g>(
+    g: &'g Graph,
+    primitive: &Primitive,
+    curve: &ProjectedCurve<Expr<'g>>,
+    runs: &[OutlineRun<'g>],
+    half: Option<&FarHalf<'g>>,
+    samples: &[DVec2],
+) -> Expr<'g> {
+    let measured = match (primitive, &curve.curve) {
+        (Primitive::Cuboid(_), Curve2::Polyline(points)) => edge_run(points),
+        _ => None,
+    };
+    let measured = measured.as_ref().unwrap_or(&curve.curve);
+    let per_sample: Vec<Expr<'g>> = samples
+        .iter()
+        .map(|p| {
+            let d2 = distance(g, measured, *p).square();
+            let d2 = runs
+                .iter()
+                .filter(|run| run.reaches(*p))
+                .fold(d2, |d2, run| d2.min(run.distance2(*p)));
+            let d2 = half.map_or(d2, |h| d2 + h.behind2(*p));
+            robust(d2)
+        })
+        .collect();
+    g.sum(per_sample) * (1.0 / samples.len() as f64)
+}
+
+/// Pushes onto `terms` the pulls of an outline's ends (first, last) towards the extreme
+/// `samples` along it, for the ends not flagged in `ends_fixed`; `now` is the same curve
+/// at the current pose. Only an outline end with nothing else to fix it is pulled to the
+/// drawn extreme: an assigned end ellipse fixes it better, and box edges fix each other
+/// at the corners; a pull there would let overshoots bias the sizes.
+fn push_end_terms<'g>(
+    curve: &ProjectedCurve<Expr<'g>>,
+    now: &ProjectedCurve<f64>,
+    samples: &[DVec2],
+    ends_fixed: [bool; 2],
+    terms: &mut Vec<Expr<'g>>,
+) {
+    let (Curve2::Polyline(points), Curve2::Polyline(now)) = (&curve.curve, &now.curve) else {
+        return;
+    };
+    let now: Vec<DVec2> = now.iter().map(|p| p.to_dvec2()).collect();
+    let Some(targets) = end_targets(&now, samples) else {
+        return;
+    };
+    let ends = [points[0], points[points.len() - 1]];
+    for ((end, target), fixed) in ends.iter().zip(targets).zip(ends_fixed) {
+        if curve.class != CurveClass::Silhouette || fixed {
+            continue;
+        }
+        let d2 = (end.x - target.x).square() + (end.y - target.y).square();
+        terms.push(robust(d2) * END_WEIGHT);
+    }
+}
+
+/// Pushes onto `terms` the weighted squares of `shape`'s regularisers, and of its pull
+/// towards the least tilted pose when fewer than two end ellipses have strokes in
+/// `assignment` (`Shape::untilted`).
+fn push_regularizer_terms<'g>(
+    shape: &Shape<Expr<'g>>,
+    assignment: &Assignment,
+    terms: &mut Vec<Expr<'g>>,
+) {
     for r in &shape.regularizers {
         terms.push(r.square() * REGULARIZER_WEIGHT);
     }
-    // Without both ends' evidence the least tilted reading is kept (`Shape::untilted`).
     let ends_drawn = shape
         .curves
         .iter()
@@ -389,12 +455,6 @@ pub fn fit_terms<'g>(
         for r in &shape.untilted {
             terms.push(r.square() * REGULARIZER_WEIGHT);
         }
-    }
-    FitTerms {
-        objective: g.sum(terms),
-        equalities: shape.equalities,
-        inequalities: shape.inequalities,
-        features: shape.features,
     }
 }
 
