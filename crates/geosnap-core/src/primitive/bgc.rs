@@ -374,58 +374,8 @@ impl Bgc {
         let curve = ProjectedCurve::shown;
         let min = self.size() * MIN_SIZE_FRACTION;
         let equalities = Vec::new();
-        // The spine's plane within 78.5° of the view plane (as an axis of a solid of
-        // revolution within 11.5° of the view direction, [`MAX_AXIS_Z2`]): a plane seen
-        // edge-on shows the length of nothing, and a fit could run away along it.
-        let mut inequalities = vec![
-            ("positive length", h * (k - 1) as f64 - min),
-            (
-                "plane not edge-on",
-                s.normal.z.square() - (1.0 - MAX_AXIS_Z2),
-            ),
-        ];
-        inequalities.extend(radii.iter().map(|r| ("positive radius", *r - min)));
-        inequalities.extend(
-            kappa
-                .iter()
-                .map(|t| ("moderate turn", -t.square() + MAX_TURN * MAX_TURN)),
-        );
-        // An end keeps the side it shows at the current pose (unless nearly edge-on): a
-        // full ellipse explains a drawn front arc as well as the half that is drawn, so
-        // without this a fit may turn an end facing away round to face the viewer (or
-        // back), and the tilt of the tube with it.
-        let outward_z = [-s.tangents[0].z, s.tangents[k - 1].z];
-        for (z, now) in outward_z.into_iter().zip(now) {
-            let g = if now.abs() < EDGE_ON {
-                h.lit(1.0)
-            } else if now > 0.0 {
-                z
-            } else {
-                -z
-            };
-            inequalities.push(("end keeps its side", g));
-        }
-        // A spine that bends one way (a C) at the current pose is smoothed towards even
-        // turns, a circular arc; one that bends both ways (an S) towards turns that
-        // change evenly along it (even turns would straighten it into a C).
-        let mut regularizers: Vec<T> = if is_s_bend(&params[Self::turns(k)]) {
-            kappa
-                .windows(3)
-                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * TURN_SMOOTHNESS)
-                .collect()
-        } else {
-            kappa
-                .windows(2)
-                .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
-                .collect()
-        };
-        regularizers.extend(
-            radii
-                .windows(3)
-                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
-        );
-        let q = quaternion_at(x, Self::ROTATION);
-        regularizers.push(q[0].square() + q[1].square() + q[2].square() + q[3].square() - 1.0);
+        let inequalities = Self::inequalities(k, &s, h, kappa, radii, min, now);
+        let regularizers = Self::regularizers(x, kappa, radii, is_s_bend(&params[Self::turns(k)]));
         Shape {
             curves: vec![
                 curve(
@@ -467,6 +417,82 @@ impl Bgc {
             // turn smoothness prefers.
             untilted: vec![(h.lit(1.0) - s.normal.z.square()) * PLANE_PULL],
         }
+    }
+
+    /// The shape's inequality constraints, each with its name: a positive length and
+    /// positive radii (at least `min`), the spine's plane not edge-on, moderate turns, and
+    /// each end keeping the side it shows at the current pose (`now`: each end's outward
+    /// z at the current parameters). `k` is the number of spine points, `h` the segment
+    /// length, `kappa` the turns.
+    fn inequalities<T: Real>(
+        k: usize,
+        s: &Spine<T>,
+        h: T,
+        kappa: &[T],
+        radii: &[T],
+        min: f64,
+        now: [f64; 2],
+    ) -> Vec<(&'static str, T)> {
+        // The spine's plane within 78.5° of the view plane (as an axis of a solid of
+        // revolution within 11.5° of the view direction, [`MAX_AXIS_Z2`]): a plane seen
+        // edge-on shows the length of nothing, and a fit could run away along it.
+        let mut inequalities = vec![
+            ("positive length", h * (k - 1) as f64 - min),
+            (
+                "plane not edge-on",
+                s.normal.z.square() - (1.0 - MAX_AXIS_Z2),
+            ),
+        ];
+        inequalities.extend(radii.iter().map(|r| ("positive radius", *r - min)));
+        inequalities.extend(
+            kappa
+                .iter()
+                .map(|t| ("moderate turn", -t.square() + MAX_TURN * MAX_TURN)),
+        );
+        // An end keeps the side it shows at the current pose (unless nearly edge-on): a
+        // full ellipse explains a drawn front arc as well as the half that is drawn, so
+        // without this a fit may turn an end facing away round to face the viewer (or
+        // back), and the tilt of the tube with it.
+        let outward_z = [-s.tangents[0].z, s.tangents[k - 1].z];
+        for (z, now) in outward_z.into_iter().zip(now) {
+            let g = if now.abs() < EDGE_ON {
+                h.lit(1.0)
+            } else if now > 0.0 {
+                z
+            } else {
+                -z
+            };
+            inequalities.push(("end keeps its side", g));
+        }
+        inequalities
+    }
+
+    /// The shape's regularizers: smooth turns (`kappa`; for an S bend, when `s_bend`,
+    /// evenly changing ones), a smooth radius profile, and a unit rotation quaternion
+    /// in the parameters `x`.
+    fn regularizers<T: Real>(x: &[T], kappa: &[T], radii: &[T], s_bend: bool) -> Vec<T> {
+        // A spine that bends one way (a C) at the current pose is smoothed towards even
+        // turns, a circular arc; one that bends both ways (an S) towards turns that
+        // change evenly along it (even turns would straighten it into a C).
+        let mut regularizers: Vec<T> = if s_bend {
+            kappa
+                .windows(3)
+                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * TURN_SMOOTHNESS)
+                .collect()
+        } else {
+            kappa
+                .windows(2)
+                .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
+                .collect()
+        };
+        regularizers.extend(
+            radii
+                .windows(3)
+                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
+        );
+        let q = quaternion_at(x, Self::ROTATION);
+        regularizers.push(q[0].square() + q[1].square() + q[2].square() + q[3].square() - 1.0);
+        regularizers
     }
 
     pub(crate) fn mesh(&self, segments: usize) -> TriMesh {

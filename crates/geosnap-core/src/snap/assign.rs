@@ -248,51 +248,88 @@ fn pieces(
         if !curve.visible {
             continue;
         }
-        let gate = curve_gate(&curve.curve, gate).min(caps[k]);
-        let d: Vec<f64> = samples
-            .iter()
-            .map(|p| curve_distance(&curve.curve, *p))
-            .collect();
-        let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
-        let part = if near.len() * 5 >= d.len() * 4 {
-            None
-        } else {
-            let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
-            if near.len() < 4 || near_length < 0.5 * lengths[k] {
-                continue;
-            }
-            Some(near)
-        };
-        // A piece is judged by its own shape: the straight leg of a stroke drawn round a
-        // box corner draws an edge, though the whole stroke is not straight.
-        let piece;
-        let judged = match &part {
-            None => stroke,
-            Some(near) => {
-                let points: Vec<DVec2> = near.iter().map(|i| samples[*i]).collect();
-                let Some(p) = super::context::prepare(stroke.id, points, stroke.class) else {
-                    continue;
-                };
-                piece = p;
-                &piece
-            }
-        };
-        let Some(factor) = suitability(curve, judged) else {
-            continue;
-        };
-        if !direction_ok(&curve.curve, judged) {
-            continue;
+        if let Some(piece) = candidate(stroke, &samples, k, curve, lengths[k], gate, caps[k]) {
+            candidates.push(piece);
         }
-        candidates.push(Piece {
-            factor,
-            k,
-            whole: part.is_none(),
-            indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
-            distances: d,
-        });
     }
     candidates.sort_by(|a, b| a.score().total_cmp(&b.score()).then(a.k.cmp(&b.k)));
-    let accepted: Vec<Piece> = match candidates.first() {
+    accepted_pieces(candidates, samples.len())
+        .into_iter()
+        .filter_map(|piece| {
+            let part = (!piece.whole).then(|| piece.indices.clone());
+            let mean_distance = piece.mean_distance();
+            Some((
+                mean_distance * piece.factor,
+                piece.k,
+                AssignedStroke {
+                    stroke: stroke.id,
+                    samples: taken(&samples, part.as_deref())?,
+                    mean_distance,
+                    part,
+                },
+            ))
+        })
+        .collect()
+}
+
+/// The piece of a stroke that suits curve `k`, if any: the whole stroke when nearly all
+/// of its samples lie within the curve's gate (`gate`, at most `cap`), else the samples
+/// that do, when there are enough of them to draw at least half of the curve's length
+/// (`length`); and it must suit the curve by class and direction.
+fn candidate(
+    stroke: &SnapStroke,
+    samples: &[DVec2],
+    k: usize,
+    curve: &ProjectedCurve<f64>,
+    length: f64,
+    gate: f64,
+    cap: f64,
+) -> Option<Piece> {
+    let gate = curve_gate(&curve.curve, gate).min(cap);
+    let d: Vec<f64> = samples
+        .iter()
+        .map(|p| curve_distance(&curve.curve, *p))
+        .collect();
+    let near: Vec<usize> = (0..d.len()).filter(|i| d[*i] <= gate).collect();
+    let part = if near.len() * 5 >= d.len() * 4 {
+        None
+    } else {
+        let near_length = near.len() as f64 / d.len() as f64 * stroke.length;
+        if near.len() < 4 || near_length < 0.5 * length {
+            return None;
+        }
+        Some(near)
+    };
+    // A piece is judged by its own shape: the straight leg of a stroke drawn round a
+    // box corner draws an edge, though the whole stroke is not straight.
+    let piece;
+    let judged = match &part {
+        None => stroke,
+        Some(near) => {
+            let points: Vec<DVec2> = near.iter().map(|i| samples[*i]).collect();
+            piece = super::context::prepare(stroke.id, points, stroke.class)?;
+            &piece
+        }
+    };
+    let factor = suitability(curve, judged)?;
+    if !direction_ok(&curve.curve, judged) {
+        return None;
+    }
+    Some(Piece {
+        factor,
+        k,
+        whole: part.is_none(),
+        indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
+        distances: d,
+    })
+}
+
+/// The pieces accepted from candidates sorted best first: the best alone when it is the
+/// whole stroke; else the pieces, each sample going to the nearest curve among those whose
+/// pieces hold it, and a piece left with fewer than 4 samples or less than half of its own
+/// dropped.
+fn accepted_pieces(mut candidates: Vec<Piece>, sample_count: usize) -> Vec<Piece> {
+    match candidates.first() {
         None => Vec::new(),
         // The stroke fits one curve whole: it draws that curve.
         Some(first) if first.whole => candidates.into_iter().take(1).collect(),
@@ -301,7 +338,7 @@ fn pieces(
         // samples was mostly another curve's and is dropped.
         Some(_) => {
             candidates.retain(|p| !p.whole);
-            let owner: Vec<Option<usize>> = (0..samples.len())
+            let owner: Vec<Option<usize>> = (0..sample_count)
                 .map(|i| {
                     candidates
                         .iter()
@@ -321,24 +358,7 @@ fn pieces(
             }
             kept
         }
-    };
-    accepted
-        .into_iter()
-        .filter_map(|piece| {
-            let part = (!piece.whole).then(|| piece.indices.clone());
-            let mean_distance = piece.mean_distance();
-            Some((
-                mean_distance * piece.factor,
-                piece.k,
-                AssignedStroke {
-                    stroke: stroke.id,
-                    samples: taken(&samples, part.as_deref())?,
-                    mean_distance,
-                    part,
-                },
-            ))
-        })
-        .collect()
+    }
 }
 
 /// A stroke, or a piece of one, that suits a curve.

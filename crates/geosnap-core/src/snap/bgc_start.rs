@@ -302,30 +302,15 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
     if medial.len() < 8 {
         return None;
     }
-    // The projected spine: y = c₀ + c₁·x + c₂·x² in the principal frame.
     let points: Vec<DVec2> = medial.iter().map(|(p, _)| *p).collect();
-    let line = fit_line(&points)?;
-    let mut dir = line.direction;
-    if dir.dot(axis) < 0.0 {
-        dir = -dir;
-    }
-    let normal = dir.perp();
-    let origin = line.centroid;
-    let local: Vec<DVec2> = points
-        .iter()
-        .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
-        .collect();
-    let coef = spine_curve(&local)?;
+    let (projected, local) = ProjectedSpine::fit(&points, axis)?;
     let (mut x0, mut x1) = local
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.x), hi.max(p.x))
         });
-    let curve = |x: f64| {
-        origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])))
-    };
-    let slope_dir =
-        |x: f64| (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize();
+    let curve = |x: f64| projected.at(x);
+    let slope_dir = |x: f64| projected.tangent(x);
     // Radius profile: half-width linear in x.
     let widths: Vec<DVec2> = local
         .iter()
@@ -341,7 +326,7 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
         [slope_dir(x0), slope_dir(x1)],
         [width(x0), width(x1)],
     );
-    let to_x = |p: DVec2| (p - origin).dot(dir);
+    let to_x = |p: DVec2| projected.x_of(p);
     if let Some((e, _)) = &bottom {
         x0 = to_x(e.center);
     }
@@ -358,15 +343,7 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
     );
     let tilt = plane_tilt(&rows);
     let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
-    let mid = curve(f64::midpoint(x0, x1));
-    // Lift onto the plane, then resample evenly in 3D.
-    let lifted: Vec<DVec3> = (0..=DENSE)
-        .map(|i| {
-            let p = curve(x0 + (x1 - x0) * i as f64 / DENSE as f64);
-            DVec3::new(p.x, p.y, depth + tilt.dot(p - mid))
-        })
-        .collect();
-    let spine = resample(&lifted, k);
+    let spine = projected.lifted((x0, x1), depth, tilt, k);
     let mut radii: Vec<f64> = spine.iter().map(|p| width(to_x(p.truncate()))).collect();
     if let Some((e, _)) = &bottom {
         radii[0] = f64::midpoint(radii[0], e.semi_major);
@@ -379,6 +356,74 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
     bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
     let pose = Primitive::Bgc(bgc);
     pose.is_finite().then_some(pose)
+}
+
+/// The projected spine of a BGC in its principal frame: a cubic
+/// y = c₀ + c₁·x + c₂·x² + c₃·x³, x along `dir` from `origin` and y along `normal`.
+struct ProjectedSpine {
+    origin: DVec2,
+    dir: DVec2,
+    normal: DVec2,
+    coef: [f64; 4],
+}
+
+impl ProjectedSpine {
+    /// The projected spine through the medial points `points`, in the frame of their
+    /// principal line (its direction signed like `axis`), with the points in that frame;
+    /// `None` when no line or curve fits them.
+    fn fit(points: &[DVec2], axis: DVec2) -> Option<(Self, Vec<DVec2>)> {
+        let line = fit_line(points)?;
+        let mut dir = line.direction;
+        if dir.dot(axis) < 0.0 {
+            dir = -dir;
+        }
+        let normal = dir.perp();
+        let origin = line.centroid;
+        let local: Vec<DVec2> = points
+            .iter()
+            .map(|p| DVec2::new((*p - origin).dot(dir), (*p - origin).dot(normal)))
+            .collect();
+        let coef = spine_curve(&local)?;
+        let spine = Self {
+            origin,
+            dir,
+            normal,
+            coef,
+        };
+        Some((spine, local))
+    }
+
+    /// The image point of the spine at `x`.
+    fn at(&self, x: f64) -> DVec2 {
+        let (origin, dir, normal, coef) = (self.origin, self.dir, self.normal, self.coef);
+        origin + dir * x + normal * (coef[0] + x * (coef[1] + x * (coef[2] + x * coef[3])))
+    }
+
+    /// The unit image tangent of the spine at `x`.
+    fn tangent(&self, x: f64) -> DVec2 {
+        let (dir, normal, coef) = (self.dir, self.normal, self.coef);
+        (dir + normal * (coef[1] + x * (2.0 * coef[2] + 3.0 * x * coef[3]))).normalize()
+    }
+
+    /// The frame's x of the image point `p`.
+    fn x_of(&self, p: DVec2) -> f64 {
+        (p - self.origin).dot(self.dir)
+    }
+
+    /// The spine between `x0` and `x1` (`span`) lifted onto the plane through its middle at
+    /// `depth` with depth gradient `tilt`, resampled evenly in 3D to `k` points.
+    fn lifted(&self, span: (f64, f64), depth: f64, tilt: DVec2, k: usize) -> Vec<DVec3> {
+        let (x0, x1) = span;
+        let mid = self.at(f64::midpoint(x0, x1));
+        // Lift onto the plane, then resample evenly in 3D.
+        let lifted: Vec<DVec3> = (0..=DENSE)
+            .map(|i| {
+                let p = self.at(x0 + (x1 - x0) * i as f64 / DENSE as f64);
+                DVec3::new(p.x, p.y, depth + tilt.dot(p - mid))
+            })
+            .collect();
+        resample(&lifted, k)
+    }
 }
 
 /// Snaps a starting pose: fitted to its own strokes (see [`Start`]), then assigned the

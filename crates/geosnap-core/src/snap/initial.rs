@@ -303,19 +303,52 @@ fn read_ends(
     let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
     let drawn = drawn_ellipses(context, mid, reach, allowed);
     let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
-    // How far an ellipse is from drawing an end: its centre's distance in gates, its
-    // radius' in log ratio; beyond a gate it does not draw that end.
-    let cost = |e: &Ellipse2, at: DVec2, r: f64| {
-        let d = e.center.distance(at) / gate;
-        (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
-    };
+    if let Some((i, j)) = end_pair(&drawn, &ellipses, ends, radii, gate) {
+        return Some(pair_reading(ellipses[i], ellipses[j], image_dir, gate));
+    }
+    // One end drawn: the nearest ellipse to either dropped end.
+    let (e, top) = ellipses
+        .iter()
+        .flat_map(|e| {
+            [
+                end_cost(e, ends.0, radii.0, gate).map(|c| (c, e, false)),
+                end_cost(e, ends.1, radii.1, gate).map(|c| (c, e, true)),
+            ]
+        })
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, e, top)| (e, top))?;
+    Some(one_end_reading(e, top, ends, radii, image_dir, projected))
+}
+
+/// How far an ellipse is from drawing an end at `at` with radius `r`: its centre's
+/// distance in gates plus its radius' in log ratio; `None` beyond a gate, where it does
+/// not draw that end.
+fn end_cost(e: &Ellipse2, at: DVec2, r: f64, gate: f64) -> Option<f64> {
+    let d = e.center.distance(at) / gate;
+    (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
+}
+
+/// The indices among `ellipses` (the ellipses of `drawn`) of the bottom and top end
+/// ellipses that agree as the two ends of one solid and lie nearest the dropped ends
+/// (`ends`, with `radii`) by [`end_cost`], or `None` when no two do.
+fn end_pair(
+    drawn: &[Drawn],
+    ellipses: &[&Ellipse2],
+    ends: (DVec2, DVec2),
+    radii: (f64, f64),
+    gate: f64,
+) -> Option<(usize, usize)> {
     let mut pair: Option<(f64, usize, usize)> = None;
     for (i, b) in ellipses.iter().enumerate() {
         for (j, t) in ellipses.iter().enumerate() {
             if i == j || !ends_agree(b, t) {
                 continue;
             }
-            let (Some(cb), Some(ct)) = (cost(b, ends.0, radii.0), cost(t, ends.1, radii.1)) else {
+            let (Some(cb), Some(ct)) = (
+                end_cost(b, ends.0, radii.0, gate),
+                end_cost(t, ends.1, radii.1, gate),
+            ) else {
                 continue;
             };
             if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
@@ -323,44 +356,50 @@ fn read_ends(
             }
         }
     }
-    if let Some((_, i, j)) = pair {
-        let (b, t) = (ellipses[i], ellipses[j]);
-        let z = roundness(b).max(roundness(t));
-        let offset = t.center - b.center;
-        // The image axis: the minor axes (sign-aligned), unless the ends are too round to
-        // tell, then the offset, then the drop's.
-        let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
-        let reference = if offset.length() > 1e-9 * gate {
-            offset
-        } else {
-            image_dir
-        };
-        let dir = if z < ROUND {
-            (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
-                .normalize_or(image_dir)
-        } else {
-            reference.normalize_or(image_dir)
-        };
-        return Some(Reading {
-            dir,
-            z,
-            center: b.center.midpoint(t.center),
-            projected: offset.dot(dir).abs(),
-            radii: (b.semi_major, t.semi_major),
-        });
+    pair.map(|(_, i, j)| (i, j))
+}
+
+/// The reading of two drawn end ellipses, bottom `b` and top `t`: tilt from the rounder,
+/// image axis from their minor axes, the centre between them and the projected length
+/// along the axis. `image_dir` is the dropped image axis.
+fn pair_reading(b: &Ellipse2, t: &Ellipse2, image_dir: DVec2, gate: f64) -> Reading {
+    let z = roundness(b).max(roundness(t));
+    let offset = t.center - b.center;
+    // The image axis: the minor axes (sign-aligned), unless the ends are too round to
+    // tell, then the offset, then the drop's.
+    let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
+    let reference = if offset.length() > 1e-9 * gate {
+        offset
+    } else {
+        image_dir
+    };
+    let dir = if z < ROUND {
+        (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
+            .normalize_or(image_dir)
+    } else {
+        reference.normalize_or(image_dir)
+    };
+    Reading {
+        dir,
+        z,
+        center: b.center.midpoint(t.center),
+        projected: offset.dot(dir).abs(),
+        radii: (b.semi_major, t.semi_major),
     }
-    // One end drawn: the nearest ellipse to either dropped end.
-    let (e, top) = ellipses
-        .iter()
-        .flat_map(|e| {
-            [
-                cost(e, ends.0, radii.0).map(|c| (c, e, false)),
-                cost(e, ends.1, radii.1).map(|c| (c, e, true)),
-            ]
-        })
-        .flatten()
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, e, top)| (e, top))?;
+}
+
+/// The reading of one drawn end ellipse `e` (the top end when `top`): tilt and image axis
+/// from it, the dropped projected length, the centre on the drop's side of the end, and
+/// the dropped end radii scaled to its radius. `ends`, `radii`, `image_dir` and
+/// `projected` are the drop's as in [`read_ends`].
+fn one_end_reading(
+    e: &Ellipse2,
+    top: bool,
+    ends: (DVec2, DVec2),
+    radii: (f64, f64),
+    image_dir: DVec2,
+    projected: f64,
+) -> Reading {
     let z = roundness(e);
     let dir = if z < ROUND {
         let m = e.minor_axis();
@@ -381,13 +420,13 @@ fn read_ends(
         1.0
     };
     let scale = e.semi_major / if top { radii.1 } else { radii.0 };
-    Some(Reading {
+    Reading {
         dir,
         z,
         center: e.center + dir * (side * projected / 2.0),
         projected,
         radii: (radii.0 * scale, radii.1 * scale),
-    })
+    }
 }
 
 /// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
