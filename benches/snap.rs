@@ -21,6 +21,7 @@ use geosnap::core::model::Step;
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
 use geosnap::core::snap::{snap, SnapContext, SnapSession, SnapSettings};
+use geosnap::core::solve::SolveContext;
 use geosnap::io::script::parse_script;
 use geosnap::io::svg::{import_svg, SvgOptions};
 use glam::DVec2;
@@ -144,7 +145,7 @@ fn sweep(
         let (mut frames, mut fresh, mut strokes) = (0usize, 0usize, 0usize);
         let stats = bench.each(|i| {
             let primitive = swept(*kind, placement, i, default_size);
-            let (result, time) = timed(|| session.update(&primitive, None));
+            let (result, time) = timed(|| session.update(&primitive, SolveContext::default()));
             frames += 1;
             if let Ok(r) = result {
                 strokes = r.assignment.stroke_ids().len();
@@ -198,7 +199,7 @@ fn main() {
         let mut last = None;
         let stats = bench.each(|i| {
             let primitive = dragged(*kind, placement, i, default_size);
-            let (result, time) = timed(|| session.update(&primitive, None));
+            let (result, time) = timed(|| session.update(&primitive, SolveContext::default()));
             last = result.ok();
             time
         });

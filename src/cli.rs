@@ -19,7 +19,9 @@ use geosnap::core::model::{
 use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
-use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
+use geosnap::core::solve::{
+    hock_schittkowski, AugLagSettings, InnerSolver, SolveContext, Solver, Start,
+};
 use geosnap::io::gltf::{
     export_gltf, ExportSettings, Origin, DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS,
 };
@@ -283,7 +285,7 @@ fn run(
         &loaded.sketch,
         steps,
         &SessionSettings::default(),
-        Some(&clock),
+        SolveContext::default().with_clock(&clock),
     );
     let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
     save_model(out, &document, &sketch_reference(&script.sketch, out))

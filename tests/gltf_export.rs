@@ -14,6 +14,7 @@ use geosnap::core::model::{
 };
 use geosnap::core::primitive::{Bgc, Feature, Primitive, Sphere};
 use geosnap::core::relation::{Mode, RelationKind};
+use geosnap::core::solve::SolveContext;
 use geosnap::io::gltf::{
     export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, DEFAULT_METRES_PER_UNIT,
     ROOT_NAME,
@@ -46,7 +47,7 @@ fn sample_models() -> Vec<(String, Document)> {
                 &sketch.sketch,
                 &script.steps,
                 &SessionSettings::default(),
-                None,
+                SolveContext::default(),
             );
             assert!(!document.is_empty(), "{}", script_path.display());
             let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();

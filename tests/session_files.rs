@@ -11,6 +11,7 @@ use geosnap::core::model::{
 use geosnap::core::primitive::{Feature, Primitive};
 use geosnap::core::relation::{Mode, RelationKind};
 use geosnap::core::sketch::StrokeId;
+use geosnap::core::solve::SolveContext;
 use geosnap::io::script::{load_script, parse_script};
 use geosnap::io::session::{
     load_session, parse_session, save_session, session_bytes, Session, SessionError,
@@ -28,7 +29,12 @@ fn vase_session() -> Session {
         .expect("the sample imports")
         .sketch;
     let script = parse_script(VASE_SCRIPT.as_bytes(), Path::new("")).expect("the script parses");
-    let (mut document, _) = run_steps(&sketch, &script.steps, &SessionSettings::default(), None);
+    let (mut document, _) = run_steps(
+        &sketch,
+        &script.steps,
+        &SessionSettings::default(),
+        SolveContext::default(),
+    );
     dimension_first(&mut document);
     Session {
         sketch,
@@ -62,7 +68,12 @@ fn sample_session(name: &str) -> Session {
     let sketch = load_sketch(&script.sketch)
         .expect("the sketch loads")
         .sketch;
-    let (mut document, _) = run_steps(&sketch, &script.steps, &SessionSettings::default(), None);
+    let (mut document, _) = run_steps(
+        &sketch,
+        &script.steps,
+        &SessionSettings::default(),
+        SolveContext::default(),
+    );
     let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();
     if document.relations().is_empty() && ids.len() >= 2 {
         // A relation the user added by hand, soft, so that modes are exercised.

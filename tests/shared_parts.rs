@@ -83,6 +83,7 @@ use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE
 use geosnap::core::sketch::{Sketch, StrokeId};
 use geosnap::core::snap::Verdict as SnapVerdict;
 use geosnap::core::snap::{snap, SnapContext, SnapSettings};
+use geosnap::core::solve::SolveContext;
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
 use glam::{DVec2, DVec3};
@@ -587,7 +588,12 @@ fn judge_sketch(name: &'static str, dir: &Path) -> Vec<Judged> {
     let noise = sketch
         .bounds()
         .map_or(0.0, |(lo, hi)| NOISE_FLOOR * lo.distance(hi));
-    let (_document, outcomes) = run_steps(&sketch, &steps, &SessionSettings::default(), None);
+    let (_document, outcomes) = run_steps(
+        &sketch,
+        &steps,
+        &SessionSettings::default(),
+        SolveContext::default(),
+    );
     outcomes
         .iter()
         .zip(&references)

@@ -70,6 +70,7 @@ use geosnap::clock::MonotonicClock;
 use geosnap::core::model::{run_steps, Document, PrimitiveId, SessionSettings, StepOutcome};
 use geosnap::core::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive};
 use geosnap::core::relation::{residuals, Member, Mode, RelationKind};
+use geosnap::core::solve::SolveContext;
 use glam::DVec3;
 use support::assemblies::{assembly, AssemblyKind, Designed, PERMUTATIONS};
 use support::synth::Rng;
@@ -298,7 +299,12 @@ fn run_case(kind: AssemblyKind, index: usize, show: bool) -> CaseResult {
     let steps = a.steps(&mut Rng::new(seed ^ 0xD80F_D80F));
     // A clock, as the command line gives one: the solver's time cap holds only with one.
     let clock = MonotonicClock::start();
-    let (doc, outcomes) = run_steps(&sketch, &steps, &SessionSettings::default(), Some(&clock));
+    let (doc, outcomes) = run_steps(
+        &sketch,
+        &steps,
+        &SessionSettings::default(),
+        SolveContext::default().with_clock(&clock),
+    );
     let mut out = CaseResult {
         parts: a.parts.len(),
         designed: a.designed.len(),

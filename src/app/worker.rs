@@ -15,7 +15,7 @@ use crate::clock::MonotonicClock;
 use crate::core::model::{Companions, Document, Fit, GlobalOutcome, PrimitiveId, SessionSettings};
 use crate::core::primitive::Primitive;
 use crate::core::snap::{snap, SnapContext, SnapError, SnapResult, SnapSession, Verdict};
-use crate::core::solve::{CancelFlag, Iterate};
+use crate::core::solve::{CancelFlag, Iterate, SolveContext};
 
 /// Called from a worker thread when something is ready for the UI.
 pub type Wake = Arc<dyn Fn() + Send + Sync>;
@@ -151,7 +151,7 @@ fn preview_loop(
             continue;
         };
         let started = Instant::now();
-        let result = session.update(&request.dragged, None);
+        let result = session.update(&request.dragged, SolveContext::default());
         let sent = results.send(PreviewResult {
             generation: request.generation,
             result,

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use geosnap::core::model::{run_steps, Document, SessionSettings, StepOutcome};
+use geosnap::core::solve::SolveContext;
 use geosnap::io::model_file::{model_json, parse_model};
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
@@ -47,7 +48,12 @@ pub(crate) fn run_script_document(
     }
     let loaded = load_sketch(&script.sketch).expect("the sketch loads");
     let steps = &script.steps;
-    let (document, outcomes) = run_steps(&loaded.sketch, steps, &SessionSettings::default(), None);
+    let (document, outcomes) = run_steps(
+        &loaded.sketch,
+        steps,
+        &SessionSettings::default(),
+        SolveContext::default(),
+    );
     let name = script_path
         .file_name()
         .unwrap_or_default()

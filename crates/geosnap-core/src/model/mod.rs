@@ -22,7 +22,7 @@ use crate::primitive::{Feature, Placement, Primitive, PrimitiveKind, DEFAULT_SIZ
 use crate::relation::{InferenceSettings, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
 use crate::snap::{snap, Assignment, Confidence, SnapContext, SnapResult, SnapSettings, Verdict};
-use crate::solve::Clock;
+use crate::solve::SolveContext;
 
 pub use dimension::{Dimension, DimensionError, Quantity};
 pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_FLOOR};
@@ -503,12 +503,12 @@ pub struct SessionSettings {
 /// Runs steps over a sketch as the interactive tool would: each step is snapped, its
 /// relations with the placed parts are inferred, and the model is solved globally. A step
 /// that cannot be snapped is recorded in [`Document::skipped`] and the run goes on.
-/// `clock` (optional) times the solves.
+/// `solve` carries the solves' cancel flag, clock and observer.
 pub fn run_steps(
     sketch: &Sketch,
     steps: &[Step],
     settings: &SessionSettings,
-    clock: Option<&dyn Clock>,
+    mut solve: SolveContext<'_>,
 ) -> (Document, Vec<StepOutcome>) {
     let context = SnapContext::from_sketch(sketch);
     let default_size = sketch
@@ -557,15 +557,8 @@ pub fn run_steps(
                     ..Fit::of(&result).judged(&confidence)
                 };
                 let id = document.add_fitted(&result, fit);
-                let (relations, solve) = document.release(
-                    id,
-                    &settings.inference,
-                    &settings.global,
-                    Companions {
-                        clock,
-                        ..Companions::default()
-                    },
-                );
+                let (relations, solve) =
+                    document.release(id, &settings.inference, &settings.global, solve.reborrow());
                 StepOutcome::Placed {
                     id,
                     snap: Box::new(result),

@@ -36,7 +36,7 @@ use super::{SnapError, SnapResult, SnapSettings};
 use crate::geom::{fit_ellipse, fit_line, Ellipse2};
 use crate::primitive::{Bgc, Primitive};
 use crate::sketch::StrokeClass;
-use crate::solve::{CancelFlag, Clock};
+use crate::solve::SolveContext;
 
 mod medial;
 
@@ -434,13 +434,12 @@ pub(crate) fn snap_start(
     context: &SnapContext,
     start: &Start,
     settings: &SnapSettings,
-    cancel: Option<&CancelFlag>,
-    clock: Option<&dyn Clock>,
+    solve: SolveContext<'_>,
 ) -> Result<SnapResult, SnapError> {
     let Some((clipped, whole, walls)) = &start.context else {
-        return super::snap_rounds(context, &start.pose, settings, None, cancel, clock);
+        return super::snap_rounds(context, &start.pose, settings, None, solve);
     };
-    let mut result = super::snap_rounds(clipped, &start.pose, settings, None, cancel, clock)?;
+    let mut result = super::snap_rounds(clipped, &start.pose, settings, None, solve)?;
     let tight = settings.tight_gate * result.primitive.size();
     let curves = result.primitive.current_shape().curves;
     let mut named = super::assign::assign_within(whole, &curves, tight, true);

@@ -28,8 +28,8 @@ pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 
 use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::solve::{
-    AugLagSettings, CancelFlag, Clock, Multipliers, SettingsError, SolveContext, SolveError,
-    SolveReport, Solver, Start, Termination,
+    AugLagSettings, Multipliers, SettingsError, SolveContext, SolveError, SolveReport, Solver,
+    Start, Termination,
 };
 
 /// Why a primitive could not be snapped.
@@ -344,8 +344,7 @@ fn fit(
     assignment: &Assignment,
     settings: &SnapSettings,
     warm: Option<&Multipliers>,
-    cancel: Option<&CancelFlag>,
-    clock: Option<&dyn Clock>,
+    mut solve: SolveContext<'_>,
 ) -> Result<(Primitive, SolveReport), SolveError> {
     let frame = Frame::of(primitive);
     let local = frame.into_frame(primitive);
@@ -360,12 +359,8 @@ fn fit(
             .cloned(),
         penalty: None,
     };
-    let context = SolveContext {
-        cancel,
-        clock,
-        observer: None,
-    };
-    let report = Solver::with_context(&settings.solver, context).solve(&mut problem, &start)?;
+    let report =
+        Solver::with_context(&settings.solver, solve.reborrow()).solve(&mut problem, &start)?;
     let fitted = frame.out_of_frame(&local.with_params(&report.x));
     Ok((fitted, report))
 }
@@ -410,17 +405,16 @@ pub fn snap(
     primitive: &Primitive,
     settings: &SnapSettings,
 ) -> Result<SnapResult, SnapError> {
-    snap_from(context, primitive, settings, None, None, None)
+    snap_from(context, primitive, settings, None, SolveContext::default())
 }
 
-/// [`snap`] with a warm start, a cancel flag and a clock.
+/// [`snap`] with a warm start and the solves' context (cancel flag, clock).
 fn snap_from(
     context: &SnapContext,
     primitive: &Primitive,
     settings: &SnapSettings,
     warm: Option<&Multipliers>,
-    cancel: Option<&CancelFlag>,
-    clock: Option<&dyn Clock>,
+    mut solve: SolveContext<'_>,
 ) -> Result<SnapResult, SnapError> {
     let kind = primitive.kind().name();
     if !primitive.is_finite() {
@@ -439,15 +433,16 @@ fn snap_from(
     // A cold BGC starts from the spine and tilt its drawing shows (see `bgc_start`); the
     // straight drop is tried only when that start gives no good fit.
     if warm.is_some() {
-        return snap_rounds(context, primitive, settings, warm, cancel, clock);
+        return snap_rounds(context, primitive, settings, warm, solve);
     }
     let mut candidates: Vec<Scored> = Vec::new();
     let mut errors: Vec<SnapError> = Vec::new();
     let attempt_with = |start: &Primitive,
                         settings: &SnapSettings,
                         candidates: &mut Vec<Scored>,
-                        errors: &mut Vec<SnapError>| {
-        match snap_rounds(context, start, settings, None, cancel, clock) {
+                        errors: &mut Vec<SnapError>,
+                        solve: SolveContext<'_>| {
+        match snap_rounds(context, start, settings, None, solve) {
             Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
             Ok(r) => {
                 candidates.push(Scored::of(r, primitive.size(), settings));
@@ -459,11 +454,8 @@ fn snap_from(
             }
         }
     };
-    let attempt = |start: &Primitive, candidates: &mut Vec<Scored>, errors: &mut Vec<SnapError>| {
-        attempt_with(start, settings, candidates, errors)
-    };
     for start in bgc_start::starts(context, primitive) {
-        match bgc_start::snap_start(context, &start, settings, cancel, clock) {
+        match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
             Err(e) => errors.push(e),
@@ -474,7 +466,13 @@ fn snap_from(
         // compete alone, and the drop's error is the one reported when nothing snaps.
         candidates.clear();
         errors.clear();
-        attempt(primitive, &mut candidates, &mut errors)?;
+        attempt_with(
+            primitive,
+            settings,
+            &mut candidates,
+            &mut errors,
+            solve.reborrow(),
+        )?;
         // A cold drop is also tried from the starting poses the drawing itself suggests
         // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
         // drawn box); the better snap wins (see `better`).
@@ -487,7 +485,13 @@ fn snap_from(
         };
         for start in initial::starting_poses(context, primitive) {
             if start.is_finite() {
-                attempt_with(&start, &read, &mut candidates, &mut errors)?;
+                attempt_with(
+                    &start,
+                    &read,
+                    &mut candidates,
+                    &mut errors,
+                    solve.reborrow(),
+                )?;
             }
         }
     }
@@ -604,8 +608,7 @@ fn snap_rounds(
     primitive: &Primitive,
     settings: &SnapSettings,
     warm: Option<&Multipliers>,
-    cancel: Option<&CancelFlag>,
-    clock: Option<&dyn Clock>,
+    mut solve: SolveContext<'_>,
 ) -> Result<SnapResult, SnapError> {
     let kind = primitive.kind().name();
     let wide = settings.wide_gate * primitive.size();
@@ -622,8 +625,7 @@ fn snap_rounds(
             &assignment,
             settings,
             multipliers.as_ref(),
-            cancel,
-            clock,
+            solve.reborrow(),
         )
         .map_err(|_| SnapError::NonFinite(kind))?;
         evaluations += report.evaluations;
@@ -728,7 +730,7 @@ impl SnapSession {
     pub fn update(
         &mut self,
         dragged: &Primitive,
-        cancel: Option<&CancelFlag>,
+        mut solve: SolveContext<'_>,
     ) -> Result<SnapResult, SnapError> {
         if !dragged.is_finite() {
             return Err(SnapError::NonFinite(dragged.kind().name()));
@@ -746,11 +748,10 @@ impl SnapSession {
                 &last.result.primitive,
                 &self.settings,
                 last.result.multipliers.as_ref(),
-                cancel,
-                None,
+                solve.reborrow(),
             )
-            .or_else(|_| snap_from(&self.context, dragged, &self.settings, None, cancel, None)),
-            None => snap_from(&self.context, dragged, &self.settings, None, cancel, None),
+            .or_else(|_| snap_from(&self.context, dragged, &self.settings, None, solve)),
+            None => snap_from(&self.context, dragged, &self.settings, None, solve),
         }?;
         self.last = Some(LastFrame {
             dragged: dragged.clone(),
@@ -779,6 +780,7 @@ mod tests {
     use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
     use crate::primitive::{Cuboid, Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
+    use crate::solve::SolveContext;
 
     #[test]
     fn bad_gates_are_refused() {
@@ -824,7 +826,7 @@ mod tests {
         let assignment = super::Assignment::default();
         let settings = SnapSettings::default();
         assert!(
-            super::fit(&nan, &assignment, &settings, None, None, None).is_err(),
+            super::fit(&nan, &assignment, &settings, None, SolveContext::default()).is_err(),
             "the solver's error is passed on"
         );
     }
@@ -948,11 +950,15 @@ mod tests {
     #[test]
     fn a_preview_stays_on_its_strokes_while_the_cursor_stays_over_them() {
         let mut session = SnapSession::new(outline(), SnapSettings::default());
-        let first = session.update(&dragged(52.0), None).expect("it snaps");
+        let first = session
+            .update(&dragged(52.0), SolveContext::default())
+            .expect("it snaps");
         assert_eq!(first.assignment.stroke_ids(), [StrokeId(0), StrokeId(1)]);
         for k in 1..20 {
             let x = 52.0 + 2.0 * (f64::from(k) * 0.7).sin();
-            let frame = session.update(&dragged(x), None).expect("it stays snapped");
+            let frame = session
+                .update(&dragged(x), SolveContext::default())
+                .expect("it stays snapped");
             assert!(
                 frame.primitive.center().distance(first.primitive.center()) < 1e-3,
                 "frame {k} moved the snapped preview"
@@ -964,11 +970,13 @@ mod tests {
     #[test]
     fn a_preview_dragged_off_its_strokes_lets_go_and_snaps_again_on_the_way_back() {
         let mut session = SnapSession::new(outline(), SnapSettings::default());
-        assert!(session.update(&dragged(52.0), None).is_ok());
+        assert!(session
+            .update(&dragged(52.0), SolveContext::default())
+            .is_ok());
         let mut x = 52.0;
         while x < 300.0 {
             x += 3.0;
-            let frame = session.update(&dragged(x), None);
+            let frame = session.update(&dragged(x), SolveContext::default());
             assert!(
                 x <= 150.0 || frame.is_err(),
                 "still snapped at x = {x}: {frame:?}"
@@ -976,9 +984,11 @@ mod tests {
         }
         while x > 52.0 {
             x -= 3.0;
-            let _ = session.update(&dragged(x), None);
+            let _ = session.update(&dragged(x), SolveContext::default());
         }
-        let back = session.update(&dragged(52.0), None).expect("snapped again");
+        let back = session
+            .update(&dragged(52.0), SolveContext::default())
+            .expect("snapped again");
         assert!((back.primitive.center().x - 50.0).abs() < 0.5);
     }
 }
