@@ -676,7 +676,8 @@ fn snap_rounds(
 /// the previous frame.
 ///
 /// Threading is the caller's: run updates off the UI thread, keep the newest request and
-/// raise the [`CancelFlag`] of a running update when a newer one arrives.
+/// raise the [`CancelFlag`](crate::solve::CancelFlag) of a running update (in its
+/// [`SolveContext`]) when a newer one arrives.
 #[derive(Clone, Debug)]
 pub struct SnapSession {
     context: SnapContext,
