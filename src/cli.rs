@@ -77,6 +77,10 @@ enum Command {
         /// `geosnap export`.
         #[arg(long)]
         gltf: Option<PathBuf>,
+        /// Accept every suggested relation (inferred with medium confidence) at the end:
+        /// make them hard and solve the model once more.
+        #[arg(long)]
+        accept_suggestions: bool,
     },
     /// Export a model file as glTF 2.0: metres, +Y up, one node per primitive.
     Export {
@@ -148,7 +152,14 @@ pub(crate) fn main() -> ExitCode {
             out,
             overlay,
             gltf,
-        }) => run(&script, &out, overlay.as_deref(), gltf.as_deref()),
+            accept_suggestions,
+        }) => run(
+            &script,
+            &out,
+            overlay.as_deref(),
+            gltf.as_deref(),
+            accept_suggestions,
+        ),
         Some(Command::Export {
             model,
             out,
@@ -271,6 +282,7 @@ fn run(
     out: &Path,
     overlay: Option<&Path>,
     gltf: Option<&Path>,
+    accept_suggestions: bool,
 ) -> Result<ExitCode> {
     let script = load_script(script_path)
         .with_context(|| format!("reading script {}", script_path.display()))?;
@@ -281,12 +293,35 @@ fn run(
     }
     let steps = &script.steps;
     let clock = MonotonicClock::start();
-    let (document, outcomes) = run_steps(
+    let settings = SessionSettings::default();
+    let (mut document, outcomes) = run_steps(
         &loaded.sketch,
         steps,
-        &SessionSettings::default(),
+        &settings,
         SolveContext::default().with_clock(&clock),
     );
+    if accept_suggestions {
+        let accepted = document.accept_suggestions();
+        if !accepted.is_empty() {
+            let outcome = document.solve(
+                None,
+                &settings.global,
+                SolveContext::default().with_clock(&clock),
+            );
+            println!(
+                "accepted {} suggested relation(s); {}",
+                accepted.len(),
+                if outcome.conflicts.is_empty() {
+                    "the model holds them".to_owned()
+                } else {
+                    format!("{} switched off as conflicts", outcome.conflicts.len())
+                }
+            );
+            for c in &outcome.conflicts {
+                println!("  {}", c.message);
+            }
+        }
+    }
     let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
     save_model(out, &document, &sketch_reference(&script.sketch, out))
         .with_context(|| format!("writing {}", out.display()))?;
@@ -418,25 +453,33 @@ fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
     (solve_ms, conflicts)
 }
 
-/// The relations by kind, in words: `2 coaxial, 1 concentric (+1 off)`.
+/// The relations by kind, in words: `2 coaxial, 1 concentric (+1 suggested, +1 off)`.
 fn relation_counts(document: &geosnap::core::model::Document) -> Vec<String> {
-    let mut by_kind: std::collections::BTreeMap<&str, (usize, usize)> =
+    use geosnap::core::relation::Mode;
+    let mut by_kind: std::collections::BTreeMap<&str, (usize, usize, usize)> =
         std::collections::BTreeMap::new();
     for r in document.relations() {
         let entry = by_kind.entry(r.kind.name()).or_default();
-        if r.mode == geosnap::core::relation::Mode::Off {
-            entry.1 += 1;
-        } else {
-            entry.0 += 1;
+        match r.mode {
+            Mode::Off => entry.2 += 1,
+            Mode::Suggested => entry.1 += 1,
+            Mode::Hard | Mode::Soft => entry.0 += 1,
         }
     }
     by_kind
         .iter()
-        .map(|(kind, (on, off))| {
+        .map(|(kind, (on, suggested, off))| {
+            let mut extra = Vec::new();
+            if *suggested > 0 {
+                extra.push(format!("+{suggested} suggested"));
+            }
             if *off > 0 {
-                format!("{on} {kind} (+{off} off)")
-            } else {
+                extra.push(format!("+{off} off"));
+            }
+            if extra.is_empty() {
                 format!("{on} {kind}")
+            } else {
+                format!("{on} {kind} ({})", extra.join(", "))
             }
         })
         .collect()

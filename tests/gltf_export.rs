@@ -68,6 +68,7 @@ fn sample_models() -> Vec<(String, Document)> {
                             members: vec![a, b],
                             features,
                             mode,
+                            inferred: None,
                         })
                         .expect("a valid relation");
                 }

@@ -88,6 +88,7 @@ fn sample_session(name: &str) -> Session {
                     })
                     .to_vec(),
                 mode: Mode::Soft,
+                inferred: None,
             })
             .expect("both parts have a top");
     }

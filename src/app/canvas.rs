@@ -633,6 +633,7 @@ impl GeosnapApp {
                 crate::core::relation::Mode::Hard => Color32::from_rgb(90, 90, 100),
                 crate::core::relation::Mode::Soft => Color32::from_rgb(150, 150, 160),
                 crate::core::relation::Mode::Off => Color32::from_rgb(220, 140, 140),
+                crate::core::relation::Mode::Suggested => Color32::from_rgb(80, 130, 210),
             };
             for pair in centres.windows(2) {
                 painter.add(egui::Shape::dashed_line(

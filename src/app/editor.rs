@@ -421,6 +421,7 @@ mod tests {
             members: vec![m, n],
             features: vec![Some(Feature::Outline), Some(Feature::Outline)],
             mode: Mode::Soft,
+            inferred: None,
         };
         let first = doc.add_relation(on(a, b)).expect("valid");
         let second = doc.add_relation(on(b, c)).expect("valid");

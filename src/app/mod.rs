@@ -386,6 +386,26 @@ impl GeosnapApp {
         );
     }
 
+    /// Accepts every suggested relation (makes it hard) and re-solves the parts they
+    /// relate, as one undoable step.
+    pub fn accept_all_suggestions(&mut self) {
+        let mut document = self.editor.document().clone();
+        let accepted = document.accept_suggestions();
+        if accepted.is_empty() {
+            return;
+        }
+        let members: Vec<PrimitiveId> = accepted
+            .iter()
+            .filter_map(|id| document.relation(*id))
+            .flat_map(|r| r.members.iter().copied())
+            .collect();
+        self.resolve_in_background(
+            &format!("Accept {} suggested relation(s)", accepted.len()),
+            document,
+            Some(members),
+        );
+    }
+
     fn shortcuts(&mut self, ctx: &egui::Context) {
         use egui::{Key, KeyboardShortcut, Modifiers};
         let typing = ctx.egui_wants_keyboard_input();
@@ -482,11 +502,7 @@ fn unfilled(margin: f32) -> egui::Frame {
 }
 
 fn mode_name(mode: crate::core::relation::Mode) -> &'static str {
-    match mode {
-        crate::core::relation::Mode::Hard => "hard",
-        crate::core::relation::Mode::Soft => "soft",
-        crate::core::relation::Mode::Off => "off",
-    }
+    mode.name()
 }
 
 impl eframe::App for GeosnapApp {

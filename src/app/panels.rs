@@ -260,6 +260,28 @@ impl GeosnapApp {
         }
         let mut change = None;
         let mut delete = None;
+        let suggested = self
+            .editor
+            .document()
+            .relations()
+            .iter()
+            .filter(|r| r.mode == Mode::Suggested)
+            .count();
+        let mut accept_all = false;
+        if suggested > 0 {
+            ui.horizontal(|ui| {
+                ui.label(
+                    RichText::new(format!(
+                        "{suggested} suggested (not enforced until accepted)"
+                    ))
+                    .color(SUGGESTED),
+                );
+                accept_all = ui
+                    .add_enabled(!self.busy(), egui::Button::new("Accept all").small())
+                    .on_hover_text("Make every suggested relation hard and solve the model")
+                    .clicked();
+            });
+        }
         egui::Grid::new("relations").striped(true).num_columns(4).show(ui, |ui| {
             for (index, (id, relation)) in self.editor.document().relations_with_ids().enumerate() {
                 let members: Vec<String> = relation
@@ -272,33 +294,58 @@ impl GeosnapApp {
                     })
                     .collect();
                 let text = RichText::new(relation.kind.name().replace('_', " "));
-                let text = if relation.mode == Mode::Off { text.strikethrough().weak() } else { text };
-                let r1 = ui.label(text);
-                let r2 = ui.label(RichText::new(members.join(" · ")).small());
-                let mut mode = relation.mode;
-                let r3 = egui::ComboBox::from_id_salt(("mode", index))
-                    .width(64.0)
-                    .selected_text(mode_name(mode))
-                    .show_ui(ui, |ui| {
-                        for m in [Mode::Hard, Mode::Soft, Mode::Off] {
-                            ui.selectable_value(&mut mode, m, mode_name(m));
-                        }
-                    })
-                    .response
-                    .on_hover_text(format!("Mode of relation {index}: hard (a constraint), soft (a weighted term) or off"));
-                if mode != relation.mode {
-                    change = Some((id, mode));
-                }
-                let r4 = ui.add_enabled(!self.busy(), egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
-                if r4.clicked() {
-                    delete = Some(id);
-                }
+                let text = match relation.mode {
+                    Mode::Off => text.strikethrough().weak(),
+                    Mode::Suggested => text.italics().color(SUGGESTED),
+                    Mode::Hard | Mode::Soft => text,
+                };
+                let why = why_inferred(relation);
+                let r1 = ui.label(text).on_hover_text(&why);
+                let r2 = ui.label(RichText::new(members.join(" · ")).small()).on_hover_text(&why);
+                let (r3, r4) = if relation.mode == Mode::Suggested {
+                    let accept = ui
+                        .add_enabled(!self.busy(), egui::Button::new("Accept").small())
+                        .on_hover_text(format!("Make relation {index} hard and solve\n{why}"));
+                    if accept.clicked() {
+                        change = Some((id, Mode::Hard));
+                    }
+                    let reject = ui
+                        .add_enabled(!self.busy(), egui::Button::new("Reject").small())
+                        .on_hover_text(format!("Remove suggested relation {index}"));
+                    if reject.clicked() {
+                        delete = Some(id);
+                    }
+                    (accept, reject)
+                } else {
+                    let mut mode = relation.mode;
+                    let r3 = egui::ComboBox::from_id_salt(("mode", index))
+                        .width(64.0)
+                        .selected_text(mode_name(mode))
+                        .show_ui(ui, |ui| {
+                            for m in [Mode::Hard, Mode::Soft, Mode::Off] {
+                                ui.selectable_value(&mut mode, m, mode_name(m));
+                            }
+                        })
+                        .response
+                        .on_hover_text(format!("Mode of relation {index}: hard (a constraint), soft (a weighted term) or off"));
+                    if mode != relation.mode {
+                        change = Some((id, mode));
+                    }
+                    let r4 = ui.add_enabled(!self.busy(), egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
+                    if r4.clicked() {
+                        delete = Some(id);
+                    }
+                    (r3, r4)
+                };
                 if r1.hovered() || r2.hovered() || r3.hovered() || r4.hovered() {
                     self.hovered_relation = Some(id);
                 }
                 ui.end_row();
             }
         });
+        if accept_all {
+            self.accept_all_suggestions();
+        }
         if let Some((id, mode)) = change {
             self.set_relation_mode(id, mode);
         }
@@ -498,5 +545,21 @@ impl GeosnapApp {
                 }
             });
         self.panels.show_settings = open;
+    }
+}
+
+/// The colour of suggested relations (in the panel and on the canvas).
+const SUGGESTED: Color32 = Color32::from_rgb(80, 130, 210);
+
+/// Why a relation is in the model, for its tooltip: its confidence and evidence when it
+/// was inferred.
+fn why_inferred(relation: &crate::core::model::Relation) -> String {
+    match &relation.inferred {
+        Some(inferred) => format!(
+            "Inferred with confidence {:.0} %: {}",
+            100.0 * inferred.confidence,
+            inferred.evidence.describe(relation.kind)
+        ),
+        None => "Made by hand or read from a file (no evidence recorded)".to_owned(),
     }
 }

@@ -1025,6 +1025,7 @@ mod tests {
             members: members.iter().map(|m| PrimitiveId(*m)).collect(),
             features: features.to_vec(),
             mode,
+            inferred: None,
         };
         let relations = [
             relation(

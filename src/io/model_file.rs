@@ -13,6 +13,7 @@ use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, RelationE
 use crate::core::primitive::{
     Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, PrimitiveError, Sgc, Sphere, UNIT_TOLERANCE,
 };
+use crate::core::relation::evidence::{Evidence, Inferred};
 use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
 use crate::core::snap::Verdict;
@@ -91,8 +92,11 @@ pub enum RelationReadError {
         kind: &'static str,
     },
     /// `mode` names no mode.
-    #[error("unknown `mode` {0} (hard, soft or off)")]
+    #[error("unknown `mode` {0} (hard, soft, off or suggested)")]
     Mode(Value),
+    /// The confidence is not a number in [0, 1].
+    #[error("`confidence` {0} is not a number in [0, 1]")]
+    Confidence(Value),
     /// The relation does not suit its members (see [`Document::add_relation`]).
     #[error(transparent)]
     Relation(#[from] RelationError),
@@ -201,7 +205,34 @@ pub(crate) fn relation_json(r: &Relation, member: impl Fn(PrimitiveId) -> Value)
         map.insert("features".into(), json!(names));
     }
     map.insert("mode".into(), json!(r.mode));
+    if let Some(inferred) = &r.inferred {
+        map.insert("confidence".into(), json!(inferred.confidence));
+        map.insert(
+            "evidence".into(),
+            serde_json::to_value(&inferred.evidence).unwrap_or(Value::Null),
+        );
+    }
     Value::Object(map)
+}
+
+/// An inferred relation's `confidence` and `evidence` (formats.md §3), when it has them.
+/// Evidence is free-form in the format: an object that is not ours (another tool's)
+/// is kept out, not refused; a confidence outside [0, 1] is an error.
+fn parse_inferred(r: &Value) -> Result<Option<Inferred>, RelationReadError> {
+    let Some(c) = r.get("confidence") else {
+        return Ok(None);
+    };
+    let confidence = c
+        .as_f64()
+        .filter(|c| (0.0..=1.0).contains(c))
+        .ok_or_else(|| RelationReadError::Confidence(c.clone()))?;
+    let evidence = r
+        .get("evidence")
+        .and_then(|e| serde_json::from_value::<Evidence>(e.clone()).ok());
+    Ok(evidence.map(|evidence| Inferred {
+        confidence,
+        evidence,
+    }))
 }
 
 /// The `fit` object of a primitive (formats.md §3): its strokes and RMS, and the snap's
@@ -608,6 +639,7 @@ pub(crate) fn parse_relation_with(
         members,
         features,
         mode,
+        inferred: parse_inferred(r)?,
     })
 }
 
@@ -665,12 +697,14 @@ mod tests {
             members: vec![PrimitiveId(0), PrimitiveId(1)],
             features: vec![Some(Feature::Top), Some(Feature::Bottom)],
             mode: Mode::Soft,
+            inferred: None,
         };
         let equal = Relation {
             kind: RelationKind::EqualLength,
             members: vec![PrimitiveId(1), PrimitiveId(0)],
             features: Vec::new(),
             mode: Mode::Hard,
+            inferred: None,
         };
         document.add_relation(coaxial.clone()).expect("valid");
         document.add_relation(equal.clone()).expect("valid");

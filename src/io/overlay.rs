@@ -228,6 +228,7 @@ pub fn overlay_png(
             Mode::Hard => (40, 40, 40),
             Mode::Soft => (130, 130, 130),
             Mode::Off => (235, 150, 150),
+            Mode::Suggested => (70, 120, 200),
         };
         let Some(at) = place(&relation.anchors, &mut taken, 9.0 * unit) else {
             continue;

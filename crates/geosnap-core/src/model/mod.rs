@@ -10,6 +10,7 @@
 //! held exactly by every solve (module `dimension`).
 
 mod dimension;
+pub mod reading;
 mod release;
 mod solve;
 
@@ -19,6 +20,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use crate::primitive::{Feature, Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
+use crate::relation::evidence::Inferred;
 use crate::relation::{InferenceSettings, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
 use crate::snap::{snap, Assignment, Confidence, SnapContext, SnapResult, SnapSettings, Verdict};
@@ -105,6 +107,28 @@ pub struct Relation {
     pub features: Vec<Option<Feature>>,
     /// How it takes part in the global solve.
     pub mode: Mode,
+    /// For an inferred relation, its confidence and the evidence it rests on (`None`
+    /// for a relation the user made or a file gave without them).
+    pub inferred: Option<Inferred>,
+}
+
+impl Relation {
+    /// A relation of `kind` between `members` (features as given), in `mode`, not
+    /// inferred.
+    pub fn new(
+        kind: RelationKind,
+        members: Vec<PrimitiveId>,
+        features: Vec<Option<Feature>>,
+        mode: Mode,
+    ) -> Self {
+        Self {
+            kind,
+            members,
+            features,
+            mode,
+            inferred: None,
+        }
+    }
 }
 
 /// Why [`Document::add_relation`] refused a relation.
@@ -613,6 +637,7 @@ mod tests {
             members: vec![a, b],
             features: vec![Some(Feature::Top), Some(Feature::Top)],
             mode: Mode::Hard,
+            inferred: None,
         }
     }
 

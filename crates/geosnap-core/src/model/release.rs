@@ -3,12 +3,16 @@
 //! relations.
 //!
 //! An orthographic drawing shows a solid of revolution and its reflection in the
-//! view-parallel plane through its centre identically (the axis (x, y, z) and (x, y, −z)
-//! project alike), so the snap cannot know which was meant. The relations can: a leg
-//! whose axis leans towards the viewer while the others lean away is parallel to none of
-//! them. Both poses are tried and the one with more relations is kept (the snapped one
-//! on a tie). Boxes and bent tubes are not mirrored: which of their edges and end halves
-//! are drawn tells the two poses apart already.
+//! view-parallel plane through its centre alike in outline (the axis (x, y, z) and
+//! (x, y, −z) project alike); what can tell them apart is which end is drawn whole (the
+//! end facing the viewer) and which only on its near half ([`super::reading`]). Where
+//! the strokes say which end faces the viewer, that reading stands: the drawing's
+//! ambiguity is never settled against the drawing. Where they do not (both ends whole,
+//! or not drawn), the relations decide: a leg whose axis leans towards the viewer while
+//! the others lean away is parallel to none of them, so both poses are tried and the one
+//! with more hard relations, then more in all, is kept (the snapped one on a tie). Boxes
+//! and bent tubes are not mirrored: which of their edges and end halves are drawn tells
+//! the two poses apart already.
 //!
 //! [`Document::release`] is the whole release: inference, then the part is settled in
 //! depth where its relations hold ([`Document::settle_depth`]: the drawing leaves its
@@ -18,11 +22,13 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
+use super::reading::DrawnEnds;
 use super::{
     Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
 };
 use crate::primitive::{FeatureCurve, Primitive, PrimitiveKind};
-use crate::relation::infer::{infer, Part, Proposal};
+use crate::relation::contact::Outline;
+use crate::relation::infer::{infer, Found, Part, Proposal};
 use crate::relation::{residuals, InferenceSettings, Member, Mode};
 
 /// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
@@ -33,11 +39,12 @@ const DEPTH_STEPS: i32 = 40;
 const DEPTH_SCALE: f64 = 0.05;
 
 impl Document {
-    /// Infers the relations between part `id` and the other parts, adds them as hard
-    /// relations and returns their ids. The part may be
-    /// replaced by its mirror image in depth when that one has more relations (see the
-    /// module docs). Relations already in the model (not off) count as known, so nothing
-    /// redundant is added.
+    /// Infers the relations between part `id` and the other parts
+    /// ([`crate::relation::infer`]), adds them (hard or suggested, with their confidence
+    /// and evidence) and returns their ids. The part may be replaced by its mirror image
+    /// in depth when that one has more relations and its strokes do not tell the two
+    /// apart (see the module docs and [`reading`](super::reading)). Relations already in
+    /// the model (not off) count as known, so nothing redundant is added.
     pub fn infer_relations(
         &mut self,
         id: PrimitiveId,
@@ -52,54 +59,84 @@ impl Document {
             .values()
             .map(|p| p.primitive.current_shape().features)
             .collect();
-        let kinds: Vec<PrimitiveKind> = self
+        let mut outlines: Vec<Outline> = self
             .primitives
             .values()
-            .map(|p| p.primitive.kind())
+            .map(|p| Outline::of(&p.primitive))
+            .collect();
+        let sizes: Vec<(PrimitiveKind, f64, f64)> = self
+            .primitives
+            .values()
+            .map(|p| {
+                let size = p.primitive.size();
+                let noise = if size > 0.0 { p.fit.rms / size } else { 0.0 };
+                (p.primitive.kind(), size, noise)
+            })
             .collect();
         let existing = self.known_proposals(&ids, &features);
-        let variants = depth_variants(&self.primitives[&id].primitive);
-        let mut best: Option<(Primitive, Vec<Proposal>)> = None;
-        for variant in variants {
+        let snapped = self.primitives[&id].primitive.clone();
+        let drawn = self
+            .snaps
+            .get(&id)
+            .map(|record| DrawnEnds::of(&snapped, &record.assignment));
+        let mut best: Option<(i32, Primitive, Vec<Found>)> = None;
+        for variant in depth_variants(&snapped) {
+            let reading = drawn.map_or(0, |d| d.agreement(&variant));
             features[new] = variant.current_shape().features;
-            let parts: Vec<Part<'_>> = kinds
+            outlines[new] = Outline::of(&variant);
+            let parts: Vec<Part<'_>> = sizes
                 .iter()
                 .zip(&features)
-                .map(|(kind, f)| Part {
-                    kind: *kind,
+                .zip(&outlines)
+                .map(|((&(kind, size, noise), f), outline)| Part {
+                    kind,
                     features: f,
+                    outline,
+                    size,
+                    noise,
                 })
                 .collect();
-            let proposals = infer(&parts, new, &existing, settings);
+            let found = infer(&parts, new, &existing, settings);
             log::debug!(
-                "part #{} as {:?}: {} relation(s) {:?}",
+                "part #{} as {:?} (reading {reading}): {} relation(s) {:?}",
                 id.0,
                 variant.params(),
-                proposals.len(),
-                proposals.iter().map(|p| p.kind.name()).collect::<Vec<_>>()
+                found.len(),
+                found
+                    .iter()
+                    .map(|f| (f.proposal.kind.name(), f.mode.name()))
+                    .collect::<Vec<_>>()
             );
-            if best.as_ref().is_none_or(|b| proposals.len() > b.1.len()) {
-                best = Some((variant, proposals));
+            // The drawing first: a reading its strokes contradict is never taken for
+            // more relations. Among readings the strokes support alike, the one with
+            // more hard relations, then more in all, wins (the snapped one on a tie).
+            let hard = found.iter().filter(|f| f.mode == Mode::Hard).count();
+            let better = best.as_ref().is_none_or(|(r, _, b)| {
+                let b_hard = b.iter().filter(|f| f.mode == Mode::Hard).count();
+                (reading, hard, found.len()) > (*r, b_hard, b.len())
+            });
+            if better {
+                best = Some((reading, variant, found));
             }
         }
-        let Some((chosen, proposals)) = best else {
+        let Some((_, chosen, found)) = best else {
             return Vec::new();
         };
         if let Some(placed) = self.primitives.get_mut(&id) {
             placed.primitive = chosen;
         }
-        self.add_hard_relations(&ids, proposals)
+        self.add_inferred(&ids, found)
     }
 
     /// The relations of the model that are not off, as proposals over the parts'
-    /// positions in `ids` (with `features` their feature curves, in the same order), for
-    /// inference to count as known. A relation whose member is not in `ids`, or that
-    /// names a feature its member lacks, is left out.
+    /// positions in `ids` (with `features` their feature curves, in the same order) with
+    /// their modes, for inference to count as known. A relation whose member is not in
+    /// `ids`, or that names a feature its member lacks, is left out.
     fn known_proposals(
         &self,
         ids: &[PrimitiveId],
         features: &[Vec<FeatureCurve<f64>>],
-    ) -> Vec<Proposal> {
+    ) -> Vec<(Proposal, Mode)> {
         self.relations
             .iter()
             .filter(|r| r.mode != Mode::Off)
@@ -122,35 +159,51 @@ impl Document {
                         None => Some(None),
                     })
                     .collect::<Option<Vec<_>>>()?;
-                Some(Proposal {
-                    kind: r.kind,
-                    members,
-                    features: chosen,
-                })
+                Some((
+                    Proposal {
+                        kind: r.kind,
+                        members,
+                        features: chosen,
+                    },
+                    r.mode,
+                ))
             })
             .collect()
     }
 
-    /// Adds `proposals` (members as positions in `ids`) as hard relations and returns
-    /// the ids of those the model accepted.
-    fn add_hard_relations(
-        &mut self,
-        ids: &[PrimitiveId],
-        proposals: Vec<Proposal>,
-    ) -> Vec<RelationId> {
-        let mut added = Vec::with_capacity(proposals.len());
-        for p in proposals {
+    /// Adds the relations `found` (members as positions in `ids`) in their modes, with
+    /// their confidence and evidence, and returns the ids of those the model accepted.
+    fn add_inferred(&mut self, ids: &[PrimitiveId], found: Vec<Found>) -> Vec<RelationId> {
+        let mut added = Vec::with_capacity(found.len());
+        for f in found {
             let relation = Relation {
-                kind: p.kind,
-                members: p.members.iter().map(|&i| ids[i]).collect(),
-                features: p.features,
-                mode: Mode::Hard,
+                kind: f.proposal.kind,
+                members: f.proposal.members.iter().map(|&i| ids[i]).collect(),
+                features: f.proposal.features,
+                mode: f.mode,
+                inferred: Some(f.inferred),
             };
             if let Ok(relation) = self.add_relation(relation) {
                 added.push(relation);
             }
         }
         added
+    }
+
+    /// Accepts every suggested relation (makes it hard) and returns their ids; the
+    /// model is not re-solved (see [`Document::solve`]).
+    pub fn accept_suggestions(&mut self) -> Vec<RelationId> {
+        let ids: Vec<RelationId> = self
+            .relations_with_ids()
+            .filter(|(_, r)| r.mode == Mode::Suggested)
+            .map(|(id, _)| id)
+            .collect();
+        for id in &ids {
+            if let Some(r) = self.relation_mut(*id) {
+                r.mode = Mode::Hard;
+            }
+        }
+        ids
     }
 
     /// Releases part `id` as the tool does when the user lets go of it: infers its
@@ -220,7 +273,7 @@ impl Document {
         let relations: Vec<&Relation> = self
             .relations
             .iter()
-            .filter(|r| r.mode != Mode::Off && r.members.contains(&id))
+            .filter(|r| r.mode.is_enforced() && r.members.contains(&id))
             .collect();
         if relations.is_empty() {
             return 0.0;
@@ -337,8 +390,9 @@ fn least_misfit_depth(reach: f64, misfit: impl Fn(f64) -> f64) -> f64 {
 mod tests {
     use glam::DVec3;
 
-    use crate::model::{Document, Fit, Placed};
-    use crate::primitive::{Cylinder, Feature, Primitive};
+    use super::super::reading::drawn;
+    use crate::model::{Document, Fit, Placed, PrimitiveId, SnapRecord};
+    use crate::primitive::{Cuboid, Cylinder, Feature, Primitive};
     use crate::relation::{InferenceSettings, Member, Mode, RelationKind};
 
     fn leg(x: f64, axis: DVec3) -> Placed {
@@ -353,24 +407,64 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_part_snapped_in_the_wrong_mirror_pose_is_turned_by_its_relations() {
+    /// Two legs under a slab (the slab first), the second snapped leaning `second`.
+    fn legs_under_a_slab(second: DVec3) -> (Document, PrimitiveId, PrimitiveId) {
         let mut doc = Document::new();
+        doc.add(Placed {
+            primitive: Primitive::Cuboid(Cuboid {
+                center: DVec3::new(3.0, 5.0, 0.0),
+                rotation: glam::DQuat::IDENTITY,
+                size: DVec3::new(14.0, 1.0, 6.0),
+            }),
+            fit: Fit::default(),
+        });
         let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
-        // The same leg seen in the same drawing, but snapped leaning the other way in
-        // depth: parallel to nothing as it is.
-        let b = doc.add(leg(6.0, DVec3::new(0.0, 0.9, -0.44)));
-        let added = doc.infer_relations(b, &InferenceSettings::default());
-        let kinds: Vec<RelationKind> = added
-            .iter()
-            .map(|&r| doc.relation(r).expect("added").kind)
-            .collect();
-        assert!(kinds.contains(&RelationKind::Parallel), "{kinds:?}");
-        let Primitive::Cylinder(turned) = &doc.get(b).expect("placed").primitive else {
+        let b = doc.add(leg(6.0, second));
+        (doc, a, b)
+    }
+
+    fn axis_z(doc: &Document, id: PrimitiveId) -> f64 {
+        let Primitive::Cylinder(c) = &doc.get(id).expect("placed").primitive else {
             unreachable!("a cylinder")
         };
-        assert!((turned.axis.z - 0.44 / DVec3::new(0.0, 0.9, 0.44).length()).abs() < 1e-12);
-        assert!(doc.relations().iter().all(|r| r.members.contains(&a)));
+        c.axis.z
+    }
+
+    #[test]
+    fn a_part_snapped_in_the_wrong_mirror_pose_is_turned_by_its_relations() {
+        // The same leg seen in the same drawing, but snapped leaning the other way in
+        // depth: parallel to nothing as it is. Its strokes (none here) cannot tell.
+        let (mut doc, a, b) = legs_under_a_slab(DVec3::new(0.0, 0.9, -0.44));
+        let added = doc.infer_relations(b, &InferenceSettings::default());
+        let parallel = added.iter().any(|&r| {
+            doc.relation(r)
+                .is_some_and(|r| r.kind == RelationKind::Parallel && r.members.contains(&a))
+        });
+        assert!(parallel, "{:#?}", doc.relations());
+        assert!((axis_z(&doc, b) - 0.44 / DVec3::new(0.0, 0.9, 0.44).length()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_reading_the_strokes_show_is_not_flipped_for_a_relation() {
+        // Snapped upside down with its top towards the viewer, and drawn so: the top
+        // whole, the bottom a half. Its mirror would be parallel to the other leg.
+        let (mut doc, a, b) = legs_under_a_slab(DVec3::new(0.0, -0.9, 0.44));
+        let snapped = doc.get(b).expect("placed").primitive.clone();
+        doc.snaps.insert(
+            b,
+            SnapRecord {
+                assignment: drawn(&snapped, false),
+                rms: 0.0,
+            },
+        );
+        doc.infer_relations(b, &InferenceSettings::default());
+        assert!(axis_z(&doc, b) > 0.0, "turned against its strokes");
+        assert!(doc
+            .relations()
+            .iter()
+            .all(|r| !(r.kind == RelationKind::Parallel
+                && r.members.contains(&a)
+                && r.members.contains(&b))));
     }
 
     #[test]
@@ -394,6 +488,7 @@ mod tests {
             members: vec![a, b],
             features: vec![Some(Feature::Top), Some(Feature::Bottom)],
             mode: Mode::Hard,
+            inferred: None,
         })
         .expect("a coplanar pair of ends");
         let psi = |doc: &Document| {

@@ -1,10 +1,18 @@
 //! Inference on release: the relations a designer meant between a newly snapped
-//! primitive and those already placed, with no duplicates and no redundant chains.
+//! primitive and those already placed, each with its confidence and evidence, with no
+//! duplicates and no redundant chains.
 //!
-//! The new part is compared with every placed part, nearest first (by the distance of
-//! their projected centres). For each kind, candidate feature pairs are tested with
-//! [`holds`]; a candidate is dropped when what it says already follows from the relations
-//! kept so far:
+//! **Candidates come from the contact graph** ([`super::contact`]): the new part is
+//! compared only with the parts a few joints away from it ([`MAX_HOPS`]), nearest
+//! first, so parts of different objects are never related and the work grows with the
+//! contacts, not with the square of the parts. Each candidate that nearly holds
+//! ([`super::closeness`]) is weighed ([`super::evidence`]): how the parts meet, whether
+//! they repeat one another, how closely it holds against the drawing's noise, and a
+//! prior per kind and situation. A confident candidate becomes a hard relation, a
+//! middling one a suggestion ([`Mode::Suggested`]), a weak one is not kept.
+//!
+//! A candidate is dropped when what it says already follows from the relations kept so
+//! far (hard ones for a hard candidate; hard and suggested ones for a suggestion):
 //! - parallel, coaxial, concentric, coplanar, same radius and equal length are
 //!   equivalences: each keeps a union–find of the entities it relates (directions, axis
 //!   lines, centres, planes, radii, lengths), seeded with the relations already in the
@@ -14,17 +22,27 @@
 //!   is both coaxial and concentric is coplanar there already;
 //! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
 //!   tube says nothing new about the box's other parallel edges; and it is proposed only
-//!   between parts that touch in the drawing (see `touching`);
+//!   between parts that touch in the drawing, at a joint or crossing;
 //! - collinear centres are not proposed where the three centres are already on one
 //!   coaxial axis.
 //!
-//! Relations in [`Mode::Off`](super::Mode::Off) do not count as known.
+//! Relations in [`Mode::Off`] do not count as known.
 
 use std::collections::{BTreeSet, HashMap};
 
-use super::{holds, InferenceSettings, Member, RelationKind};
-use crate::geom::segment_distance;
+use super::contact::{ContactGraph, Outline};
+use super::evidence::{confidence, prior, Contact, Evidence, Inferred};
+use super::{closeness, holds, InferenceSettings, Member, Mode, RelationKind};
 use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
+
+/// How many joints apart two parts may be and still be related: 3 reaches a candle on
+/// an arm of a menorah's stem from the stem's other arms' candles' arms (candle, arm,
+/// stem), and a table's leg from another leg (leg, top, leg) with one to spare.
+pub const MAX_HOPS: u32 = 3;
+
+/// Parts of one kind whose sizes differ by less than this fraction repeat one another
+/// (with a joint to one same part).
+const REPEAT_SIZE: f64 = 0.2;
 
 /// A placed primitive as inference sees it.
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +51,25 @@ pub struct Part<'a> {
     pub kind: PrimitiveKind,
     /// Its feature curves (at the snapped or solved pose).
     pub features: &'a [FeatureCurve<f64>],
+    /// Its outline in the drawing.
+    pub outline: &'a Outline,
+    /// Its size ([`crate::primitive::Primitive::size`]).
+    pub size: f64,
+    /// Its fit RMS relative to its size: the drawing's noise for this part (0 for a part
+    /// without strokes).
+    pub noise: f64,
+}
+
+/// A relation inferred by [`infer`]: the proposal, the mode its confidence earns
+/// ([`Mode::Hard`] or [`Mode::Suggested`]), its confidence and its evidence.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Found {
+    /// The relation.
+    pub proposal: Proposal,
+    /// Hard or suggested.
+    pub mode: Mode,
+    /// Its confidence and evidence.
+    pub inferred: Inferred,
 }
 
 /// A relation between parts, by index, with the feature each member uses (`None` for
@@ -100,86 +137,6 @@ fn plane_of(part: &Part<'_>, feature: Feature) -> Option<(glam::DVec2, glam::DVe
                 (glam::DVec2::new(center.x, center.y), normal.to_dvec3())
             }
         })
-}
-
-/// The view-plane box around a part's features (each circle and face with its full
-/// extent), grown by `grow` times its diagonal.
-fn outline_box(part: &Part<'_>, grow: f64) -> Option<(glam::DVec2, glam::DVec2)> {
-    let mut lo = glam::DVec2::splat(f64::INFINITY);
-    let mut hi = glam::DVec2::splat(f64::NEG_INFINITY);
-    for f in part.features {
-        let (center, reach) = match &f.geometry {
-            FeatureGeometry::Circle { center, radius, .. } => (center, *radius),
-            FeatureGeometry::Rectangle {
-                center,
-                half_extents,
-                ..
-            } => (center, half_extents[0].1.hypot(half_extents[1].1)),
-        };
-        let c = glam::DVec2::new(center.x, center.y);
-        lo = lo.min(c - glam::DVec2::splat(reach));
-        hi = hi.max(c + glam::DVec2::splat(reach));
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let margin = glam::DVec2::splat(grow * (hi - lo).length());
-    Some((lo - margin, hi + margin))
-}
-
-/// Whether two parts touch or nearly touch in the drawing: their outline boxes, grown by
-/// `grow` of their diagonals, overlap. Orthogonality is a designed relation between
-/// parts that meet (a pipe on a box, a handle on a mug); between parts far apart a right
-/// angle is most often chance (see also [`joined`]).
-fn touching(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
-    match (outline_box(a, grow), outline_box(b, grow)) {
-        (Some((alo, ahi)), Some((blo, bhi))) => {
-            alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y
-        }
-        _ => false,
-    }
-}
-
-/// A straight solid's axis in the drawing: its end circles' projected centres and its
-/// largest end radius (`None` for spheres, boxes and bent tubes).
-fn axis_segment(part: &Part<'_>) -> Option<(glam::DVec2, glam::DVec2, f64)> {
-    if !matches!(
-        part.kind,
-        PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
-    ) {
-        return None;
-    }
-    let end = |feature: Feature| {
-        part.features.iter().find_map(|f| match &f.geometry {
-            FeatureGeometry::Circle { center, radius, .. } if f.feature == feature => {
-                Some((glam::DVec2::new(center.x, center.y), *radius))
-            }
-            _ => None,
-        })
-    };
-    let ((a, ra), (b, rb)) = (end(Feature::Bottom)?, end(Feature::Top)?);
-    Some((a, b, ra.max(rb)))
-}
-
-/// Whether two parts may be orthogonal by design: they meet in the drawing
-/// ([`touching`]), and when both are straight solids of revolution, one's end lies on
-/// the other's body (a T or an L joint: a handle on a mug, a rung on a ladder's side),
-/// within `grow` of its length. Two tubes radiating from one ball meet only near the
-/// ball, end to end at a distance; their angle is the ball's design, not a right angle.
-fn joined(a: &Part<'_>, b: &Part<'_>, grow: f64) -> bool {
-    if !touching(a, b, grow) {
-        return false;
-    }
-    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (axis_segment(a), axis_segment(b)) else {
-        return true;
-    };
-    let end_on = |p: glam::DVec2, s0: glam::DVec2, s1: glam::DVec2, r: f64| {
-        segment_distance(s0, s1, p) <= r + grow * s0.distance(s1)
-    };
-    end_on(a0, b0, b1, rb)
-        || end_on(a1, b0, b1, rb)
-        || end_on(b0, a0, a1, ra)
-        || end_on(b1, a0, a1, ra)
 }
 
 /// What of a part an entity of inference is.
@@ -317,32 +274,47 @@ fn centre(part: &Part<'_>) -> glam::DVec2 {
 }
 
 /// The relations between part `new` and the others, given the relations already in the
-/// model (`existing`, whose modes are not off). See the module docs for the rules.
+/// model (`existing`, each with its mode; off ones are left out), each with its mode,
+/// confidence and evidence. See the module docs for the rules.
 pub fn infer(
     parts: &[Part<'_>],
     new: usize,
-    existing: &[Proposal],
+    existing: &[(Proposal, Mode)],
     settings: &InferenceSettings,
-) -> Vec<Proposal> {
+) -> Vec<Found> {
     if new >= parts.len() {
         return Vec::new();
     }
+    let graph = ContactGraph::new(parts, settings.distance);
+    let hops = graph.hops_from(new, MAX_HOPS);
     let mut run = Inference {
         parts,
         new,
         settings,
-        known: Known::default(),
+        graph: &graph,
+        hops: &hops,
+        enforced: Known::default(),
+        all: Known::default(),
         out: Vec::new(),
     };
-    for p in existing {
-        run.known.add(parts, p);
+    for (p, mode) in existing {
+        if mode.is_enforced() {
+            run.enforced.add(parts, p);
+        }
+        if *mode != Mode::Off {
+            run.all.add(parts, p);
+        }
     }
     let here = centre(&parts[new]);
-    let mut others: Vec<usize> = (0..parts.len()).filter(|&i| i != new).collect();
+    let mut others: Vec<usize> = (0..parts.len())
+        .filter(|&i| i != new && hops[i].is_some())
+        .collect();
     others.sort_by(|&a, &b| {
-        centre(&parts[a])
-            .distance(here)
-            .total_cmp(&centre(&parts[b]).distance(here))
+        hops[a].cmp(&hops[b]).then(
+            centre(&parts[a])
+                .distance(here)
+                .total_cmp(&centre(&parts[b]).distance(here)),
+        )
     });
     for &other in &others {
         let coaxial = run.axes(other);
@@ -358,23 +330,33 @@ struct Inference<'p, 'a> {
     parts: &'p [Part<'a>],
     new: usize,
     settings: &'p InferenceSettings,
-    known: Known,
-    out: Vec<Proposal>,
+    graph: &'p ContactGraph,
+    /// How many joints apart each part is from the new one.
+    hops: &'p [Option<u32>],
+    /// What the enforced relations say (hard candidates are checked against it).
+    enforced: Known,
+    /// What the enforced and suggested relations say (suggestions are checked against
+    /// it).
+    all: Known,
+    out: Vec<Found>,
 }
 
 impl Inference<'_, '_> {
-    /// Whether `p` nearly holds.
-    fn holds(&self, p: &Proposal) -> bool {
-        let members: Vec<Member<'_, f64>> = p
-            .members
+    /// The members of `p` as relation tests see them.
+    fn members(&self, p: &Proposal) -> Vec<Member<'_, f64>> {
+        p.members
             .iter()
             .zip(&p.features)
             .map(|(&i, f)| Member {
                 features: self.parts[i].features,
                 feature: *f,
             })
-            .collect();
-        self.settings.enabled(p.kind) && holds(p.kind, &members, self.settings)
+            .collect()
+    }
+
+    /// Whether `p` nearly holds.
+    fn holds(&self, p: &Proposal) -> bool {
+        self.settings.enabled(p.kind) && holds(p.kind, &self.members(p), self.settings)
     }
 
     /// Whether some direction of `other` is parallel to one of the new part's.
@@ -387,14 +369,82 @@ impl Inference<'_, '_> {
         })
     }
 
-    /// Keeps `p` if it holds and says something new; whether it was kept.
-    fn propose(&mut self, p: Proposal) -> bool {
-        if self.holds(&p) && self.known.add(self.parts, &p) {
-            self.out.push(p);
-            true
-        } else {
-            false
+    /// The kind's threshold in the relative units of the parts' noise.
+    fn threshold(&self, kind: RelationKind) -> f64 {
+        let s = self.settings;
+        match kind {
+            RelationKind::Parallel | RelationKind::Orthogonal => s.angle_degrees.to_radians().sin(),
+            RelationKind::SameRadius => s.radius,
+            RelationKind::EqualLength => s.length,
+            _ => s.distance,
         }
+    }
+
+    /// The evidence for `p` (which holds to `closeness` of its thresholds).
+    fn evidence(&self, p: &Proposal, closeness: f64) -> Evidence {
+        let other = p.members.iter().copied().find(|&m| m != self.new);
+        let (contact, hops) = match other {
+            Some(o) => (
+                self.graph.between(self.new, o),
+                self.hops[o].unwrap_or(u32::MAX),
+            ),
+            None => (Contact::Apart, 0),
+        };
+        let repeated = other.is_some_and(|o| {
+            let (a, b) = (&self.parts[self.new], &self.parts[o]);
+            a.kind == b.kind
+                && (a.size - b.size).abs() <= REPEAT_SIZE * a.size.max(b.size)
+                && self.graph.share_a_joint(self.new, o)
+        });
+        let noise = p
+            .members
+            .iter()
+            .map(|&m| self.parts[m].noise)
+            .fold(0.0, f64::max);
+        Evidence {
+            contact,
+            hops,
+            repeated,
+            closeness,
+            noise,
+            prior: prior(p.kind, contact, hops, repeated),
+        }
+    }
+
+    /// Weighs `p` and keeps it, hard or as a suggestion, if it holds, is confident enough
+    /// and says something new; whether it was kept.
+    fn propose(&mut self, p: Proposal) -> bool {
+        if !self.settings.enabled(p.kind) {
+            return false;
+        }
+        let Some(closeness) = closeness(p.kind, &self.members(&p), self.settings) else {
+            return false;
+        };
+        let evidence = self.evidence(&p, closeness);
+        let confidence = confidence(&evidence, self.threshold(p.kind));
+        let mode = if confidence >= self.settings.hard_confidence() {
+            if !self.enforced.add(self.parts, &p) {
+                return false;
+            }
+            self.all.add(self.parts, &p);
+            Mode::Hard
+        } else if confidence >= self.settings.suggest_confidence() {
+            if !self.all.add(self.parts, &p) {
+                return false;
+            }
+            Mode::Suggested
+        } else {
+            return false;
+        };
+        self.out.push(Found {
+            proposal: p,
+            mode,
+            inferred: Inferred {
+                confidence,
+                evidence,
+            },
+        });
+        true
     }
 
     /// A relation between the new part's feature `a` and `other`'s feature `b`.
@@ -407,7 +457,8 @@ impl Inference<'_, '_> {
     }
 
     /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
-    /// some direction is parallel and only between parts that touch in the drawing.
+    /// some direction is parallel and only between parts that touch in the drawing (at a
+    /// joint, or crossing).
     /// Returns whether the parts are coaxial.
     fn axes(&mut self, other: usize) -> bool {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
@@ -430,7 +481,9 @@ impl Inference<'_, '_> {
                 self.propose(p);
             }
         }
-        if !parallel_somewhere && joined(&new_part, &other_part, self.settings.distance) {
+        let touching =
+            self.hops[other] == Some(1) && self.graph.between(self.new, other) != Contact::Apart;
+        if !parallel_somewhere && touching {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
                     self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
@@ -540,7 +593,7 @@ impl Inference<'_, '_> {
             return;
         };
         for &other in others {
-            if self.known.coaxial(new, other) || self.parallel_to_new(other) {
+            if self.all.coaxial(new, other) || self.parallel_to_new(other) {
                 // On a parallel part's end the line is its axis: coaxial says it; and
                 // parts drawn one behind the other would line up by chance.
                 continue;
@@ -573,35 +626,52 @@ impl Proposal {
 mod tests {
     use glam::{DQuat, DVec3};
 
-    use super::{infer, Part, Proposal};
+    use super::{infer, Found, Part, Proposal};
     use crate::primitive::{Axis, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
-    use crate::relation::{InferenceSettings, RelationKind};
+    use crate::relation::contact::Outline;
+    use crate::relation::{InferenceSettings, Mode, RelationKind};
 
-    /// Relations inferred placing `primitives` one by one, as on release.
-    fn place_all(primitives: &[Primitive]) -> Vec<Proposal> {
+    /// Relations inferred placing `primitives` one by one, as on release (hard and
+    /// suggested).
+    fn place_all_found(primitives: &[Primitive]) -> Vec<Found> {
         let features: Vec<Vec<FeatureCurve<f64>>> = primitives
             .iter()
             .map(|p| p.current_shape().features)
             .collect();
+        let outlines: Vec<Outline> = primitives.iter().map(Outline::of).collect();
         let parts: Vec<Part<'_>> = primitives
             .iter()
             .zip(&features)
-            .map(|(p, f)| Part {
+            .zip(&outlines)
+            .map(|((p, f), o)| Part {
                 kind: p.kind(),
                 features: f,
+                outline: o,
+                size: p.size(),
+                noise: 0.005,
             })
             .collect();
-        let mut relations = Vec::new();
+        let mut found: Vec<Found> = Vec::new();
         for new in 1..parts.len() {
-            let found = infer(
+            let existing: Vec<(Proposal, Mode)> =
+                found.iter().map(|f| (f.proposal.clone(), f.mode)).collect();
+            found.extend(infer(
                 &parts[..=new],
                 new,
-                &relations,
+                &existing,
                 &InferenceSettings::default(),
-            );
-            relations.extend(found);
+            ));
         }
-        relations
+        found
+    }
+
+    /// The hard relations inferred placing `primitives` one by one.
+    fn place_all(primitives: &[Primitive]) -> Vec<Proposal> {
+        place_all_found(primitives)
+            .into_iter()
+            .filter(|f| f.mode == Mode::Hard)
+            .map(|f| f.proposal)
+            .collect()
     }
 
     fn count(relations: &[Proposal], kind: RelationKind) -> usize {
@@ -619,18 +689,93 @@ mod tests {
         })
     }
 
+    /// Three legs of `length` under a round top centred at x = 40, at x = 0, 25, 80 (the
+    /// top placed first).
+    fn table(length: f64) -> Vec<Primitive> {
+        let axis = TILT.normalize();
+        let mut parts = vec![Primitive::Cylinder(Cylinder {
+            center: DVec3::X * 40.0 + axis * (length / 2.0 + 2.0),
+            axis,
+            length: 4.0,
+            radius: 60.0,
+        })];
+        parts.extend(
+            [0.0, 25.0, 80.0]
+                .iter()
+                .map(|x| cylinder(DVec3::X * *x, length, 3.0)),
+        );
+        parts
+    }
+
     #[test]
     fn three_legs_give_chains_not_triangles() {
-        let legs: Vec<Primitive> = [0.0, 40.0, 80.0]
-            .iter()
-            .map(|x| cylinder(DVec3::X * *x, 60.0, 3.0))
-            .collect();
-        let r = place_all(&legs);
-        assert_eq!(count(&r, RelationKind::Parallel), 2, "{r:#?}");
+        let r = place_all(&table(60.0));
+        // Top and three legs: one direction class, three relations.
+        assert_eq!(count(&r, RelationKind::Parallel), 3, "{r:#?}");
         assert_eq!(count(&r, RelationKind::SameRadius), 2, "{r:#?}");
         assert_eq!(count(&r, RelationKind::EqualLength), 2, "{r:#?}");
         assert_eq!(count(&r, RelationKind::Coaxial), 0, "{r:#?}");
         assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
+        // Each leg meets the top's underside.
+        assert_eq!(count(&r, RelationKind::Coplanar), 3, "{r:#?}");
+    }
+
+    #[test]
+    fn repeated_legs_are_confident_and_their_evidence_says_why() {
+        let found = place_all_found(&table(60.0));
+        let equal = found
+            .iter()
+            .find(|f| f.proposal.kind == RelationKind::EqualLength)
+            .expect("equal legs");
+        assert_eq!(equal.mode, Mode::Hard);
+        assert!(equal.inferred.evidence.repeated, "{equal:#?}");
+        assert_eq!(equal.inferred.evidence.hops, 2, "{equal:#?}");
+        assert!(equal.inferred.confidence > 0.8, "{equal:#?}");
+    }
+
+    #[test]
+    fn parts_of_different_objects_are_not_related() {
+        // Two tables far apart: legs of one are parallel to legs of the other in the
+        // drawing, but nothing joins them.
+        let mut parts = table(60.0);
+        parts.extend(
+            table(60.0)
+                .into_iter()
+                .map(|p| p.transformed(DVec3::X * 400.0, 1.0)),
+        );
+        let r = place_all_found(&parts);
+        assert!(
+            r.iter().all(|f| f.proposal.members.iter().all(|&m| m < 4)
+                || f.proposal.members.iter().all(|&m| m >= 4)),
+            "{r:#?}"
+        );
+    }
+
+    #[test]
+    fn a_coincidental_length_is_at_most_suggested() {
+        // A stem and a shade stacked end on end with lengths 2 % apart: one axis by
+        // design, one length by chance.
+        let axis = TILT.normalize();
+        let stem = cylinder(DVec3::ZERO, 50.0, 2.0);
+        let shade = Primitive::Cylinder(Cylinder {
+            center: axis * 50.5,
+            axis,
+            length: 51.0,
+            radius: 20.0,
+        });
+        let found = place_all_found(&[stem, shade]);
+        let coaxial = found
+            .iter()
+            .find(|f| f.proposal.kind == RelationKind::Coaxial)
+            .expect("coaxial");
+        assert_eq!(coaxial.mode, Mode::Hard, "{found:#?}");
+        assert!(
+            found
+                .iter()
+                .filter(|f| f.proposal.kind == RelationKind::EqualLength)
+                .all(|f| f.mode == Mode::Suggested),
+            "{found:#?}"
+        );
     }
 
     #[test]

@@ -32,8 +32,10 @@
 pub mod coaxial;
 pub mod collinear_centers;
 pub mod concentric;
+pub mod contact;
 pub mod coplanar;
 pub mod equal_length;
+pub mod evidence;
 pub mod infer;
 pub mod on_sphere;
 pub mod orthogonal;
@@ -120,6 +122,26 @@ pub enum Mode {
     Soft,
     /// Kept, but ignored.
     Off,
+    /// Inferred with medium confidence: shown to the user with its evidence, not
+    /// enforced until accepted (made [`Mode::Hard`]).
+    Suggested,
+}
+
+impl Mode {
+    /// Whether the global solve uses a relation in this mode (hard or soft).
+    pub fn is_enforced(self) -> bool {
+        matches!(self, Self::Hard | Self::Soft)
+    }
+
+    /// The name used in files and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hard => "hard",
+            Self::Soft => "soft",
+            Self::Off => "off",
+            Self::Suggested => "suggested",
+        }
+    }
 }
 
 /// One member of a relation: a primitive's feature curves and the one the relation uses
@@ -183,6 +205,8 @@ pub struct InferenceSettings {
     distance: f64,
     radius: f64,
     length: f64,
+    hard_confidence: f64,
+    suggest_confidence: f64,
 }
 
 /// The fields of [`InferenceSettings`] as stored, before they are checked.
@@ -194,6 +218,8 @@ struct InferenceFields {
     distance: f64,
     radius: f64,
     length: f64,
+    hard_confidence: f64,
+    suggest_confidence: f64,
 }
 
 impl Default for InferenceFields {
@@ -205,6 +231,8 @@ impl Default for InferenceFields {
             distance: d.distance,
             radius: d.radius,
             length: d.length,
+            hard_confidence: d.hard_confidence,
+            suggest_confidence: d.suggest_confidence,
         }
     }
 }
@@ -213,7 +241,8 @@ impl TryFrom<InferenceFields> for InferenceSettings {
     type Error = SettingsError;
 
     fn try_from(f: InferenceFields) -> Result<Self, SettingsError> {
-        Self::new(f.enabled, f.angle_degrees, f.distance, f.radius, f.length)
+        Self::new(f.enabled, f.angle_degrees, f.distance, f.radius, f.length)?
+            .with_confidences(f.hard_confidence, f.suggest_confidence)
     }
 }
 
@@ -225,6 +254,8 @@ impl Default for InferenceSettings {
             distance: 0.1,
             radius: 0.05,
             length: 0.03,
+            hard_confidence: 0.6,
+            suggest_confidence: 0.3,
         }
     }
 }
@@ -264,13 +295,68 @@ impl InferenceSettings {
                 return Err(SettingsError::NotPositive { name, value });
             }
         }
+        let d = Self::default();
         Ok(Self {
             enabled,
             angle_degrees,
             distance,
             radius,
             length,
+            hard_confidence: d.hard_confidence,
+            suggest_confidence: d.suggest_confidence,
         })
+    }
+
+    /// These settings with the confidence tiers of inferred relations: a candidate at
+    /// `hard` or above becomes a hard relation, one at `suggest` or above a suggestion
+    /// ([`Mode::Suggested`]), one below is not kept (see [`evidence`]). Both in [0, 1],
+    /// `suggest` ≤ `hard`.
+    ///
+    /// # Errors
+    ///
+    /// [`SettingsError::OutOfRange`] naming the first bad value.
+    pub fn with_confidences(self, hard: f64, suggest: f64) -> Result<Self, SettingsError> {
+        if !(0.0..=1.0).contains(&hard) {
+            return Err(SettingsError::OutOfRange {
+                name: "hard_confidence",
+                value: hard,
+                range: "[0, 1]",
+            });
+        }
+        if !(0.0..=hard).contains(&suggest) {
+            return Err(SettingsError::OutOfRange {
+                name: "suggest_confidence",
+                value: suggest,
+                range: "[0, hard_confidence]",
+            });
+        }
+        Ok(Self {
+            hard_confidence: hard,
+            suggest_confidence: suggest,
+            ..self
+        })
+    }
+
+    /// The least confidence of an inferred relation made hard (default 0.6).
+    pub fn hard_confidence(&self) -> f64 {
+        self.hard_confidence
+    }
+
+    /// The least confidence of an inferred relation kept as a suggestion (default 0.3).
+    pub fn suggest_confidence(&self) -> f64 {
+        self.suggest_confidence
+    }
+
+    /// These settings with every threshold scaled by `s` (angles and relative
+    /// distances), for measuring how far inside its thresholds a relation holds.
+    fn scaled(&self, s: f64) -> Self {
+        Self {
+            angle_degrees: self.angle_degrees * s,
+            distance: self.distance * s,
+            radius: self.radius * s,
+            length: self.length * s,
+            ..self.clone()
+        }
     }
 
     /// The kinds inferred (default: all).
@@ -388,6 +474,30 @@ pub fn holds(
         RelationKind::EqualLength => equal_length::holds(members, settings),
         RelationKind::OnSphere => on_sphere::holds(members, settings),
     }
+}
+
+/// How far inside its thresholds a relation of `kind` holds between `members`: the
+/// least fraction s ∈ (0, 1] of every threshold of `settings` at which it still holds
+/// ([`holds`] with thresholds scaled by s), to 1/64; `None` when it does not hold. 0
+/// is exact, 1 at the edge.
+pub fn closeness(
+    kind: RelationKind,
+    members: &[Member<'_, f64>],
+    settings: &InferenceSettings,
+) -> Option<f64> {
+    if !holds(kind, members, settings) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..6 {
+        let mid = 0.5 * (lo + hi);
+        if holds(kind, members, &settings.scaled(mid)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
 }
 
 /// The chosen feature of member `i`, or why it cannot be used.

@@ -304,7 +304,7 @@ fn relation_terms<'g>(
                 terms.group(GroupKey::Relation(related.id), eqs, []);
             }
             Mode::Soft => soft.extend(psi.into_iter().map(|e| e.square() * settings.soft_weight())),
-            Mode::Off => {}
+            Mode::Off | Mode::Suggested => {}
         }
     }
     soft

@@ -164,6 +164,7 @@ impl Document {
     ///     members: vec![a, b],
     ///     features: vec![Some(Feature::Top), Some(Feature::Top)],
     ///     mode: Mode::Hard,
+    ///     inferred: None,
     /// })?;
     /// let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
     /// assert!(outcome.conflicts.is_empty());
@@ -380,6 +381,7 @@ mod tests {
             members: vec![a, b],
             features: vec![Some(Feature::Top), Some(Feature::Top)],
             mode: Mode::Hard,
+            inferred: None,
         })
         .expect("the relation suits its members")
     }

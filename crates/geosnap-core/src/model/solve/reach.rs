@@ -4,11 +4,10 @@
 use std::collections::BTreeSet;
 
 use super::{Document, PrimitiveId, Related, Relation};
-use crate::relation::Mode;
 
 /// Whether a relation takes part in solves.
 pub(super) fn active(relation: &Relation) -> bool {
-    relation.mode != Mode::Off
+    relation.mode.is_enforced()
 }
 
 /// The parts within `reach` relations of `changed` (active relations only).

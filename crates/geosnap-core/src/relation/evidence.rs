@@ -1,0 +1,241 @@
+//! Why a relation was inferred, and how sure inference is of it.
+//!
+//! A relation that nearly holds in a snapped model may be meant or may be chance: two
+//! legs of one table are parallel by design, a lamp's stem and its shade have nearly
+//! equal lengths by accident. Inference weighs four pieces of evidence, none of them a
+//! constant tuned to one drawing:
+//!
+//! - **attachment** ([`Contact`]): how the parts meet in the drawing (an end on another
+//!   part's side, on its end face, on its end, …) and how many contacts apart they are in
+//!   the model's contact graph ([`Evidence::hops`]). Parallel, orthogonal and coaxial
+//!   between attached parts are common design; between parts far apart they are chance;
+//! - **repetition** ([`Evidence::repeated`]): parts of one kind and size attached to one
+//!   part (legs, prongs, arms) are meant alike: equal, parallel, of one radius;
+//! - **closeness** ([`Evidence::closeness`]): how far inside its thresholds the relation
+//!   holds, as a fraction of them, and how that compares with the drawing's own noise
+//!   for these parts ([`Evidence::noise`]: their fit RMS relative to their size). A
+//!   relation within the noise is as exact as the drawing can show; one at the edge of a
+//!   threshold much wider than the noise is likely not meant;
+//! - a **prior** per kind and situation ([`prior`]).
+//!
+//! [`confidence`] combines them into one number in [0, 1]; the settings' tiers
+//! ([`InferenceSettings::hard_confidence`], [`InferenceSettings::suggest_confidence`])
+//! make a candidate hard, a suggestion, or drop it.
+//!
+//! [`InferenceSettings::hard_confidence`]: super::InferenceSettings::hard_confidence
+//! [`InferenceSettings::suggest_confidence`]: super::InferenceSettings::suggest_confidence
+
+use serde::{Deserialize, Serialize};
+
+use super::RelationKind;
+
+/// How two parts meet in the drawing (their projected outlines; the drawing shows no
+/// depth).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Contact {
+    /// An end of one sits on the other's end, centres together: a stack.
+    EndOnEnd,
+    /// An end of one lies inside the other's end face or box face: a leg under a table
+    /// top, a stud on a brick, a pipe on a box.
+    EndOnFace,
+    /// An end of one lies on the other's side: a T, an L, a handle on a mug.
+    EndOnSide,
+    /// An end of one sits on a sphere's outline: a tube on a ball.
+    EndOnSphere,
+    /// The outlines overlap or touch with no end at the other: parts crossing (a valve
+    /// through a trumpet's body), boxes side by side, or one drawn behind the other.
+    Crossing,
+    /// The outlines do not meet.
+    Apart,
+}
+
+impl Contact {
+    /// Whether an end of one part sits on the other (every contact but crossing and
+    /// apart): the joints a designer builds.
+    pub fn is_joint(self) -> bool {
+        !matches!(self, Self::Crossing | Self::Apart)
+    }
+
+    /// The name used in files and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::EndOnEnd => "end_on_end",
+            Self::EndOnFace => "end_on_face",
+            Self::EndOnSide => "end_on_side",
+            Self::EndOnSphere => "end_on_sphere",
+            Self::Crossing => "crossing",
+            Self::Apart => "apart",
+        }
+    }
+
+    /// In words, for people: "an end on the other's side".
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::EndOnEnd => "stacked end on end",
+            Self::EndOnFace => "an end sits on the other's face",
+            Self::EndOnSide => "an end meets the other's side (T, L or handle joint)",
+            Self::EndOnSphere => "an end sits on the ball",
+            Self::Crossing => "their outlines cross",
+            Self::Apart => "not touching",
+        }
+    }
+}
+
+/// The evidence behind an inferred relation (written into the model file beside its
+/// confidence).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Evidence {
+    /// How the members meet in the drawing (for three members, the first two).
+    pub contact: Contact,
+    /// How many contacts apart the members are in the contact graph (1: they touch;
+    /// 2: both touch one part; 0: one part with itself).
+    pub hops: u32,
+    /// Whether the members repeat one another: one kind, one size, attached to one part.
+    pub repeated: bool,
+    /// How far inside its thresholds the relation holds, as a fraction of them (0
+    /// exact, 1 at the edge).
+    pub closeness: f64,
+    /// The drawing's noise for these parts: their largest fit RMS relative to their
+    /// size, in the relative units of the thresholds.
+    pub noise: f64,
+    /// The prior of this kind in this situation ([`prior`]).
+    pub prior: f64,
+}
+
+impl Evidence {
+    /// The evidence in words, for a tooltip: "legs alike; an end meets the other's side;
+    /// holds to 12 % of its threshold (within the drawing's noise)".
+    pub fn describe(&self, kind: RelationKind) -> String {
+        let mut parts = Vec::new();
+        if self.repeated {
+            parts.push("repeated parts of one size".to_owned());
+        }
+        parts.push(match self.hops {
+            0 => "one part".to_owned(),
+            1 => self.contact.describe().to_owned(),
+            n => format!("{n} contacts apart"),
+        });
+        let within = if self.closeness <= 0.0 {
+            "exactly".to_owned()
+        } else {
+            format!("to {:.0} % of its threshold", 100.0 * self.closeness)
+        };
+        parts.push(format!("{} holds {within}", kind.name().replace('_', " ")));
+        parts.join("; ")
+    }
+}
+
+/// The prior of a relation of `kind` between parts meeting as `contact`, `hops` contacts
+/// apart, repeated or not: how often such a relation is meant, before looking at how
+/// closely it holds. Attached parts are parallel, orthogonal and coaxial by design;
+/// equal lengths and radii are meant between repeated parts and are most often chance
+/// elsewhere.
+#[expect(
+    clippy::match_same_arms,
+    reason = "a table of priors: one row per kind and situation, read top to bottom"
+)]
+pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) -> f64 {
+    let joint = hops <= 1 && contact.is_joint();
+    let touching = hops <= 1 && contact != Contact::Apart;
+    match kind {
+        RelationKind::Parallel if repeated => 0.9,
+        RelationKind::Parallel if touching => 0.85,
+        RelationKind::Parallel if hops == 2 => 0.75,
+        RelationKind::Parallel => 0.6,
+        RelationKind::Coaxial if joint => 0.9,
+        RelationKind::Coaxial if touching => 0.75,
+        RelationKind::Coaxial if hops == 2 => 0.6,
+        RelationKind::Coaxial => 0.45,
+        RelationKind::Orthogonal if joint => 0.85,
+        RelationKind::Orthogonal if touching => 0.7,
+        RelationKind::Orthogonal => 0.2,
+        RelationKind::Concentric | RelationKind::OnSphere if joint => 0.9,
+        RelationKind::Concentric if touching => 0.7,
+        RelationKind::Concentric | RelationKind::OnSphere => 0.4,
+        RelationKind::Coplanar if joint => 0.85,
+        RelationKind::Coplanar if touching => 0.65,
+        RelationKind::Coplanar if hops == 2 => 0.55,
+        RelationKind::Coplanar => 0.35,
+        RelationKind::SameRadius | RelationKind::EqualLength if repeated => 0.9,
+        RelationKind::SameRadius if joint => 0.55,
+        RelationKind::SameRadius | RelationKind::EqualLength => 0.4,
+        RelationKind::CollinearCenters => 0.4,
+    }
+}
+
+/// The relative error a drawing of this `noise` leaves a relation that holds exactly
+/// in the design: twice the noise.
+const NOISE_ERRORS: f64 = 2.0;
+
+/// The confidence in [0, 1] of a relation with this evidence, where `threshold` is its
+/// kind's threshold in the relative units of [`Evidence::noise`] (sin of the angle, or
+/// the relative distance).
+///
+/// The prior is scaled by how closely the relation holds: fully within the drawing's
+/// noise (error ≤ 2 × noise), and falling linearly to half at the threshold's edge. A
+/// relation at the edge of a wide threshold on a clean drawing is half as likely as one
+/// the drawing shows exact.
+pub fn confidence(evidence: &Evidence, threshold: f64) -> f64 {
+    let error = evidence.closeness * threshold;
+    let tolerated = (NOISE_ERRORS * evidence.noise).min(threshold);
+    let fit = if error <= tolerated {
+        1.0
+    } else {
+        (1.0 - (error - tolerated) / (threshold - tolerated).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0)
+    };
+    (evidence.prior * (0.5 + 0.5 * fit)).clamp(0.0, 1.0)
+}
+
+/// An inferred relation's confidence and evidence.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Inferred {
+    /// The confidence in [0, 1].
+    pub confidence: f64,
+    /// What it rests on.
+    pub evidence: Evidence,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{confidence, prior, Contact, Evidence};
+    use crate::relation::RelationKind;
+
+    fn evidence(kind: RelationKind, contact: Contact, hops: u32, closeness: f64) -> Evidence {
+        Evidence {
+            contact,
+            hops,
+            repeated: false,
+            closeness,
+            noise: 0.005,
+            prior: prior(kind, contact, hops, false),
+        }
+    }
+
+    #[test]
+    fn attached_and_exact_beats_apart_and_rough() {
+        let k = RelationKind::Parallel;
+        let attached = confidence(&evidence(k, Contact::EndOnSide, 1, 0.05), 0.14);
+        let apart = confidence(&evidence(k, Contact::Apart, 3, 0.9), 0.14);
+        assert!(attached > 0.8, "{attached}");
+        assert!(apart < 0.4, "{apart}");
+    }
+
+    #[test]
+    fn within_the_noise_counts_as_exact() {
+        let k = RelationKind::Coaxial;
+        let mut e = evidence(k, Contact::EndOnEnd, 1, 0.5);
+        e.noise = 0.05; // an error of 0.05 in a threshold of 0.1 is within 2 × noise
+        assert!((confidence(&e, 0.1) - e.prior).abs() < 1e-12);
+        e.noise = 0.001;
+        assert!(confidence(&e, 0.1) < e.prior);
+    }
+
+    #[test]
+    fn coincidental_sizes_are_weak_and_repeated_ones_strong() {
+        let k = RelationKind::EqualLength;
+        let lone = prior(k, Contact::EndOnEnd, 1, false);
+        let legs = prior(k, Contact::Apart, 2, true);
+        assert!(lone < 0.5 && legs > 0.8);
+    }
+}
