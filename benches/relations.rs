@@ -63,7 +63,7 @@ use support::{fmt_ns, timed, Bench, Stats, Table};
 use synth::{draw, Rng, Style};
 
 /// Model sizes (primitives).
-const SIZES: [usize; 5] = [10, 20, 50, 100, 200];
+const SIZES: [usize; 6] = [10, 20, 50, 100, 200, 500];
 /// The sizes of a smoke run.
 const SMOKE_SIZES: [usize; 1] = [10];
 /// The assemblies, in turn.

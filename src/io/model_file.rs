@@ -679,6 +679,7 @@ mod tests {
     fn relations_round_trip_and_bad_ones_are_named() {
         use crate::core::model::{PrimitiveId, Relation};
         use crate::core::primitive::Feature;
+        use crate::core::relation::evidence::{Contact, Evidence, Inferred};
         use crate::core::relation::{Mode, RelationKind};
         let mut document = Document::new();
         for x in [0.0, 50.0] {
@@ -706,8 +707,26 @@ mod tests {
             mode: Mode::Hard,
             inferred: None,
         };
+        let suggested = Relation {
+            kind: RelationKind::SameRadius,
+            members: vec![PrimitiveId(0), PrimitiveId(1)],
+            features: vec![Some(Feature::Top), Some(Feature::Top)],
+            mode: Mode::Suggested,
+            inferred: Some(Inferred {
+                confidence: 0.42,
+                evidence: Evidence {
+                    contact: Contact::Apart,
+                    hops: 2,
+                    repeated: false,
+                    closeness: 0.25,
+                    noise: 0.004,
+                    prior: 0.4,
+                },
+            }),
+        };
         document.add_relation(coaxial.clone()).expect("valid");
         document.add_relation(equal.clone()).expect("valid");
+        document.add_relation(suggested.clone()).expect("valid");
         let json = model_json(&document, "s.svg");
         let text = json.to_string();
         assert!(text.contains(r#""features":["top","bottom"]"#), "{text}");
@@ -715,8 +734,18 @@ mod tests {
             text.contains(r#""kind":"equal_length","members":[1,0],"mode":"hard""#),
             "{text}"
         );
+        assert!(
+            text.contains(r#""mode":"suggested","confidence":0.42,"evidence":{"contact":"apart","hops":2"#),
+            "{text}"
+        );
         let back = parse_model(text.as_bytes()).expect("reads back");
-        assert_eq!(back.document.relations(), &[coaxial, equal]);
+        assert_eq!(back.document.relations(), &[coaxial, equal, suggested]);
+        // Another tool's evidence is not ours: read as none; a confidence of 2 is refused.
+        let foreign = text.replace(r#""evidence":{"contact":"apart""#, r#""evidence":{"why":"x","contact":"apart""#);
+        let back = parse_model(foreign.as_bytes()).expect("reads back");
+        assert!(back.document.relations()[2].inferred.is_none());
+        let bad = text.replace(r#""confidence":0.42"#, r#""confidence":2"#);
+        assert!(parse_model(bad.as_bytes()).is_err());
         // A member that does not exist, an unknown kind, a wrong count, a bad mode.
         for (bad, says) in [
             (r#"{"kind":"parallel","members":[0,7]}"#, "no primitive 7"),

@@ -85,6 +85,7 @@ impl Contact {
 /// The evidence behind an inferred relation (written into the model file beside its
 /// confidence).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Evidence {
     /// How the members meet in the drawing (for three members, the first two).
     pub contact: Contact,
@@ -136,25 +137,24 @@ impl Evidence {
     reason = "a table of priors: one row per kind and situation, read top to bottom"
 )]
 pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) -> f64 {
+    // A joint (an end on the other part) is designed; outlines that merely cross may be
+    // parts drawn one behind the other, and count no more than parts apart.
     let joint = hops <= 1 && contact.is_joint();
-    let touching = hops <= 1 && contact != Contact::Apart;
+    let crossing = hops <= 1 && contact == Contact::Crossing;
     match kind {
         RelationKind::Parallel if repeated => 0.9,
-        RelationKind::Parallel if touching => 0.85,
+        RelationKind::Parallel if joint => 0.85,
         RelationKind::Parallel if hops == 2 => 0.75,
         RelationKind::Parallel => 0.6,
         RelationKind::Coaxial if joint => 0.9,
-        RelationKind::Coaxial if touching => 0.75,
         RelationKind::Coaxial if hops == 2 => 0.6,
         RelationKind::Coaxial => 0.45,
         RelationKind::Orthogonal if joint => 0.85,
-        RelationKind::Orthogonal if touching => 0.7,
+        RelationKind::Orthogonal if crossing => 0.5,
         RelationKind::Orthogonal => 0.2,
         RelationKind::Concentric | RelationKind::OnSphere if joint => 0.9,
-        RelationKind::Concentric if touching => 0.7,
         RelationKind::Concentric | RelationKind::OnSphere => 0.4,
         RelationKind::Coplanar if joint => 0.85,
-        RelationKind::Coplanar if touching => 0.65,
         RelationKind::Coplanar if hops == 2 => 0.55,
         RelationKind::Coplanar => 0.35,
         RelationKind::SameRadius | RelationKind::EqualLength if repeated => 0.9,

@@ -1,6 +1,21 @@
-//! Finding the relation responsible for a broken solve, and naming it.
+//! Finding the relations responsible for a broken solve, and naming them.
+//!
+//! **Contradictions in one pass** ([`contradictions`]). When the hard relations cannot
+//! all hold, the solve ends with constraints it could not meet. At that point the
+//! constraint Jacobian shows which: the constraints are taken in order of precedence
+//! (each part's own shape and the user's dimensions first, then the relations from
+//! oldest to newest), and each relation's rows are reduced against the span of the
+//! rows before it (Gram–Schmidt, as a rank-revealing QR with the columns in that
+//! order). A relation whose residual has a part that no move outside that span can
+//! reduce contradicts the relations before it, to first order: every such relation is
+//! named at once, and the solve runs once more, not once per culprit. A relation whose
+//! rows lie wholly in the span and whose residual is met is redundant: it says again
+//! what the others say, and is kept.
+//!
+//! **A fit made much worse** ([`blame`]): the relation pulling hardest on the part
+//! whose fit suffered (by its multipliers) is named, one per solve.
 
-use super::compile::Part;
+use super::compile::{Compiled, GroupKey, Part};
 use super::{
     Conflict, GlobalSettings, PrimitiveId, Related, Relation, RelationKey, WORSENING_FLOOR,
 };
@@ -110,4 +125,117 @@ pub(super) fn blame(
             rms / own.max(f64::MIN_POSITIVE)
         ),
     })
+}
+
+/// A row reduced below this fraction of its length against the rows before it is
+/// dependent on them. Not a round-off level: a solve that ends with contradicting
+/// relations ends at a compromise where they are all a little off, and there the rows
+/// of a relation implied by the others are dependent only to within that compromise
+/// (a few per cent of their length).
+const DEPENDENT: f64 = 0.05;
+
+/// The hard relations that contradict the constraints before them at the solve's end
+/// `x` (see the module docs), newest last, each with the part of its residual that no
+/// independent move reduces; `values` are the constraint values at `x` and `tol` the
+/// violation tolerance. Empty when the hard relations hold to `tol`.
+pub(super) fn contradictions(
+    compiled: &mut Compiled,
+    x: &[f64],
+    values: &[f64],
+    tol: f64,
+) -> Vec<(RelationKey, f64)> {
+    let n = compiled.problem.var_count();
+    let jacobian = compiled.problem.constraint_jacobian(x);
+    let row = |i: usize| &jacobian[i * n..(i + 1) * n];
+    let mut groups: Vec<_> = compiled.groups.iter().collect();
+    // Precedence: shapes and dimensions, then relations oldest first.
+    groups.sort_by_key(|g| match g.key {
+        GroupKey::Part(_) | GroupKey::Dimension(..) => (0, None),
+        GroupKey::Relation(id) => (1, Some(id)),
+    });
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut found = Vec::new();
+    for group in groups {
+        let rows: Vec<Vec<f64>> = group
+            .equalities
+            .clone()
+            .map(|i| {
+                let reduced = reduce(row(i), &basis);
+                let length = norm(row(i));
+                if norm(&reduced) <= DEPENDENT * length {
+                    vec![0.0; n]
+                } else {
+                    reduced
+                }
+            })
+            .collect();
+        let residual: Vec<f64> = group
+            .equalities
+            .clone()
+            .map(|i| values.get(i).copied().unwrap_or(0.0))
+            .collect();
+        if let GroupKey::Relation(id) = group.key {
+            let left = unreachable_residual(&rows, &residual);
+            if left > tol {
+                found.push((id, left));
+                continue; // its rows do not join the span: the later ones meet the rest
+            }
+        }
+        for i in group.equalities.clone() {
+            // Within the group too: a parallel's three rows have rank two.
+            let reduced = reduce(row(i), &basis);
+            let size = norm(&reduced);
+            if size > DEPENDENT * norm(row(i)) {
+                basis.push(reduced.iter().map(|v| v / size).collect());
+            }
+        }
+    }
+    found
+}
+
+/// The Euclidean norm.
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// `row` with its components along the orthonormal `basis` taken out (modified
+/// Gram–Schmidt, twice for accuracy).
+fn reduce(row: &[f64], basis: &[Vec<f64>]) -> Vec<f64> {
+    let mut r = row.to_vec();
+    for _ in 0..2 {
+        for q in basis {
+            let d: f64 = q.iter().zip(&r).map(|(a, b)| a * b).sum();
+            for (v, qv) in r.iter_mut().zip(q) {
+                *v -= d * qv;
+            }
+        }
+    }
+    r
+}
+
+/// The norm of the part of `residual` (one value per row) that moves along the reduced
+/// `rows` cannot reach: the residual of the least-squares problem min ‖R d + c‖ in the
+/// rows' own space, R the reduced rows. Computed from the rows' Gram matrix R Rᵀ
+/// (small: a relation has at most six rows), whose range is where R d can go.
+fn unreachable_residual(rows: &[Vec<f64>], residual: &[f64]) -> f64 {
+    let k = rows.len();
+    let gram: Vec<Vec<f64>> = (0..k)
+        .map(|i| {
+            (0..k)
+                .map(|j| rows[i].iter().zip(&rows[j]).map(|(a, b)| a * b).sum())
+                .collect()
+        })
+        .collect();
+    // Orthonormal basis of the Gram matrix's column space (its columns by Gram–Schmidt).
+    let scale = (0..k).map(|i| gram[i][i]).fold(0.0, f64::max);
+    let mut span: Vec<Vec<f64>> = Vec::new();
+    for j in 0..k {
+        let column: Vec<f64> = (0..k).map(|i| gram[i][j]).collect();
+        let reduced = reduce(&column, &span);
+        let size = norm(&reduced);
+        if size > 1e-9 * scale && size > 0.0 {
+            span.push(reduced.iter().map(|v| v / size).collect());
+        }
+    }
+    norm(&reduce(residual, &span))
 }

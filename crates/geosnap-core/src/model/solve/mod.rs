@@ -67,7 +67,7 @@ use crate::solve::{
     Clock, Problem, SolveContext, SolveError, SolveReport, Solver, Start, Termination,
 };
 use compile::{compile, Compiled, Part};
-use conflicts::blame;
+use conflicts::{blame, contradictions, describe};
 use reach::{component, held_beyond};
 
 pub use settings::GlobalSettings;
@@ -242,6 +242,36 @@ impl Document {
         }
         let values = compiled.problem.constraints(&report.x);
         let hard = compiled.hard_relations();
+        // Contradictions first, all at once, from the rank of the constraints.
+        let contradicting = contradictions(
+            &mut compiled,
+            &report.x,
+            &values,
+            settings.violation_tol(),
+        );
+        if !contradicting.is_empty() && outcome.conflicts.len() < settings.max_conflicts() {
+            outcome.report = Some(report);
+            let named: Vec<Conflict> = contradicting
+                .into_iter()
+                .filter_map(|(id, left)| {
+                    let r = relations.iter().find(|r| r.id == id)?;
+                    Some(Conflict {
+                        relation: id,
+                        message: format!(
+                            "{} switched off: it contradicts the relations before it (a residual of {left:.2e} that no move they allow can meet)",
+                            describe(r.position, r.relation)
+                        ),
+                    })
+                })
+                .collect();
+            for conflict in named {
+                if let Some(r) = self.relation_mut(conflict.relation) {
+                    r.mode = Mode::Off;
+                }
+                outcome.conflicts.push(conflict);
+            }
+            return ControlFlow::Continue(());
+        }
         let blamed = blame(
             &parts, &solved, &hard, &values, &report, &relations, settings,
         );
@@ -391,6 +421,28 @@ mod tests {
             Primitive::Cylinder(c) => c.axis,
             _ => unreachable!("only cylinders here"),
         }
+    }
+
+    #[test]
+    fn every_contradiction_is_found_in_one_pass_and_the_newest_is_blamed() {
+        // Two triangles of parallels closed by an orthogonal each: two contradictions,
+        // found from one solve's Jacobian, then one more solve.
+        let mut doc = Document::new();
+        let mut closing = Vec::new();
+        for x in [0.0, 100.0] {
+            let a = doc.add(cylinder(x, DVec3::Y));
+            let b = doc.add(cylinder(x + 8.0, DVec3::new(0.1, 1.0, 0.05)));
+            let c = doc.add(cylinder(x + 16.0, DVec3::new(-0.1, 1.0, 0.1)));
+            relate(&mut doc, RelationKind::Parallel, a, b);
+            relate(&mut doc, RelationKind::Parallel, b, c);
+            closing.push(relate(&mut doc, RelationKind::Orthogonal, a, c));
+        }
+        let outcome = doc.solve(None, &GlobalSettings::default(), Companions::default());
+        let mut blamed: Vec<RelationId> = outcome.conflicts.iter().map(|c| c.relation).collect();
+        blamed.sort();
+        assert_eq!(blamed, closing, "{outcome:#?}");
+        assert_eq!(outcome.solves, 2, "{outcome:#?}");
+        assert!(outcome.conflicts[0].message.contains("contradicts"), "{outcome:#?}");
     }
 
     #[test]
