@@ -735,13 +735,18 @@ mod tests {
             "{text}"
         );
         assert!(
-            text.contains(r#""mode":"suggested","confidence":0.42,"evidence":{"contact":"apart","hops":2"#),
+            text.contains(
+                r#""confidence":0.42,"evidence":{"closeness":0.25,"contact":"apart","hops":2"#
+            ) && text.contains(r#""mode":"suggested""#),
             "{text}"
         );
         let back = parse_model(text.as_bytes()).expect("reads back");
         assert_eq!(back.document.relations(), &[coaxial, equal, suggested]);
         // Another tool's evidence is not ours: read as none; a confidence of 2 is refused.
-        let foreign = text.replace(r#""evidence":{"contact":"apart""#, r#""evidence":{"why":"x","contact":"apart""#);
+        let foreign = text.replace(
+            r#""evidence":{"closeness""#,
+            r#""evidence":{"why":"x","closeness""#,
+        );
         let back = parse_model(foreign.as_bytes()).expect("reads back");
         assert!(back.document.relations()[2].inferred.is_none());
         let bad = text.replace(r#""confidence":0.42"#, r#""confidence":2"#);

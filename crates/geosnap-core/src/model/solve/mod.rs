@@ -243,12 +243,8 @@ impl Document {
         let values = compiled.problem.constraints(&report.x);
         let hard = compiled.hard_relations();
         // Contradictions first, all at once, from the rank of the constraints.
-        let contradicting = contradictions(
-            &mut compiled,
-            &report.x,
-            &values,
-            settings.violation_tol(),
-        );
+        let contradicting =
+            contradictions(&mut compiled, &report.x, &values, settings.violation_tol());
         if !contradicting.is_empty() && outcome.conflicts.len() < settings.max_conflicts() {
             outcome.report = Some(report);
             let named: Vec<Conflict> = contradicting
@@ -442,7 +438,10 @@ mod tests {
         blamed.sort();
         assert_eq!(blamed, closing, "{outcome:#?}");
         assert_eq!(outcome.solves, 2, "{outcome:#?}");
-        assert!(outcome.conflicts[0].message.contains("contradicts"), "{outcome:#?}");
+        assert!(
+            outcome.conflicts[0].message.contains("contradicts"),
+            "{outcome:#?}"
+        );
     }
 
     #[test]
