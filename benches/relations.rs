@@ -86,7 +86,7 @@ fn model(n: usize) -> (Sketch, Vec<SnapResult>) {
     let columns = ((n as f64 / 4.0).sqrt().ceil() as usize).max(1);
     // The last assembly is a table, released last: its last leg is related to its top
     // and to the other legs, so the release has a component to solve.
-    let (table, _) = canonical(AssemblyKind::Table, &mut rng, turn);
+    let table = canonical(AssemblyKind::Table, &mut rng, turn).parts;
     let body = n.saturating_sub(table.len());
     let mut parts: Vec<Primitive> = Vec::new();
     let mut cell = 0;
@@ -109,7 +109,7 @@ fn model(n: usize) -> (Sketch, Vec<SnapResult>) {
         } else {
             turn
         };
-        let (canon, _) = canonical(kind, &mut rng, r);
+        let canon = canonical(kind, &mut rng, r).parts;
         parts.extend(place(&canon, r, cell, &mut rng));
         cell += 1;
     }

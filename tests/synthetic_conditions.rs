@@ -190,7 +190,7 @@ impl Subject {
         PrimitiveKind::from_name(name)
             .map(Self::Single)
             .or_else(|| {
-                AssemblyKind::ALL
+                AssemblyKind::ISSUE_16
                     .into_iter()
                     .find(|k| k.name() == name)
                     .map(Self::Assembly)
@@ -202,7 +202,10 @@ impl Subject {
         match self {
             Self::Single(k) => PrimitiveKind::ALL.iter().position(|x| *x == k).unwrap_or(0) as u64,
             Self::Assembly(k) => {
-                10 + AssemblyKind::ALL.iter().position(|x| *x == k).unwrap_or(0) as u64
+                10 + AssemblyKind::ISSUE_16
+                    .iter()
+                    .position(|x| *x == k)
+                    .unwrap_or(0) as u64
             }
         }
     }
@@ -624,7 +627,7 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
             }
         }
     }
-    for kind in AssemblyKind::ALL {
+    for kind in AssemblyKind::ISSUE_16 {
         for condition in Condition::ALL {
             for index in 0..run.assemblies {
                 jobs.push(Job {
@@ -940,7 +943,7 @@ fn assembly_tables(table: &mut String, header: &str, outcomes: &[Outcome], rates
         table,
         "\nassemblies, every part, per assembly kind\n{header}"
     );
-    for kind in AssemblyKind::ALL {
+    for kind in AssemblyKind::ISSUE_16 {
         let t = Tally::of(
             outcomes
                 .iter()

@@ -2,7 +2,10 @@
 //!
 //! For each kind of assembly (`support::assemblies`: coaxial stacks of cylinders and
 //! cones, tables, balls with radial tubes, bricks with studs, boxes with orthogonal
-//! pipes), random ground-truth assemblies are drawn by the test renderer from random
+//! pipes; mugs with a straight, L or U handle, pipes with T and L joints, plugs with
+//! equal prongs on a face, trumpet-like rows of valves, menorahs; and scenes of two or
+//! three unrelated objects of the last five kinds side by side), random ground-truth
+//! assemblies are drawn by the test renderer from random
 //! designer's views with a random hand, and placed part by part by script steps with
 //! perturbed poses (as in `synthetic_snap`: centre off by up to 15 % of the part's size,
 //! axis by up to 15°, sizes by ±25 %) through [`run_steps`] with the default settings:
@@ -13,16 +16,24 @@
 //! An orthographic view does not show depth: the whole model may come out as the mirror
 //! image of the truth in the view plane (the first part's mirror is a free choice; the
 //! later ones follow it through their relations). The truth is mirrored (z ↦ −z) when
-//! that matches the document's directions better; a mirror leaves every relation's ‖ψ‖
-//! unchanged. Each document part is then matched to its truth part (the step that
+//! that matches the document's directions better, object by object in a scene (its
+//! objects are unrelated, so each one's mirror is a free choice); a mirror leaves every
+//! relation's ‖ψ‖ within an object unchanged. Each document part is then matched to its truth part (the step that
 //! placed it), and each of its features to the truth feature whose normal is nearest (a
 //! cylinder turned end for end swaps `top` and `bottom`; a box's faces are relabelled).
 //!
 //! # Measures
 //!
-//! - **Precision**: of the inferred relations in the final document whose mode is not
-//!   off, the fraction that hold on the truth: ‖ψ‖ ≤ [`PRECISION_TOL`] evaluated with
-//!   [`residuals`] on the matched truth parts and features.
+//! - **Precision**: of the inferred relations in the final document whose mode is
+//!   [`Mode::Hard`], the fraction that hold on the truth: ‖ψ‖ ≤ [`PRECISION_TOL`]
+//!   evaluated with [`residuals`] on the matched truth parts and features.
+//! - **Suggestions**: relations whose mode is neither hard nor off ([`is_suggestion`]:
+//!   medium confidence, shown to the user, not enforced until accepted; today's soft
+//!   mode and the suggested mode to come), counted apart from precision with how many
+//!   of them hold on the truth (the same test).
+//! - **Cross-object relations**: relations whose mode is not off between parts of
+//!   different objects of a scene ([`Assembly::object`](support::assemblies::Assembly)):
+//!   the objects are unrelated, so there must be none.
 //! - **Recall**: of the designed relations, the fraction found directly or through an
 //!   equivalent chain (legs 1 ∥ 2 and 2 ∥ 3 give 1 ∥ 3, coaxial gives parallel, …): the
 //!   designed relation holds on the *solved* document (‖ψ‖ ≤ [`RECALL_TOL`], which only
@@ -40,14 +51,23 @@
 //! The steps run with a [`MonotonicClock`], as `geosnap run` does, so the global
 //! solve's time cap (10 s per solve by default) holds.
 //!
-//! The test prints a table per kind and overall, every wrong and missed relation with
-//! its case, kinds and features, and asserts the issue's thresholds: overall precision ≥
-//! [`REQUIRED_PRECISION`], recall ≥ [`REQUIRED_RECALL`], and no wrecked part. It is
-//! deterministic.
+//! The test prints a table per kind and overall (hard relations and the ones that hold,
+//! precision, designed and found, recall, suggestions and the ones that hold,
+//! cross-object relations, conflicts, the errors), every wrong and missed relation,
+//! wrong suggestion and cross-object relation with its case, kinds and features, and
+//! asserts issue 17's thresholds: overall precision ≥ [`REQUIRED_PRECISION`], recall ≥
+//! [`REQUIRED_RECALL`], no cross-object relation and no wrecked part. It is
+//! deterministic: case `i` of a kind always draws the same assembly (the kinds added by
+//! issue 17 come after the first five, whose cases are unchanged).
+//!
+//! The default run ([`DEFAULT_CASES`] per kind, one thread per kind) takes about as long
+//! as the five kinds took at 12 cases each before issue 17 added six kinds; set
+//! `GEOSNAP_SYNTH_ASSEMBLIES` for a run that judges inference on more cases.
 //!
 //! Environment (optional): `GEOSNAP_SYNTH_ASSEMBLIES` (cases per kind, default
 //! [`DEFAULT_CASES`]), `GEOSNAP_SYNTH_ASSEMBLY_KINDS` (comma-separated kind names of
-//! [`AssemblyKind::name`], e.g. `stack,table`), `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
+//! [`AssemblyKind::name`]: `stack`, `table`, `ball+tubes`, `brick+studs`, `box+pipes`,
+//! `handle`, `tee`, `plug`, `valves`, `menorah`, `scene`; e.g. `handle,tee`), `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
 //! (`name:case`, e.g. `table:3`: prints that case in detail: each part's truth, own snap
 //! and final parameters and errors, the relations inferred on each release, the
 //! conflicts), `GEOSNAP_SYNTH_ASSEMBLY_PNG` (a folder: the shown case's truth, own snaps
@@ -75,8 +95,9 @@ use glam::DVec3;
 use support::assemblies::{assembly, AssemblyKind, Designed, PERMUTATIONS};
 use support::synth::Rng;
 
-/// Cases per kind unless `GEOSNAP_SYNTH_ASSEMBLIES` says otherwise.
-const DEFAULT_CASES: usize = 12;
+/// Cases per kind unless `GEOSNAP_SYNTH_ASSEMBLIES` says otherwise: eleven kinds at 4
+/// cost about what five kinds at 12 did (the new kinds have more parts).
+const DEFAULT_CASES: usize = 4;
 /// Largest ‖ψ‖ on the truth of an inferred relation that counts as correct.
 const PRECISION_TOL: f64 = 0.02;
 /// Largest ‖ψ‖ on the solved document of a designed relation that counts as found.
@@ -90,9 +111,9 @@ const WRECK_AXIS: f64 = 15.0;
 const WRECK_SIZE: f64 = 0.5;
 /// A case slower than this is named in the report.
 const SLOW_CASE: Duration = Duration::from_secs(10);
-/// The precision the issue asks for.
+/// The precision issue 17 asks for (over hard relations).
 const REQUIRED_PRECISION: f64 = 0.95;
-/// The recall the issue asks for.
+/// The recall issue 17 asks for.
 const REQUIRED_RECALL: f64 = 0.9;
 
 /// The seed of case `index` of `kind`.
@@ -261,9 +282,15 @@ struct CaseResult {
     /// Parts, and parts whose step was skipped.
     parts: usize,
     skipped: usize,
-    /// Inferred relations not off, and those that hold on the truth.
+    /// Inferred hard relations, and those that hold on the truth.
     inferred: usize,
     correct: usize,
+    /// Suggestions (relations neither hard nor off, see [`is_suggestion`]), and those
+    /// that hold on the truth.
+    suggested: usize,
+    suggested_ok: usize,
+    /// Relations not off between parts of different objects of a scene.
+    cross: usize,
     /// Designed relations, and those found.
     designed: usize,
     found: usize,
@@ -276,7 +303,7 @@ struct CaseResult {
     /// Parts the solve took far from the truth, away from their own snap (see
     /// [`WRECK_AXIS`]).
     wrecked: usize,
-    /// Inferred relations by kind: (inferred, correct).
+    /// Inferred hard relations by kind: (inferred, correct).
     by_kind: BTreeMap<&'static str, (usize, usize)>,
     elapsed: Duration,
 }
@@ -344,19 +371,12 @@ fn run_case(kind: AssemblyKind, index: usize, show: bool) -> CaseResult {
         ));
     }
     let fitted = |i: usize| doc.get(id_of[&i]).map(|p| &p.primitive);
-    // The truth, mirrored when the document is the mirror image.
-    let score = |truth: &[Primitive]| -> f64 {
+    let truth = matched_truth(&a.parts, &a.object, &|i| {
         id_of
-            .keys()
-            .filter_map(|&i| Some(direction_mismatch(&truth[i], fitted(i)?)))
-            .sum()
-    };
-    let mirror_truth: Vec<Primitive> = a.parts.iter().map(mirrored).collect();
-    let truth = if score(&mirror_truth) < score(&a.parts) {
-        mirror_truth
-    } else {
-        a.parts.clone()
-    };
+            .get(&i)
+            .and_then(|id| doc.get(*id))
+            .map(|p| p.primitive.clone())
+    });
     let truth_features: Vec<Vec<FeatureCurve<f64>>> =
         truth.iter().map(|p| p.current_shape().features).collect();
     let doc_features: BTreeMap<usize, Vec<FeatureCurve<f64>>> = id_of
@@ -366,6 +386,7 @@ fn run_case(kind: AssemblyKind, index: usize, show: bool) -> CaseResult {
     precision(
         &doc,
         &index_of,
+        &a.object,
         &truth_features,
         &doc_features,
         &tag,
@@ -393,6 +414,34 @@ fn run_case(kind: AssemblyKind, index: usize, show: bool) -> CaseResult {
     }
     out.elapsed = start.elapsed();
     out
+}
+
+/// The truth `parts`, each object (`object` per part) mirrored when the document shows
+/// its mirror image (the objects of a scene are unrelated: each one's mirror is a free
+/// choice). `fitted` gives the document's part of each placed truth part.
+fn matched_truth(
+    parts: &[Primitive],
+    object: &[usize],
+    fitted: &dyn Fn(usize) -> Option<Primitive>,
+) -> Vec<Primitive> {
+    let score = |truth: &[Primitive], o: usize| -> f64 {
+        (0..parts.len())
+            .filter(|&i| object[i] == o)
+            .filter_map(|i| Some(direction_mismatch(&truth[i], &fitted(i)?)))
+            .sum()
+    };
+    let mirror_truth: Vec<Primitive> = parts.iter().map(mirrored).collect();
+    let flipped: BTreeSet<usize> = object
+        .iter()
+        .copied()
+        .filter(|&o| score(&mirror_truth, o) < score(parts, o))
+        .collect();
+    parts
+        .iter()
+        .zip(&mirror_truth)
+        .zip(object)
+        .map(|((p, m), o)| if flipped.contains(o) { m } else { p }.clone())
+        .collect()
 }
 
 /// Writes the overlays of a shown case into the folder `GEOSNAP_SYNTH_ASSEMBLY_PNG`
@@ -545,17 +594,25 @@ fn explain(
     lines
 }
 
-/// Judges every inferred relation that is not off on the matched truth.
+/// Whether a relation in `mode` is a suggestion: shown to the user, not enforced until
+/// accepted (any mode but hard and off; written so that modes added later count).
+fn is_suggestion(mode: Mode) -> bool {
+    mode != Mode::Hard && mode != Mode::Off
+}
+
+/// Judges every inferred relation that is not off on the matched truth: the hard ones
+/// for precision, the suggestions apart, and counts those between parts of different
+/// objects (`object` per part).
 fn precision(
     doc: &Document,
     index_of: &BTreeMap<PrimitiveId, usize>,
+    object: &[usize],
     truth_features: &[Vec<FeatureCurve<f64>>],
     doc_features: &BTreeMap<usize, Vec<FeatureCurve<f64>>>,
     tag: &str,
     out: &mut CaseResult,
 ) {
     for r in doc.relations().iter().filter(|r| r.mode != Mode::Off) {
-        out.inferred += 1;
         let parts: Vec<usize> = r.members.iter().map(|m| index_of[m]).collect();
         let doc_names: Vec<Option<&str>> = (0..parts.len())
             .map(|k| r.features.get(k).copied().flatten().map(Feature::name))
@@ -574,19 +631,42 @@ fn precision(
             .collect();
         let value = psi(r.kind, &members);
         let ok = value.is_some_and(|v| v <= PRECISION_TOL);
+        let what = || {
+            format!(
+                "{} [{}] ({:?}; truth features [{}]): ‖ψ‖ on the truth {}",
+                r.kind.name(),
+                members_text(&parts, &doc_names),
+                r.mode,
+                members_text(&parts, &truth_names),
+                value.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.3}")),
+            )
+        };
+        let objects: BTreeSet<usize> = parts.iter().map(|&i| object[i]).collect();
+        if objects.len() > 1 {
+            out.cross += 1;
+            out.report.push(format!(
+                "{tag}: CROSS-OBJECT (objects {objects:?}) {}",
+                what()
+            ));
+        }
+        if is_suggestion(r.mode) {
+            out.suggested += 1;
+            if ok {
+                out.suggested_ok += 1;
+            } else {
+                out.report
+                    .push(format!("{tag}: WRONG SUGGESTION {}", what()));
+            }
+            continue;
+        }
+        out.inferred += 1;
         let entry = out.by_kind.entry(r.kind.name()).or_default();
         entry.0 += 1;
         if ok {
             out.correct += 1;
             entry.1 += 1;
         } else {
-            out.report.push(format!(
-                "{tag}: WRONG {} [{}] (truth features [{}]): ‖ψ‖ on the truth {}",
-                r.kind.name(),
-                members_text(&parts, &doc_names),
-                members_text(&parts, &truth_names),
-                value.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.3}")),
-            ));
+            out.report.push(format!("{tag}: WRONG {}", what()));
         }
     }
 }
@@ -666,6 +746,9 @@ struct Totals {
     skipped: usize,
     inferred: usize,
     correct: usize,
+    suggested: usize,
+    suggested_ok: usize,
+    cross: usize,
     designed: usize,
     found: usize,
     conflicts: usize,
@@ -686,6 +769,9 @@ impl Totals {
         self.skipped += c.skipped;
         self.inferred += c.inferred;
         self.correct += c.correct;
+        self.suggested += c.suggested;
+        self.suggested_ok += c.suggested_ok;
+        self.cross += c.cross;
         self.designed += c.designed;
         self.found += c.found;
         self.conflicts += c.conflicts.len();
@@ -715,6 +801,9 @@ impl Totals {
         self.skipped += o.skipped;
         self.inferred += o.inferred;
         self.correct += o.correct;
+        self.suggested += o.suggested;
+        self.suggested_ok += o.suggested_ok;
+        self.cross += o.cross;
         self.designed += o.designed;
         self.found += o.found;
         self.conflicts += o.conflicts;
@@ -761,7 +850,7 @@ impl Totals {
 
     fn row(&self, name: &str) -> String {
         format!(
-            "{name:<12}{:>6}{:>7}{:>5}{:>6}{:>6}{:>8.3}{:>6}{:>6}{:>8.3}{:>5}  {}  {}  {}  {:>6.1} s",
+            "{name:<12}{:>6}{:>7}{:>5}{:>6}{:>6}{:>8.3}{:>6}{:>6}{:>8.3}{:>6}{:>6}{:>6}{:>6}  {}  {}  {}  {:>6.1} s",
             self.cases,
             self.parts,
             self.skipped,
@@ -771,6 +860,9 @@ impl Totals {
             self.designed,
             self.found,
             self.recall(),
+            self.suggested,
+            self.suggested_ok,
+            self.cross,
             self.conflicts,
             Self::improvement(self.axis.0, self.axis.1, self.axis.2, 1.0, "°"),
             Self::improvement(self.size.0, self.size.1, self.errors, 100.0, "%"),
@@ -812,8 +904,10 @@ fn header(cases: usize, wall: Duration) -> String {
     let _ = writeln!(
         table,
         "synthetic assemblies: {cases} cases per kind, {:.1} s wall\n\
-         inferred = relations not off in the final model, ok = those holding on the truth\n\
-         (‖ψ‖ ≤ {PRECISION_TOL}); designed = relations the assembly was built with, found =\n\
+         infer = hard relations in the final model, ok = those holding on the truth\n\
+         (‖ψ‖ ≤ {PRECISION_TOL}); sugg = suggestions (neither hard nor off), s-ok = those\n\
+         holding on the truth; cross = relations not off between different objects of a\n\
+         scene; designed = relations the assembly was built with, found =\n\
          holding on the solved model (‖ψ‖ ≤ {RECALL_TOL}) with every member related; skip =\n\
          steps skipped; confl = relations switched off by conflicts; errors per part as\n\
          own snap → final model (improvement): axis angle, mean relative size error,\n\
@@ -822,7 +916,7 @@ fn header(cases: usize, wall: Duration) -> String {
     );
     let _ = writeln!(
         table,
-        "{:<12}{:>6}{:>7}{:>5}{:>6}{:>6}{:>8}{:>6}{:>6}{:>8}{:>5}  {:<29}  {:<29}  {:<29}  {:>8}",
+        "{:<12}{:>6}{:>7}{:>5}{:>6}{:>6}{:>8}{:>6}{:>6}{:>8}{:>6}{:>6}{:>6}{:>6}  {:<29}  {:<29}  {:<29}  {:>8}",
         "assembly",
         "cases",
         "parts",
@@ -833,6 +927,9 @@ fn header(cases: usize, wall: Duration) -> String {
         "dsgn",
         "found",
         "recall",
+        "sugg",
+        "s-ok",
+        "cross",
         "confl",
         "axis",
         "size",
@@ -908,7 +1005,7 @@ fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
         .collect();
     let _ = writeln!(
         table,
-        "inferred relations holding on the truth, by kind: {}",
+        "hard relations holding on the truth, by kind: {}",
         by_kind.join(", ")
     );
     let _ = writeln!(
@@ -917,10 +1014,14 @@ fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
         100.0 * WRECK_SIZE,
         all.wrecked
     );
-    println!("{table}\nwrong, missed, skipped and conflicts:\n{details}");
+    println!("{table}\nwrong, missed, skipped, cross-object and conflicts:\n{details}");
     assert_eq!(
         all.wrecked, 0,
         "the solve wrecked parts that snapped fairly (named WRECKED above)"
+    );
+    assert_eq!(
+        all.cross, 0,
+        "relations between parts of different objects of a scene (named CROSS-OBJECT above)"
     );
     assert!(
         all.precision() >= REQUIRED_PRECISION && all.recall() >= REQUIRED_RECALL,
