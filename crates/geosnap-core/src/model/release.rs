@@ -217,29 +217,30 @@ impl Document {
     /// use glam::DVec3;
     /// use geosnap_core::model::{Companions, Document, Fit, GlobalSettings, Placed};
     /// use geosnap_core::primitive::{Cylinder, Primitive};
-    /// use geosnap_core::relation::{InferenceSettings, RelationKind};
+    /// use geosnap_core::relation::{InferenceSettings, Mode, RelationKind};
     ///
-    /// let leg = |x: f64, axis: DVec3| Placed {
+    /// // A can stacked on another, end on end, drawn a little askew.
+    /// let can = |y: f64, axis: DVec3| Placed {
     ///     primitive: Primitive::Cylinder(Cylinder {
-    ///         center: DVec3::new(x, 0.0, 0.0),
+    ///         center: DVec3::new(0.0, y, 0.0),
     ///         axis: axis.normalize(),
     ///         length: 10.0,
-    ///         radius: 1.0,
+    ///         radius: 3.0,
     ///     }),
     ///     fit: Fit::default(),
     /// };
     /// let mut doc = Document::new();
-    /// doc.add(leg(0.0, DVec3::Y));
-    /// let new = doc.add(leg(5.0, DVec3::new(0.02, 1.0, 0.0)));
+    /// doc.add(can(0.0, DVec3::Y));
+    /// let new = doc.add(can(10.0, DVec3::new(0.02, 1.0, 0.0)));
     /// let (added, outcome) = doc.release(
     ///     new,
     ///     &InferenceSettings::default(),
     ///     &GlobalSettings::default(),
     ///     Companions::default(),
     /// );
-    /// assert!(added
-    ///     .iter()
-    ///     .any(|&r| doc.relation(r).is_some_and(|r| r.kind == RelationKind::Parallel)));
+    /// assert!(added.iter().any(|&r| doc
+    ///     .relation(r)
+    ///     .is_some_and(|r| r.kind == RelationKind::Coaxial && r.mode == Mode::Hard)));
     /// assert!(outcome.conflicts.is_empty());
     /// ```
     pub fn release(

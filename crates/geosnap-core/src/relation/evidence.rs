@@ -9,8 +9,9 @@
 //!   part's side, on its end face, on its end, …) and how many contacts apart they are in
 //!   the model's contact graph ([`Evidence::hops`]). Parallel, orthogonal and coaxial
 //!   between attached parts are common design; between parts far apart they are chance;
-//! - **repetition** ([`Evidence::repeated`]): parts of one kind and size attached to one
-//!   part (legs, prongs, arms) are meant alike: equal, parallel, of one radius;
+//! - **repetition** ([`Evidence::repeated`]): parts of one kind and size in one object,
+//!   not stacked on each other (legs, prongs, arms, candles), are meant alike: equal,
+//!   parallel, of one radius;
 //! - **closeness** ([`Evidence::closeness`]): how far inside its thresholds the relation
 //!   holds, as a fraction of them, and how that compares with the drawing's own noise
 //!   for these parts ([`Evidence::noise`]: their fit RMS relative to their size). A
@@ -92,7 +93,8 @@ pub struct Evidence {
     /// How many contacts apart the members are in the contact graph (1: they touch;
     /// 2: both touch one part; 0: one part with itself).
     pub hops: u32,
-    /// Whether the members repeat one another: one kind, one size, attached to one part.
+    /// Whether the members repeat one another: one kind, one size, in one object but not
+    /// stacked on each other (legs, prongs, candles).
     pub repeated: bool,
     /// How far inside its thresholds the relation holds, as a fraction of them (0
     /// exact, 1 at the edge).
@@ -140,7 +142,6 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
     // A joint (an end on the other part) is designed; outlines that merely cross may be
     // parts drawn one behind the other, and count no more than parts apart.
     let joint = hops <= 1 && contact.is_joint();
-    let crossing = hops <= 1 && contact == Contact::Crossing;
     match kind {
         RelationKind::Parallel if repeated => 0.9,
         RelationKind::Parallel if joint => 0.85,
@@ -149,8 +150,9 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
         RelationKind::Coaxial if joint => 0.9,
         RelationKind::Coaxial if hops == 2 => 0.6,
         RelationKind::Coaxial => 0.45,
+        // Outlines crossing at a right angle with no end on the other are most often
+        // parts drawn one behind the other.
         RelationKind::Orthogonal if joint => 0.85,
-        RelationKind::Orthogonal if crossing => 0.5,
         RelationKind::Orthogonal => 0.2,
         RelationKind::Concentric | RelationKind::OnSphere if joint => 0.9,
         RelationKind::Concentric | RelationKind::OnSphere => 0.4,

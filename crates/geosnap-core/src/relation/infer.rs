@@ -41,7 +41,7 @@ use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKi
 pub const MAX_HOPS: u32 = 3;
 
 /// Parts of one kind whose sizes differ by less than this fraction repeat one another
-/// (with a joint to one same part).
+/// (when they are of one object but not stacked on each other).
 const REPEAT_SIZE: f64 = 0.2;
 
 /// A placed primitive as inference sees it.
@@ -390,11 +390,13 @@ impl Inference<'_, '_> {
             ),
             None => (Contact::Apart, 0),
         };
+        // Alike parts of one object, not stacked on each other: legs under one top,
+        // candles on a menorah's arms, prongs on a plug.
         let repeated = other.is_some_and(|o| {
             let (a, b) = (&self.parts[self.new], &self.parts[o]);
             a.kind == b.kind
                 && (a.size - b.size).abs() <= REPEAT_SIZE * a.size.max(b.size)
-                && self.graph.share_a_joint(self.new, o)
+                && (hops >= 2 || self.graph.share_a_joint(self.new, o))
         });
         let noise = p
             .members
