@@ -472,3 +472,33 @@ fn the_penalty_follows_the_accelerated_schedule() {
         "{penalties:?}"
     );
 }
+
+#[test]
+fn restoration_judges_feasibility_by_the_violation() {
+    // HS61 through argmin once went through a restoration that called its feasible,
+    // nearly solved point infeasible.
+    let settings = AugLagSettings::default().with_inner_solver(InnerSolver::Argmin);
+    check_hs("HS61", &settings).unwrap();
+    let hs61 = hock_schittkowski::by_name("HS61").unwrap().solve(&settings);
+    for (x, e) in hs61
+        .report
+        .x
+        .iter()
+        .zip([5.326_770_157, -2.118_998_639, 3.210_464_239])
+    {
+        assert!((x - e).abs() < 1e-6, "HS61 x = {:?}", hs61.report.x);
+    }
+    // A problem without a feasible point is still infeasible, through either solver.
+    for inner in [InnerSolver::Bounded, InnerSolver::Argmin] {
+        let g = Graph::new();
+        let x = g.var();
+        let y = g.var();
+        let mut p = Problem::builder(&g, (x - 1.0).square() + y.square())
+            .equality("on the circle", x.square() + y.square() - 1.0)
+            .equality("far out", x - 3.0)
+            .build();
+        let settings = AugLagSettings::default().with_inner_solver(inner);
+        let r = solve(&mut p, &[0.5, 0.5], &settings).unwrap();
+        assert_eq!(r.termination, Termination::Infeasible, "{inner:?}: {r:?}");
+    }
+}

@@ -484,7 +484,8 @@ fn within_walls(assignment: &mut Assignment, context: &SnapContext, walls: &[med
 }
 
 /// The gradient tolerance of a BGC's fit, in the normalised frame (objective values are
-/// squared fractions of the size).
+/// squared fractions of the size, below 1, where the solver's relative tolerance is an
+/// absolute one).
 const GRADIENT_TOL: f64 = 3e-4;
 
 /// The constraint tolerance of a BGC's fit: its constraints are bounds that keep it

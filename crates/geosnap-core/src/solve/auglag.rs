@@ -21,10 +21,21 @@
 //! evaluations (which bound every line search) and time; a cancel flag; NaN detection;
 //! and a restoration phase for hopeless-looking cases: when, at the largest penalty, the
 //! violation has not fallen by 1 % over three outer iterations, the violation
-//! ½Σcᵢ² + ½Σmin(0, gⱼ)² alone is minimised from the current point. If it cannot be
-//! brought within the tolerance the problem is *infeasible* (the point is a non-zero
-//! local minimum of the violation); otherwise the solve goes on from the restored point,
-//! and a solve that needs more than two restorations is *stalled*.
+//! φ = ½Σcᵢ² + ½Σmin(0, gⱼ)² alone is minimised from the current point. Feasibility is
+//! judged by the violation itself: the phase stops at the first point whose ‖c‖∞ is
+//! within the constraint tolerance, whatever its gradient, and its gradient test is
+//! relative to the size of the violation, ‖∇φ‖₂ ≤ tol·‖c‖₂ (with `tol` the gradient
+//! tolerance). The problem is *infeasible* only when the phase ends with ‖c‖∞ clearly
+//! above the tolerance ([`CLEARLY_INFEASIBLE`] times it: a non-zero local minimum of the
+//! violation); otherwise the solve goes on from the restored point, and a solve that
+//! needs more than two restorations is *stalled*.
+//!
+//! Gradient tests are relative to the size of the function: the solve has converged
+//! when ‖∇ₓL‖∞ ≤ tol·max(1, |f(x)|), and each inner solve stops when
+//! ‖∇L‖₂ ≤ min(tol·max(1, |L|), 0.1·μ·`constraint_tol`). An inner solve that stopped
+//! without reaching its gradient test (the line search failed or the value stopped
+//! changing) ends the solve as *stalled* when the point is feasible; otherwise the μ
+//! schedule goes on.
 
 use std::ops::ControlFlow;
 use std::time::Duration;
@@ -44,6 +55,9 @@ use crate::ad::Tape;
 const STALL_WINDOW: usize = 3;
 /// Restoration phases one solve may run before it is declared stalled.
 const MAX_RESTORATIONS: usize = 2;
+/// A restoration that ends with ‖c‖∞ above this many constraint tolerances finds the
+/// problem infeasible; between one and this many the solve goes on.
+const CLEARLY_INFEASIBLE: f64 = 10.0;
 
 /// The termination an aborted evaluation leads to.
 fn stop_reason(abort: Abort) -> Termination {
@@ -131,11 +145,17 @@ fn augmented(
     finish(&mut problem.tape, seeds, l, grad)
 }
 
-/// The violation ½Σcᵢ² + ½Σmin(0, gⱼ)² alone, minimised by the restoration phase.
+/// The violation φ = ½Σcᵢ² + ½Σmin(0, gⱼ)² alone, minimised by the restoration phase.
+/// Its goal is feasibility: the first evaluated point whose ‖c‖∞ is within `tolerance`
+/// is kept in `feasible`, and the minimiser stops there.
 struct Violation2<'p, 'b, 'c> {
     problem: &'p mut Problem,
     seeds: Vec<f64>,
     budget: &'b mut Budget<'c>,
+    /// The constraint tolerance.
+    tolerance: f64,
+    /// The first feasible point evaluated.
+    feasible: Option<Vec<f64>>,
 }
 
 impl InnerFunction for Violation2<'_, '_, '_> {
@@ -144,13 +164,28 @@ impl InnerFunction for Violation2<'_, '_, '_> {
         let ne = self.problem.equality_count();
         let values = self.problem.tape.forward(x);
         let mut v = 0.0;
+        let mut max = 0.0f64;
         self.seeds[0] = 0.0;
         for (k, &c) in values[1..].iter().enumerate() {
             let r = if k < ne { c } else { c.min(0.0) };
             v += 0.5 * r * r;
+            max = max.max(r.abs());
             self.seeds[1 + k] = r;
         }
-        finish(&mut self.problem.tape, &self.seeds, v, grad)
+        let v = finish(&mut self.problem.tape, &self.seeds, v, grad)?;
+        if self.feasible.is_none() && max <= self.tolerance {
+            self.feasible = Some(x.to_vec());
+        }
+        Ok(v)
+    }
+
+    /// ‖c‖₂ = √(2φ): the gradient Jᵀc is judged against the violation it comes from.
+    fn gradient_scale(&self, value: f64) -> f64 {
+        (2.0 * value.max(0.0)).sqrt()
+    }
+
+    fn goal_met(&self) -> bool {
+        self.feasible.is_some()
     }
 }
 
@@ -343,12 +378,12 @@ impl<'p, 'c> AugLag<'p, 'c> {
             return ControlFlow::Break(Termination::MaxOuterIterations);
         }
         self.outer += 1;
-        // The inner tolerance must also resolve the constraints: moving cᵢ by the
-        // constraint tolerance changes ∇L by about μ·tol·|∇cᵢ|, so ask for a tenth of that.
+        // The inner tolerance is relative to |L|, but must also resolve the constraints:
+        // moving cᵢ by the constraint tolerance changes ∇L by about μ·tol·|∇cᵢ|, so it is
+        // capped at a tenth of that.
         let limits = InnerLimits {
-            gradient_tol: settings
-                .gradient_tol()
-                .min(0.1 * self.mu * settings.constraint_tol()),
+            gradient_tol: settings.gradient_tol(),
+            gradient_cap: 0.1 * self.mu * settings.constraint_tol(),
             max_iterations: settings.max_inner_iterations(),
             memory: settings.lbfgs_memory(),
         };
@@ -370,13 +405,14 @@ impl<'p, 'c> AugLag<'p, 'c> {
         let v = self.update_multipliers()?;
 
         let feasible = v.measure_max <= settings.constraint_tol();
-        let stationary = v.gradient_norm <= settings.gradient_tol();
+        let stationary = v.gradient_norm <= settings.gradient_tol() * v.objective.abs().max(1.0);
         if feasible && stationary {
             return ControlFlow::Break(Termination::Converged);
         }
-        if feasible && outcome.status == InnerStatus::NoProgress {
-            // The line search cannot improve a feasible point: the gradient norm is at
-            // the round-off floor of this problem.
+        if feasible && outcome.status.is_stuck() {
+            // The inner solve cannot improve a feasible point (its line search failed or
+            // its value stopped changing): the gradient norm is at the round-off floor
+            // of this problem.
             return ControlFlow::Break(Termination::Stalled);
         }
 
@@ -404,7 +440,7 @@ impl<'p, 'c> AugLag<'p, 'c> {
         if self.restorations == MAX_RESTORATIONS {
             return ControlFlow::Break(Termination::Stalled);
         }
-        self.restore(limits)
+        self.restore()
     }
 
     /// Re-evaluates at the accepted point, updates the multipliers (line 8 of the paper's
@@ -461,6 +497,7 @@ impl<'p, 'c> AugLag<'p, 'c> {
             });
         }
         ControlFlow::Continue(Measured {
+            objective: values[0],
             max: v.max,
             measure_max: v.measure_max,
             measure_sq: v.measure_sq,
@@ -468,27 +505,42 @@ impl<'p, 'c> AugLag<'p, 'c> {
         })
     }
 
-    /// The restoration phase: minimises the violation alone from the current point.
-    /// `Break(Infeasible)` when it stays violated (a local minimum of the violation that
-    /// is not zero); otherwise the solve goes on from the restored point.
-    fn restore(&mut self, limits: InnerLimits) -> ControlFlow<Termination> {
+    /// The restoration phase: minimises the violation alone from the current point
+    /// until it is within the constraint tolerance (see the module docs).
+    /// `Break(Infeasible)` when it ends clearly violated (a local minimum of the violation
+    /// that is not zero); otherwise the solve goes on from the restored point.
+    fn restore(&mut self) -> ControlFlow<Termination> {
         let ne = self.ne;
         let ni = self.multipliers.inequality.len();
+        let tolerance = self.settings.constraint_tol();
         self.restorations += 1;
         self.history.clear();
+        let limits = InnerLimits {
+            gradient_tol: self.settings.gradient_tol(),
+            gradient_cap: f64::INFINITY,
+            max_iterations: self.settings.max_inner_iterations(),
+            memory: self.settings.lbfgs_memory(),
+        };
         let mut phase = Violation2 {
             problem: &mut *self.problem,
             seeds: vec![0.0; 1 + ne + ni],
             budget: &mut self.budget,
+            tolerance,
+            feasible: None,
         };
         let restored = self.minimizer.minimize(&mut phase, &mut self.x, limits);
+        let feasible = phase.feasible.take();
         self.inner_iterations += restored.iterations;
+        if let Some(point) = feasible {
+            self.x = point;
+            return ControlFlow::Continue(());
+        }
         if let InnerStatus::Aborted(abort) = restored.status {
             return ControlFlow::Break(stop_reason(abort));
         }
         let values = self.problem.tape.eval(&self.x).to_vec();
         let after = violation(&values[1..], ne, &self.multipliers.inequality, self.mu).max;
-        if after > self.settings.constraint_tol() {
+        if after > CLEARLY_INFEASIBLE * tolerance {
             return ControlFlow::Break(Termination::Infeasible);
         }
         ControlFlow::Continue(())
@@ -521,6 +573,8 @@ impl<'p, 'c> AugLag<'p, 'c> {
 
 /// What an outer iteration measured at its point, before the multiplier update.
 struct Measured {
+    /// f(x).
+    objective: f64,
     /// ‖c‖∞ with inequality violations max(0, −g).
     max: f64,
     /// max of the measure V.

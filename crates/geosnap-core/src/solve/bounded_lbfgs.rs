@@ -296,7 +296,7 @@ impl Minimizer for BoundedLbfgs {
         let mut trial_grad = vec![0.0; n];
         let mut iterations = 0;
         let status = loop {
-            if norm2(&g) <= limits.gradient_tol {
+            if function.goal_met() || limits.converged(&*function, f, norm2(&g)) {
                 break InnerStatus::Converged;
             }
             if iterations >= limits.max_iterations {
@@ -336,7 +336,7 @@ impl Minimizer for BoundedLbfgs {
             f = f_new;
             if step_size <= f64::EPSILON * x.iter().fold(1.0f64, |m, v| m.max(v.abs())) {
                 // The point no longer moves at working precision.
-                break if norm2(&g) <= limits.gradient_tol {
+                break if limits.converged(&*function, f, norm2(&g)) {
                     InnerStatus::Converged
                 } else {
                     InnerStatus::NoProgress
@@ -377,6 +377,7 @@ mod tests {
     fn limits() -> InnerLimits {
         InnerLimits {
             gradient_tol: 1e-10,
+            gradient_cap: f64::INFINITY,
             max_iterations: 500,
             memory: 8,
         }

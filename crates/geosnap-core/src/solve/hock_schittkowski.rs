@@ -342,6 +342,23 @@ pub fn all() -> Vec<TestProblem> {
             },
         },
         TestProblem {
+            name: "HS61",
+            start: &[0.0, 0.0, 0.0],
+            optimum: -143.646_142_2,
+            build: |g, x| {
+                (
+                    g.sum([
+                        4.0 * x[0].square() + 2.0 * x[1].square() + 2.0 * x[2].square(),
+                        -33.0 * x[0] + 16.0 * x[1] - 24.0 * x[2],
+                    ]),
+                    vec![
+                        3.0 * x[0] - 2.0 * x[1].square() - 7.0,
+                        4.0 * x[0] - x[2].square() - 11.0,
+                    ],
+                )
+            },
+        },
+        TestProblem {
             name: "HS77",
             start: &[2.0, 2.0, 2.0, 2.0, 2.0],
             optimum: 0.241_505_128_5,

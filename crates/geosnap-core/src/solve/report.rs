@@ -14,7 +14,8 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "snake_case")]
 pub enum Termination {
     /// The constraints hold within the constraint tolerance and the gradient of the
-    /// Lagrangian is within the gradient tolerance.
+    /// Lagrangian is within the gradient tolerance (relative to max(1, |f|), see
+    /// [`AugLagSettings::with_gradient_tol`](super::AugLagSettings::with_gradient_tol)).
     Converged,
     /// The cap on outer (multiplier) iterations was reached.
     MaxOuterIterations,
@@ -29,7 +30,8 @@ pub enum Termination {
     /// (contradictory constraints, or a region with no feasible point nearby).
     Infeasible,
     /// No more progress: the violation stopped decreasing at the largest penalty, or
-    /// the inner solver could not improve a point that is not yet optimal.
+    /// the inner solver could not improve a feasible point that is not yet optimal (its
+    /// line search failed or the value stopped changing).
     Stalled,
     /// A value or gradient became NaN or infinite; the report holds the last finite point.
     NumericalFailure,

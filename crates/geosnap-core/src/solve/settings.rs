@@ -82,7 +82,7 @@ pub struct AugLagSettings {
 
 impl Default for AugLagSettings {
     /// μ₀ = 10, `μ_max` = 1000, α = 0.5, β = 2 (as Shtof et al.); ‖c‖∞ ≤ 1e-9 and
-    /// ‖∇L‖∞ ≤ 1e-7; at most 200 outer iterations, 1000 inner iterations per outer
+    /// ‖∇L‖∞ ≤ 1e-7 · max(1, |f|); at most 200 outer iterations, 1000 inner iterations per outer
     /// iteration and 200 000 evaluations; no time limit; L-BFGS memory 10.
     fn default() -> Self {
         Self {
@@ -225,7 +225,11 @@ impl AugLagSettings {
         Ok(self)
     }
 
-    /// Convergence needs ‖∇ₓL‖∞ ≤ `tol` (the gradient of the Lagrangian).
+    /// Convergence needs ‖∇ₓL‖∞ ≤ `tol` · max(1, |f(x)|): the gradient of the
+    /// Lagrangian, relative to the objective once |f| exceeds 1 (absolute below). Each
+    /// inner solve likewise stops at ‖∇L‖₂ ≤ `tol` · max(1, |L|), capped at a tenth of
+    /// μ · `constraint_tol` so that it resolves the constraints; the restoration phase
+    /// measures its gradient against the violation instead, ‖∇φ‖₂ ≤ `tol` · ‖c‖₂.
     ///
     /// # Errors
     ///
@@ -326,7 +330,8 @@ impl AugLagSettings {
     pub fn constraint_tol(&self) -> f64 {
         self.constraint_tol
     }
-    /// The gradient tolerance.
+    /// The gradient tolerance (relative to max(1, |f|); see
+    /// [`with_gradient_tol`](Self::with_gradient_tol)).
     pub fn gradient_tol(&self) -> f64 {
         self.gradient_tol
     }

@@ -36,9 +36,9 @@ pub struct GlobalSettings {
 }
 
 impl Default for GlobalSettings {
-    /// The solver's defaults with ‖c‖∞ and ‖∇L‖∞ ≤ 1e-5, at most 30 outer iterations,
-    /// 3000 evaluations and 10 s, and a long L-BFGS memory; soft weight 1, violation
-    /// tolerance 1e-3, worsening 3, 8 conflicts, reach 1.
+    /// The solver's defaults with ‖c‖∞ ≤ 1e-5 and ‖∇L‖∞ ≤ 1e-5 · max(1, |f|), at most 30
+    /// outer iterations, 3000 evaluations and 10 s, and a long L-BFGS memory; soft
+    /// weight 1, violation tolerance 1e-3, worsening 3, 8 conflicts, reach 1.
     fn default() -> Self {
         Self {
             solver: default_solver(),
