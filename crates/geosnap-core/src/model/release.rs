@@ -28,7 +28,7 @@ use super::{
 };
 use crate::primitive::{FeatureCurve, Primitive, PrimitiveKind};
 use crate::relation::contact::Outline;
-use crate::relation::infer::{infer, Found, Part, Proposal};
+use crate::relation::infer::{infer, infer_bridged, Found, Part, Proposal};
 use crate::relation::{residuals, InferenceSettings, Member, Mode};
 
 /// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
@@ -84,18 +84,7 @@ impl Document {
             let reading = drawn.map_or(0, |d| d.agreement(&variant));
             features[new] = variant.current_shape().features;
             outlines[new] = Outline::of(&variant);
-            let parts: Vec<Part<'_>> = sizes
-                .iter()
-                .zip(&features)
-                .zip(&outlines)
-                .map(|((&(kind, size, noise), f), outline)| Part {
-                    kind,
-                    features: f,
-                    outline,
-                    size,
-                    noise,
-                })
-                .collect();
+            let parts = parts_of(&sizes, &features, &outlines);
             let found = infer(&parts, new, &existing, settings);
             log::debug!(
                 "part #{} as {:?} (reading {reading}): {} relation(s) {:?}",
@@ -119,9 +108,16 @@ impl Document {
                 best = Some((reading, variant, found));
             }
         }
-        let Some((_, chosen, found)) = best else {
+        let Some((_, chosen, mut found)) = best else {
             return Vec::new();
         };
+        // The parts the new one joins (placed before it) are related now too.
+        features[new] = chosen.current_shape().features;
+        outlines[new] = Outline::of(&chosen);
+        let parts = parts_of(&sizes, &features, &outlines);
+        let mut known = existing;
+        known.extend(found.iter().map(|f| (f.proposal.clone(), f.mode)));
+        found.extend(infer_bridged(&parts, new, &known, settings));
         if let Some(placed) = self.primitives.get_mut(&id) {
             placed.primitive = chosen;
         }
@@ -308,6 +304,27 @@ impl Document {
         }
         dz
     }
+}
+
+/// The parts as inference sees them: each one's kind, size and noise, feature curves and
+/// outline, in one order.
+fn parts_of<'a>(
+    sizes: &[(PrimitiveKind, f64, f64)],
+    features: &'a [Vec<FeatureCurve<f64>>],
+    outlines: &'a [Outline],
+) -> Vec<Part<'a>> {
+    sizes
+        .iter()
+        .zip(features)
+        .zip(outlines)
+        .map(|((&(kind, size, noise), f), outline)| Part {
+            kind,
+            features: f,
+            outline,
+            size,
+            noise,
+        })
+        .collect()
 }
 
 /// The poses of a snapped part that the drawing cannot tell apart: the part itself and,

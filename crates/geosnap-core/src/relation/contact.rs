@@ -388,7 +388,16 @@ impl ContactGraph {
     /// unreachable); a part whose outline only crosses `from`'s is one apart. `from`
     /// itself is 0.
     pub fn hops_from(&self, from: usize, limit: u32) -> Vec<Option<u32>> {
+        self.hops_avoiding(from, limit, usize::MAX)
+    }
+
+    /// As [`ContactGraph::hops_from`], with the graph as if part `avoid` were not in it
+    /// (`avoid` itself is unreachable).
+    pub fn hops_avoiding(&self, from: usize, limit: u32, avoid: usize) -> Vec<Option<u32>> {
         let mut hops = vec![None; self.touching.len()];
+        if from == avoid {
+            return hops;
+        }
         let Some(slot) = hops.get_mut(from) else {
             return hops;
         };
@@ -398,7 +407,7 @@ impl ContactGraph {
             let mut next = Vec::new();
             for &i in &frontier {
                 for j in self.joints(i) {
-                    if hops[j].is_none() {
+                    if j != avoid && hops[j].is_none() {
                         hops[j] = Some(depth);
                         next.push(j);
                     }
@@ -407,7 +416,9 @@ impl ContactGraph {
             frontier = next;
         }
         for (j, _) in self.touching.get(from).into_iter().flatten() {
-            hops[*j].get_or_insert(1);
+            if *j != avoid {
+                hops[*j].get_or_insert(1);
+            }
         }
         hops
     }

@@ -287,12 +287,64 @@ pub fn infer(
     }
     let graph = ContactGraph::new(parts, settings.distance);
     let hops = graph.hops_from(new, MAX_HOPS);
+    let others: Vec<usize> = (0..parts.len())
+        .filter(|&i| i != new && hops[i].is_some())
+        .collect();
+    infer_among(parts, new, &others, existing, settings, &graph, &hops)
+}
+
+/// The relations a part `via` brings about between others: parts placed before the
+/// part that joins them (a menorah's cups before its arms) were out of each other's
+/// reach when they were released. For each part `via` has a joint with, the parts that
+/// only `via` brings within [`MAX_HOPS`] of it are compared with it, as on its own
+/// release. `existing` holds the relations known so far (those `via`'s release found
+/// included).
+pub fn infer_bridged(
+    parts: &[Part<'_>],
+    via: usize,
+    existing: &[(Proposal, Mode)],
+    settings: &InferenceSettings,
+) -> Vec<Found> {
+    if via >= parts.len() {
+        return Vec::new();
+    }
+    let graph = ContactGraph::new(parts, settings.distance);
+    let mut known: Vec<(Proposal, Mode)> = existing.to_vec();
+    let mut out = Vec::new();
+    let neighbours: Vec<usize> = graph.joints(via).collect();
+    for n in neighbours {
+        let before = graph.hops_avoiding(n, MAX_HOPS, via);
+        let hops = graph.hops_from(n, MAX_HOPS);
+        let others: Vec<usize> = (0..parts.len())
+            .filter(|&j| j != n && j != via && hops[j].is_some() && before[j].is_none())
+            .collect();
+        if others.is_empty() {
+            continue;
+        }
+        let found = infer_among(parts, n, &others, &known, settings, &graph, &hops);
+        known.extend(found.iter().map(|f| (f.proposal.clone(), f.mode)));
+        out.extend(found);
+    }
+    out
+}
+
+/// The relations between part `new` and `others` (all within reach of it: `hops` says
+/// how far), given the relations known so far.
+fn infer_among(
+    parts: &[Part<'_>],
+    new: usize,
+    others: &[usize],
+    existing: &[(Proposal, Mode)],
+    settings: &InferenceSettings,
+    graph: &ContactGraph,
+    hops: &[Option<u32>],
+) -> Vec<Found> {
     let mut run = Inference {
         parts,
         new,
         settings,
-        graph: &graph,
-        hops: &hops,
+        graph,
+        hops,
         enforced: Known::default(),
         all: Known::default(),
         out: Vec::new(),
@@ -306,9 +358,7 @@ pub fn infer(
         }
     }
     let here = centre(&parts[new]);
-    let mut others: Vec<usize> = (0..parts.len())
-        .filter(|&i| i != new && hops[i].is_some())
-        .collect();
+    let mut others = others.to_vec();
     others.sort_by(|&a, &b| {
         hops[a].cmp(&hops[b]).then(
             centre(&parts[a])

@@ -229,9 +229,9 @@ fn unreachable_residual(rows: &[Vec<f64>], residual: &[f64]) -> f64 {
     // Orthonormal basis of the Gram matrix's column space (its columns by Gram–Schmidt).
     let scale = (0..k).map(|i| gram[i][i]).fold(0.0, f64::max);
     let mut span: Vec<Vec<f64>> = Vec::new();
-    for j in 0..k {
-        let column: Vec<f64> = (0..k).map(|i| gram[i][j]).collect();
-        let reduced = reduce(&column, &span);
+    // The Gram matrix is symmetric: its rows are its columns.
+    for column in &gram {
+        let reduced = reduce(column, &span);
         let size = norm(&reduced);
         if size > 1e-9 * scale && size > 0.0 {
             span.push(reduced.iter().map(|v| v / size).collect());
