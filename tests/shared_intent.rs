@@ -72,6 +72,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use geosnap::core::model::reading::DrawnEnds;
 use geosnap::core::model::{Document, Relation};
 use geosnap::core::relation::{Mode, RelationKind};
 use serde::Deserialize;
@@ -415,6 +416,29 @@ struct Listing {
     /// A line per intended relation between placed parts not found (enforced or
     /// suggested).
     missed: Vec<String>,
+    /// A line per part whose final pose is the mirror reading its drawn ends contradict
+    /// (see [`against_the_drawing`]).
+    against: Vec<String>,
+}
+
+/// The parts of `document` that end in a depth-mirror reading their strokes contradict
+/// more than the other: the end the pose turns to the viewer is drawn as a half, or the
+/// one it turns away is drawn whole while the other is a half
+/// (`geosnap::core::model::reading`). The release must never flip a part into such a
+/// reading for a relation (issue 17: no mirror flip that worsens a part's fit).
+fn against_the_drawing(document: &Document, names: &[String]) -> Vec<String> {
+    document
+        .primitives()
+        .filter_map(|(id, placed)| {
+            let record = document.snap_record(id)?;
+            let p = &placed.primitive;
+            let ends = DrawnEnds::of(p, &record.assignment);
+            (ends.agreement(p) < ends.agreement(&p.mirrored_in_depth())).then(|| {
+                let name = placed.fit.step.and_then(|s| names.get(s));
+                format!("{} ({ends:?})", name.map_or("?", String::as_str))
+            })
+        })
+        .collect()
 }
 
 /// Measures one sketch; returns its counts and what the report lists of it.
@@ -451,7 +475,13 @@ fn measure(name: &str, dir: &Path) -> (Counts, Listing) {
             .collect::<Vec<_>>()
             .iter(),
     );
-    let mut listing = Listing::default();
+    let mut listing = Listing {
+        against: against_the_drawing(&document, &names)
+            .into_iter()
+            .map(|part| format!("{name}: {part}"))
+            .collect(),
+        ..Listing::default()
+    };
     let mut counts = Counts {
         intended: intent.intended.len(),
         ..Counts::default()
@@ -530,6 +560,7 @@ fn inferred_relations_match_the_designers_intent() {
         total = total.add(counts);
         all.unwanted.extend(listing.unwanted);
         all.missed.extend(listing.missed);
+        all.against.extend(listing.against);
     }
     let _ = writeln!(table, "{}", row("overall", &total));
     eprintln!(
@@ -543,6 +574,13 @@ fn inferred_relations_match_the_designers_intent() {
     }
     eprintln!("unwanted hard relations ({}):", all.unwanted.len());
     for line in &all.unwanted {
+        eprintln!("  {line}");
+    }
+    eprintln!(
+        "parts in the mirror reading their drawn ends contradict ({}):",
+        all.against.len()
+    );
+    for line in &all.against {
         eprintln!("  {line}");
     }
     eprintln!(

@@ -190,8 +190,17 @@ pub(super) fn contradictions(
             }
         }
     }
+    // A relation that only repeats a contradicted one (legs 1 ∥ 3 beside 1 ∥ 2 ∥ 3) shares
+    // in the compromise and shows a residual too, smaller than the culprit's: only the
+    // clear culprits go; a lesser one left over is met in the next round.
+    let worst = found.iter().map(|(_, left)| *left).fold(0.0, f64::max);
+    found.retain(|(_, left)| *left >= CULPRIT_SHARE * worst);
     found
 }
+
+/// The least share of the largest unmet residual for which a contradicting relation is
+/// named in the same pass.
+const CULPRIT_SHARE: f64 = 0.5;
 
 /// The Euclidean norm.
 fn norm(v: &[f64]) -> f64 {
