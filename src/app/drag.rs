@@ -313,8 +313,9 @@ impl GeosnapApp {
         }
     }
 
-    /// Moves the drag to a scripted placement (`--play`).
-    pub(super) fn place_drag(&mut self, placement: Placement) {
+    /// Moves the drag to a placement (centre, axis and size), as a script step played
+    /// with `--play` places it.
+    pub fn place_drag(&mut self, placement: Placement) {
         if let Some(drag) = self.drag.as_mut() {
             drag.placement = placement;
             drag.over_canvas = true;
