@@ -227,6 +227,15 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
         "{:#?}",
         harness.state().editor().document().relations()
     );
+    // Hovering it tells why it was inferred.
+    harness.get_by_label("same radius").hover();
+    harness.run_steps(30);
+    assert!(
+        harness
+            .query_by_label_contains("Inferred with confidence")
+            .is_some(),
+        "the tooltip gives the evidence"
+    );
     harness.get_by_label("Accept").click();
     harness.step();
     step_until(&mut harness, "the re-solve", |app| app.job().is_none());
