@@ -34,7 +34,8 @@
 //! ≤ 300 ms.
 //!
 //! Run with `cargo bench --no-default-features --bench relations` (`GEOSNAP_BENCH_SAMPLES`,
-//! `GEOSNAP_BENCH_SECONDS` as for every benchmark; a name filter such as `-- 'N=20$'`).
+//! `GEOSNAP_BENCH_SECONDS` as for every benchmark; a name filter such as `-- 'N=20$'`;
+//! `GEOSNAP_BENCH_CONFLICTS=1` prints every relation the build-up switches off, and why).
 //! Without `--bench` (`cargo test --benches`) it runs in smoke mode on the smallest
 //! size only.
 
@@ -181,6 +182,11 @@ fn released(
                 ..Companions::default()
             },
         );
+        if std::env::var_os("GEOSNAP_BENCH_CONFLICTS").is_some() {
+            for c in &outcome.conflicts {
+                println!("  N={} release of #{}: {}", placed.len(), id.0, c.message);
+            }
+        }
         releases.push(Release {
             time: start.elapsed().as_nanos() as f64,
             solved: outcome.solved.len(),

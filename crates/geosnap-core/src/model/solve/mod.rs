@@ -242,9 +242,17 @@ impl Document {
         }
         let values = compiled.problem.constraints(&report.x);
         let hard = compiled.hard_relations();
-        // Contradictions first, all at once, from the rank of the constraints.
-        let contradicting =
-            contradictions(&mut compiled, &report.x, &values, settings.violation_tol());
+        // Contradictions first, all at once, from the rank of the constraints: where
+        // the solve ended at the least violation it could reach (infeasible or stalled),
+        // not where it ran out of effort half way.
+        let contradicting = if matches!(
+            report.termination,
+            Termination::Infeasible | Termination::Stalled
+        ) {
+            contradictions(&mut compiled, &report.x, &values, settings.violation_tol())
+        } else {
+            Vec::new()
+        };
         if !contradicting.is_empty() && outcome.conflicts.len() < settings.max_conflicts() {
             outcome.report = Some(report);
             let named: Vec<Conflict> = contradicting
