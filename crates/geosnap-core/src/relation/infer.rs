@@ -22,7 +22,8 @@
 //!   is both coaxial and concentric is coplanar there already;
 //! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
 //!   tube says nothing new about the box's other parallel edges; and it is proposed only
-//!   between parts that touch in the drawing, at a joint or crossing;
+//!   between parts that touch in the drawing (at a joint it is likely; where outlines
+//!   merely cross, too unlikely to keep);
 //! - collinear centres are not proposed where the three centres are already on one
 //!   coaxial axis.
 //!
@@ -35,9 +36,10 @@ use super::evidence::{confidence, prior, Contact, Evidence, Inferred};
 use super::{closeness, holds, InferenceSettings, Member, Mode, RelationKind};
 use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
 
-/// How many joints apart two parts may be and still be related: 3 reaches a candle on
-/// an arm of a menorah's stem from the stem's other arms' candles' arms (candle, arm,
-/// stem), and a table's leg from another leg (leg, top, leg) with one to spare.
+/// How many joints apart two parts may be and still be related: a table's leg reaches
+/// another leg through the top (2), a menorah's candle its stem through its arm (2),
+/// and 3 leaves one part to spare between them (a collar on the stem, a foot under a
+/// leg).
 pub const MAX_HOPS: u32 = 3;
 
 /// Parts of one kind whose sizes differ by less than this fraction repeat one another
