@@ -35,7 +35,8 @@
 //!
 //! Run with `cargo bench --no-default-features --bench relations` (`GEOSNAP_BENCH_SAMPLES`,
 //! `GEOSNAP_BENCH_SECONDS` as for every benchmark; a name filter such as `-- 'N=20$'`;
-//! `GEOSNAP_BENCH_CONFLICTS=1` prints every relation the build-up switches off, and why).
+//! `GEOSNAP_BENCH_CONFLICTS=1` prints every relation the build-up switches off, and why;
+//! `GEOSNAP_BENCH_CONFLICTS_DETAIL=1` adds its evidence and its members as solved).
 //! Without `--bench` (`cargo test --benches`) it runs in smoke mode on the smallest
 //! size only.
 
@@ -185,6 +186,16 @@ fn released(
         if std::env::var_os("GEOSNAP_BENCH_CONFLICTS").is_some() {
             for c in &outcome.conflicts {
                 println!("  N={} release of #{}: {}", placed.len(), id.0, c.message);
+                if std::env::var_os("GEOSNAP_BENCH_CONFLICTS_DETAIL").is_some() {
+                    if let Some(r) = base.relation(c.relation) {
+                        println!("    {:?}", r.inferred);
+                        for m in &r.members {
+                            if let Some(p) = base.get(*m) {
+                                println!("    #{}: {:?}", m.0, p.primitive);
+                            }
+                        }
+                    }
+                }
             }
         }
         releases.push(Release {
