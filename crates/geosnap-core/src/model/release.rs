@@ -31,6 +31,13 @@ use crate::relation::contact::Outline;
 use crate::relation::infer::{infer, infer_bridged, Found, Part, Proposal};
 use crate::relation::{residuals, InferenceSettings, Member, Mode};
 
+/// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
+/// the part is settled in depth is made a suggestion: about 11° between directions, or
+/// a fifth of the sizes involved between positions. Thresholds of inference are a
+/// little over half that (8°, a tenth), so such a relation held in the drawing and
+/// misses in depth only.
+const DEPTH_UNMET: f64 = 0.2;
+
 /// Depths tried on a coarse pass by [`Document::settle_depth`] before it refines the best.
 const DEPTH_STEPS: i32 = 40;
 
@@ -248,8 +255,63 @@ impl Document {
     ) -> (Vec<RelationId>, GlobalOutcome) {
         let added = self.infer_relations(id, inference);
         self.settle_depth(id);
+        self.suggest_what_depth_cannot_meet(id, &added);
         let outcome = self.solve(Some(&[id]), global, companions);
         (added, outcome)
+    }
+
+    /// Makes suggestions of those hard relations among `added` (part `id`'s, just
+    /// inferred) that still miss by more than [`DEPTH_UNMET`] once the part is settled
+    /// in depth, and returns them. Inference reads relations off the drawing, where the
+    /// part's depth is free; the settled depth is where they hold together best. One
+    /// that misses there contradicts the others in depth (a cone's bottom read as on a
+    /// cup's rim by coplanarity and at its base by coaxiality): enforced, it would wreck a
+    /// fit and be switched off after a solve. As a suggestion it costs nothing, and the
+    /// user may still accept it.
+    fn suggest_what_depth_cannot_meet(
+        &mut self,
+        id: PrimitiveId,
+        added: &[RelationId],
+    ) -> Vec<RelationId> {
+        let mut demoted = Vec::new();
+        for &r in added {
+            let Some(relation) = self.relation(r) else {
+                continue;
+            };
+            if relation.mode != Mode::Hard {
+                continue;
+            }
+            let shapes: Option<Vec<Vec<FeatureCurve<f64>>>> = relation
+                .members
+                .iter()
+                .map(|m| Some(self.primitives.get(m)?.primitive.current_shape().features))
+                .collect();
+            let Some(shapes) = shapes else { continue };
+            let members: Vec<Member<'_, f64>> = shapes
+                .iter()
+                .zip(&relation.features)
+                .map(|(features, feature)| Member {
+                    features,
+                    feature: *feature,
+                })
+                .collect();
+            let Ok(psi) = residuals(relation.kind, &members) else {
+                continue;
+            };
+            let miss = psi.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if miss > DEPTH_UNMET {
+                log::debug!(
+                    "part #{}: {} misses by {miss:.3} at its settled depth; suggested",
+                    id.0,
+                    relation.kind.name()
+                );
+                if let Some(relation) = self.relation_mut(r) {
+                    relation.mode = Mode::Suggested;
+                }
+                demoted.push(r);
+            }
+        }
+        demoted
     }
 
     /// Moves part `id` along the view direction to where its relations that are not off
@@ -483,6 +545,32 @@ mod tests {
             .all(|r| !(r.kind == RelationKind::Parallel
                 && r.members.contains(&a)
                 && r.members.contains(&b))));
+    }
+
+    #[test]
+    fn a_relation_that_misses_at_the_settled_depth_is_only_suggested() {
+        use crate::model::Relation;
+
+        // Two legs side by side: parallel holds; coaxial misses by their spacing, which
+        // no depth can make up.
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        let b = doc.add(leg(6.0, DVec3::new(0.0, 0.9, 0.44)));
+        let relate = |doc: &mut Document, kind| {
+            let relation = Relation::new(
+                kind,
+                vec![b, a],
+                vec![Some(Feature::Top), Some(Feature::Top)],
+                Mode::Hard,
+            );
+            doc.add_relation(relation).expect("valid")
+        };
+        let parallel = relate(&mut doc, RelationKind::Parallel);
+        let coaxial = relate(&mut doc, RelationKind::Coaxial);
+        let demoted = doc.suggest_what_depth_cannot_meet(b, &[parallel, coaxial]);
+        assert_eq!(demoted, vec![coaxial]);
+        assert_eq!(doc.relation(parallel).expect("kept").mode, Mode::Hard);
+        assert_eq!(doc.relation(coaxial).expect("kept").mode, Mode::Suggested);
     }
 
     #[test]
