@@ -19,7 +19,8 @@
 //!   model, and a candidate whose two entities are already joined is redundant. Three
 //!   parallel legs get two relations, not three;
 //! - coaxial implies parallel (a coaxial pair joins the directions too), and a pair that
-//!   is both coaxial and concentric is coplanar there already;
+//!   is both coaxial and concentric is coplanar there already; two boxes with two pairs
+//!   of parallel edges have the third pair parallel already;
 //! - orthogonal is kept once per pair of direction classes; a box edge orthogonal to a
 //!   tube says nothing new about the box's other parallel edges; and it is proposed only
 //!   between parts that touch in the drawing (at a joint it is likely; where outlines
@@ -219,7 +220,16 @@ impl Known {
         };
         let whole = |i: usize| (p.members[i], Slot::Whole);
         match p.kind {
-            RelationKind::Parallel => self.parallel.union(direction(0), direction(1)),
+            RelationKind::Parallel => {
+                let boxes = p
+                    .members
+                    .iter()
+                    .all(|&m| parts[m].kind == PrimitiveKind::Cuboid);
+                if boxes && self.box_turn_known(&p.members, direction(0), direction(1)) {
+                    return false;
+                }
+                self.parallel.union(direction(0), direction(1))
+            }
             RelationKind::Coaxial => {
                 let new = self.coaxial.union(whole(0), whole(1));
                 self.parallel.union(direction(0), direction(1));
@@ -253,6 +263,29 @@ impl Known {
                 }
             }
         }
+    }
+
+    /// Whether two boxes' directions `a` and `b` are parallel already because their two
+    /// other directions are: two pairs of parallel edges fix a box's turn, so the third
+    /// pair follows.
+    fn box_turn_known(&mut self, members: &[usize], a: Entity, b: Entity) -> bool {
+        let (Slot::Direction(ca), Slot::Direction(cb)) = (a.1, b.1) else {
+            return false;
+        };
+        let (ma, mb) = (members[0], members[1]);
+        let mut joined = Vec::new();
+        for x in (0..3).filter(|&x| x != ca) {
+            for y in (0..3).filter(|&y| y != cb) {
+                if self.parallel.find((ma, Slot::Direction(x)))
+                    == self.parallel.find((mb, Slot::Direction(y)))
+                {
+                    joined.push((x, y));
+                }
+            }
+        }
+        joined
+            .iter()
+            .any(|&(x, y)| joined.iter().any(|&(u, v)| u != x && v != y))
     }
 
     /// Whether two parts are on one axis already.
@@ -877,6 +910,20 @@ mod tests {
         let tee = [rod(DVec3::ZERO, x, 60.0), rod(y * 16.0, y, 30.0)];
         let r = place_all(&tee);
         assert_eq!(count(&r, RelationKind::Orthogonal), 1, "{r:#?}");
+    }
+
+    #[test]
+    fn two_pairs_of_parallel_edges_fix_a_boxs_turn() {
+        let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let brick = |y: f64| {
+            Primitive::Cuboid(Cuboid {
+                center: view * DVec3::new(0.0, y, 0.0),
+                rotation: view,
+                size: DVec3::new(80.0, 20.0, 40.0),
+            })
+        };
+        let r = place_all(&[brick(0.0), brick(20.0)]);
+        assert_eq!(count(&r, RelationKind::Parallel), 2, "{r:#?}");
     }
 
     #[test]
