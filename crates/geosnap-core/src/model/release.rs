@@ -27,8 +27,8 @@ use super::{
     Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
 };
 use crate::primitive::{FeatureCurve, Primitive, PrimitiveKind};
-use crate::relation::contact::Outline;
-use crate::relation::infer::{infer, infer_bridged, Found, Part, Proposal};
+use crate::relation::contact::{ContactGraph, Outline};
+use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal};
 use crate::relation::{residuals, InferenceSettings, Member, Mode};
 
 /// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
@@ -66,7 +66,7 @@ impl Document {
             .values()
             .map(|p| p.primitive.current_shape().features)
             .collect();
-        let mut outlines: Vec<Outline> = self
+        let outlines: Vec<Outline> = self
             .primitives
             .values()
             .map(|p| Outline::of(&p.primitive))
@@ -86,13 +86,15 @@ impl Document {
             .snaps
             .get(&id)
             .map(|record| DrawnEnds::of(&snapped, &record.assignment));
+        // A mirror image in depth draws the same outline: one contact graph serves every
+        // variant and the pass over the parts the new one joins.
+        let graph = ContactGraph::new(&parts_of(&sizes, &features, &outlines), settings.distance());
         let mut best: Option<(i32, Primitive, Vec<Found>)> = None;
         for variant in depth_variants(&snapped) {
             let reading = drawn.map_or(0, |d| d.agreement(&variant));
             features[new] = variant.current_shape().features;
-            outlines[new] = Outline::of(&variant);
             let parts = parts_of(&sizes, &features, &outlines);
-            let found = infer(&parts, new, &existing, settings);
+            let found = infer_in(&graph, &parts, new, &existing, settings);
             log::debug!(
                 "part #{} as {:?} (reading {reading}): {} relation(s) {:?}",
                 id.0,
@@ -120,11 +122,10 @@ impl Document {
         };
         // The parts the new one joins (placed before it) are related now too.
         features[new] = chosen.current_shape().features;
-        outlines[new] = Outline::of(&chosen);
         let parts = parts_of(&sizes, &features, &outlines);
         let mut known = existing;
         known.extend(found.iter().map(|f| (f.proposal.clone(), f.mode)));
-        found.extend(infer_bridged(&parts, new, &known, settings));
+        found.extend(infer_bridged(&graph, &parts, new, &known, settings));
         if let Some(placed) = self.primitives.get_mut(&id) {
             placed.primitive = chosen;
         }

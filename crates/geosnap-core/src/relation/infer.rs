@@ -317,24 +317,37 @@ pub fn infer(
     existing: &[(Proposal, Mode)],
     settings: &InferenceSettings,
 ) -> Vec<Found> {
+    let graph = ContactGraph::new(parts, settings.distance);
+    infer_in(&graph, parts, new, existing, settings)
+}
+
+/// As [`infer`], in the contact graph of `parts` built already (a part's mirror image in
+/// depth has the same outline, so one graph serves both).
+pub fn infer_in(
+    graph: &ContactGraph,
+    parts: &[Part<'_>],
+    new: usize,
+    existing: &[(Proposal, Mode)],
+    settings: &InferenceSettings,
+) -> Vec<Found> {
     if new >= parts.len() {
         return Vec::new();
     }
-    let graph = ContactGraph::new(parts, settings.distance);
     let hops = graph.hops_from(new, MAX_HOPS);
     let others: Vec<usize> = (0..parts.len())
         .filter(|&i| i != new && hops[i].is_some())
         .collect();
-    infer_among(parts, new, &others, existing, settings, &graph, &hops)
+    infer_among(parts, new, &others, existing, settings, graph, &hops)
 }
 
 /// The relations a part `via` brings about between others: parts placed before the
 /// part that joins them (a menorah's cups before its arms) were out of each other's
 /// reach when they were released. For each part `via` has a joint with, the parts that
 /// only `via` brings within [`MAX_HOPS`] of it are compared with it, as on its own
-/// release. `existing` holds the relations known so far (those `via`'s release found
-/// included).
+/// release. `graph` is the contact graph of `parts`; `existing` holds the relations known
+/// so far (those `via`'s release found included).
 pub fn infer_bridged(
+    graph: &ContactGraph,
     parts: &[Part<'_>],
     via: usize,
     existing: &[(Proposal, Mode)],
@@ -343,7 +356,6 @@ pub fn infer_bridged(
     if via >= parts.len() {
         return Vec::new();
     }
-    let graph = ContactGraph::new(parts, settings.distance);
     let mut known: Vec<(Proposal, Mode)> = existing.to_vec();
     let mut out = Vec::new();
     let neighbours: Vec<usize> = graph.joints(via).collect();
@@ -356,7 +368,7 @@ pub fn infer_bridged(
         if others.is_empty() {
             continue;
         }
-        let found = infer_among(parts, n, &others, &known, settings, &graph, &hops);
+        let found = infer_among(parts, n, &others, &known, settings, graph, &hops);
         known.extend(found.iter().map(|f| (f.proposal.clone(), f.mode)));
         out.extend(found);
     }
