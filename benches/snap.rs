@@ -1,6 +1,7 @@
 //! Benchmarks of snapping: one drag-frame update (assignment + warm-started snap) per
-//! kind on a 60-stroke sketch, a cold snap per kind, preparing the sketch (preprocessing
-//! and classification), and the SVG import of the largest shared sketch.
+//! kind on a 60-stroke sketch, a cold snap per kind, its confidence (computed once, at
+//! release), preparing the sketch (preprocessing and classification), and the SVG import
+//! of the largest shared sketch.
 //!
 //! The 60-stroke sketch is the project's six sample drawings laid out on a 3 × 2 grid
 //! plus short distractor strokes; each kind is dragged over its own drawing along a small
@@ -20,7 +21,7 @@ use std::path::{Path, PathBuf};
 use geosnap::core::model::Step;
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
-use geosnap::core::snap::{snap, SnapContext, SnapSession, SnapSettings};
+use geosnap::core::snap::{nobody, snap, SnapContext, SnapSession, SnapSettings};
 use geosnap::core::solve::SolveContext;
 use geosnap::io::script::parse_script;
 use geosnap::io::svg::{import_svg, SvgOptions};
@@ -241,6 +242,26 @@ fn main() {
             },
         );
         table.row(kind.name(), &stats, &extras);
+    }
+
+    let table = Table::new(
+        "Confidence of a cold snap, at release (SnapResult::confidence: evidence + spread)",
+        34,
+        &[("verdict", 9)],
+    );
+    for (kind, placement) in &placements {
+        let primitive = dragged(*kind, placement, 0, default_size);
+        let Ok(result) = snap(&context, &primitive, &settings) else {
+            println!("{}: the cold snap failed, nothing to judge", kind.name());
+            continue;
+        };
+        let mut verdict = String::new();
+        let stats = bench.each(|_| {
+            let (confidence, time) = timed(|| result.confidence(&primitive, &nobody, &settings));
+            confidence.verdict.name().clone_into(&mut verdict);
+            time
+        });
+        table.row(kind.name(), &stats, &[verdict]);
     }
 
     let table = Table::new("SVG import", 34, &[("strokes", 8)]);

@@ -117,16 +117,18 @@ const GOOD_BGC_FLOOR: usize = 6;
 /// Today's floor (42 of 62): parts stable under perturbed drops. Raise it as snapping
 /// improves.
 const STABLE_FLOOR: usize = 42;
-/// Good parts whose snap may call itself doubtful or refused: at most 5 % of the 62 parts
-/// (the target, met today: 3 of the 45 good parts are called so, all for a length the
-/// drawing barely shows: the gramophone turntable's thickness and the obliquely drawn
-/// square pipe's depth, which a 2D reference cannot check).
-const GOOD_FLAGGED_CEILING: usize = 3;
-/// Today's ceiling (11 of 17): wrong parts accepted silently, their snap calling itself
+/// Today's ceiling (5 of the 45 good parts): good parts whose snap calls itself doubtful
+/// or refused. Three are called so for a length the drawing barely shows (the gramophone
+/// turntable's thickness and the square pipes' depth, which a 2D reference cannot
+/// check), two for an end radius nothing drawn fixes (the menorah's outer left arm where
+/// it meets the stem, the topless jug's open top), since the snap weighs how tightly its
+/// strokes pin each dimension. The target is at most 5 % of the parts.
+const GOOD_FLAGGED_CEILING: usize = 5;
+/// Today's ceiling (9 of 17): wrong parts accepted silently, their snap calling itself
 /// good; the target is that 90 % of wrong parts call themselves doubtful or refused. (A
 /// floor on the count of flagged wrong parts falls each time a wrong part is fixed: it
 /// was 10 of 23, 13 accepted, before six of the menorah's arms landed right.)
-const WRONG_ACCEPTED_CEILING: usize = 11;
+const WRONG_ACCEPTED_CEILING: usize = 9;
 
 /// The sketches every part of which is scripted: all sixteen shared sketches.
 const SKETCHES: [&str; 16] = [
@@ -614,8 +616,9 @@ fn judge_sketch(name: &'static str, dir: &Path) -> Vec<Judged> {
             evidence: match outcome {
                 StepOutcome::Placed { confidence, .. } | StepOutcome::Refused { confidence, .. } => {
                     let e = &confidence.evidence;
+                    let s = e.spread.unwrap_or_default();
                     format!(
-                        "confidence {:.2}: rms {:.1} %, drawn {:.0} %, owned {:.0} %, moved {:.0} %, size ×{:.1}, margin {}, depth {:.1} %",
+                        "confidence {:.2}: rms {:.1} %, drawn {:.0} %, owned {:.0} %, moved {:.0} %, size ×{:.1}, margin {}, depth {:.1} %, spread c {:.4} a {:.4} r {:.4} l {:.4}",
                         confidence.value,
                         100.0 * e.rms,
                         100.0 * e.support,
@@ -623,7 +626,11 @@ fn judge_sketch(name: &'static str, dir: &Path) -> Vec<Judged> {
                         100.0 * e.moved,
                         e.resized,
                         e.margin.map_or("—".to_owned(), |m| format!("{m:.2}")),
-                        100.0 * e.depth
+                        100.0 * e.depth,
+                        s.centre,
+                        s.axis,
+                        s.radius,
+                        s.length
                     )
                 }
                 StepOutcome::Skipped(_) => String::new(),

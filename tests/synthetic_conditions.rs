@@ -157,9 +157,9 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
 /// issue's target, met today: 48 of 2605 at 40 cases per kind and condition).
 const MAX_GOOD_FLAGGED: f64 = 0.05;
 /// Today's floor for the share of wrong parts whose snap calls itself doubtful or refused
-/// (31 % at 40 cases per kind and condition, 14 of 60 in the floor test); the target is
-/// 90 %.
-const WRONG_FLAGGED_FLOOR: f64 = 0.2;
+/// (26 of 60 in the floor test since the snap weighs how tightly its strokes pin it,
+/// where it was 14 of 60 before); the target is 90 %.
+const WRONG_FLAGGED_FLOOR: f64 = 0.38;
 
 /// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
 /// the model's projected curve in the renderer check. Measured: SGCs up to 7.9 % in
@@ -369,16 +369,21 @@ fn class_lines(out: &mut String, context: &SnapContext, strokes: &[SynthStroke])
 }
 
 /// Whether a snap of `dropped` calls itself doubtful or refused (no snap: refused), and
-/// its confidence's evidence in words.
-fn judged_confidence(result: Option<&SnapResult>, dropped: &Primitive) -> (bool, String) {
+/// its confidence's evidence in words, with the snap's `errors` against the truth.
+fn judged_confidence(
+    result: Option<&SnapResult>,
+    dropped: &Primitive,
+    errors: Option<&Errors>,
+) -> (bool, String) {
     let confidence = result.map(|r| r.confidence(dropped, &nobody, &SnapSettings::default()));
     let flagged = confidence
         .as_ref()
         .is_none_or(|c| c.verdict != Verdict::Good);
     let evidence = confidence.as_ref().map_or_else(String::new, |c| {
         let e = &c.evidence;
+        let s = e.spread.unwrap_or_default();
         format!(
-            "{} {:.2}: rms {:.2} %, drawn {:.0} %, moved {:.0} %, size ×{:.2}, margin {}, depth {:.1} %",
+            "{} {:.2}: rms {:.2} %, drawn {:.0} %, moved {:.0} %, size ×{:.2}, margin {}, depth {:.1} %, spread c {:.4} a {:.4} r {:.4} l {:.4}",
             c.verdict,
             c.value,
             100.0 * e.rms,
@@ -386,9 +391,24 @@ fn judged_confidence(result: Option<&SnapResult>, dropped: &Primitive) -> (bool,
             100.0 * e.moved,
             e.resized,
             e.margin.map_or("—".to_owned(), |m| format!("{m:.2}")),
-            100.0 * e.depth
+            100.0 * e.depth,
+            s.centre,
+            s.axis,
+            s.radius,
+            s.length
         )
     });
+    // The errors in the spread's units (sizes, radians, relative), to calibrate it.
+    let evidence = match errors {
+        Some(e) => format!(
+            "{evidence} errors c {:.4} a {:.4} r {:.4} l {:.4}",
+            e.centre,
+            e.axis.unwrap_or(0.0).to_radians(),
+            e.radius.unwrap_or(0.0),
+            e.length.unwrap_or(0.0)
+        ),
+        None => evidence,
+    };
     (flagged, evidence)
 }
 
@@ -427,7 +447,7 @@ fn judge_part(
         let (r, e) = run(truth);
         r.is_err() || e.is_some_and(|e| !e.failures().is_empty())
     });
-    let (flagged, evidence) = judged_confidence(result.as_ref().ok(), &dropped);
+    let (flagged, evidence) = judged_confidence(result.as_ref().ok(), &dropped, errors.as_ref());
     let outcome = Outcome {
         flagged,
         evidence,
@@ -801,9 +821,11 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
         for o in outcomes {
             let _ = writeln!(
                 table,
-                "evidence {} ok={} {}",
+                "evidence {} ok={} failed={} truth={} {}",
                 o.job.name(),
                 o.ok(),
+                o.failed.join("+"),
+                o.at_truth.unwrap_or(false),
                 o.evidence
             );
         }

@@ -3,7 +3,7 @@
 //!
 //! A snap can fit its strokes closely and still be wrong: a tube laid on the wrong pair of
 //! strokes fits them at 1 % RMS. What tells a wrong part from a right one is what the
-//! rest of the drawing says about it. [`judge`] weighs six pieces of evidence (eight for a bent tube), each
+//! rest of the drawing says about it. [`judge`] weighs seven pieces of evidence (nine for a bent tube), each
 //! turned into a factor in [0, 1] (1: no doubt):
 //!
 //! - **fit**: the RMS distance of its strokes to its curves, relative to its size;
@@ -19,6 +19,12 @@
 //! - **depth**: how well the drawing shows the part's length at all ([`depth`]): a part
 //!   seen almost along its axis shows its length only through the flatness of its end
 //!   ellipses, and the strokes' own noise leaves it loose;
+//! - **pinning**: how tightly its strokes pin each dimension ([`Spread`]): the spread of
+//!   its position, direction, radii and lengths that the strokes' noise leaves, read from
+//!   the fit's curvature, with how far its own strokes would still move it. This is the
+//!   general form of the depth evidence: it also sees a box seen square-on, a tube that
+//!   can turn in depth, an end that nothing drawn fixes. Depth and pinning weigh one
+//!   doubt, so the weaker of the two counts, once;
 //! - **a bent tube's run and width** (bent tubes only): how much longer its spine is than
 //!   the spine's drawing (a tube that runs mostly in depth draws almost the same outlines
 //!   over a range of tilts, told apart only by how round its end ellipses are drawn), and
@@ -33,7 +39,7 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::assign::{curve_distance, curve_length};
-use super::{Alternative, SnapResult};
+use super::{Alternative, SnapResult, Spread};
 use crate::primitive::{Curve2, CurveClass, Primitive, Shape};
 use crate::sketch::StrokeId;
 
@@ -103,6 +109,9 @@ pub struct Evidence {
     /// length along the axis nearest the view direction that the strokes' own noise
     /// leaves (the module docs say how); 0 for a sphere and for parts seen from the side.
     pub depth: f64,
+    /// How tightly the drawing pins its dimensions ([`Spread`]); `None` when the fit's
+    /// curvature could not be read.
+    pub spread: Option<Spread>,
 }
 
 /// A snap's confidence: the verdict, its value in [0, 1] and, when not good, why.
@@ -382,6 +391,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         (result.explained.unwrap_or(0.0) - alt.explained) / visible_length.max(f64::MIN_POSITIVE)
     });
     let depth = depth(primitive, result.rms);
+    let spread = super::spread::spread(primitive, &result.assignment, result.rms);
     let evidence = Evidence {
         rms,
         support,
@@ -391,6 +401,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         resized,
         margin,
         depth,
+        spread,
     };
     let mut factors = weigh(&evidence, factor, rival).to_vec();
     factors.extend(tube_factors(primitive, dropped));
@@ -434,6 +445,7 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
         resized,
         margin,
         depth,
+        spread,
     } = *evidence;
     [
         (
@@ -479,15 +491,56 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
                 None => String::new(),
             },
         ),
-        (
-            ramp(depth, 0.12, 0.4).max(0.3),
-            format!(
-                "it is seen almost along its axis, so the drawing barely shows its length \
-                 (about ±{:.0} %)",
-                100.0 * depth
+        loosest(
+            (
+                ramp(depth, 0.12, 0.4).max(0.3),
+                format!(
+                    "it is seen almost along its axis, so the drawing barely shows its length \
+                     (about ±{:.0} %)",
+                    100.0 * depth
+                ),
             ),
+            pinned(spread.as_ref()),
         ),
     ]
+}
+
+/// The weaker of two factors that weigh one doubt (how loosely the drawing holds the
+/// part: along its axis, and in every dimension), so that it is not counted twice.
+fn loosest(a: (f64, String), b: (f64, String)) -> (f64, String) {
+    if b.0 < a.0 {
+        b
+    } else {
+        a
+    }
+}
+
+/// A part is pinned when each dimension's spread lies within these of a recovered part's
+/// tolerances: the projected centre within 3 % of the size, the axis within 5°, radii and
+/// lengths within 7 %.
+const PINNED: (f64, f64, f64) = (0.03, 5.0 * std::f64::consts::PI / 180.0, 0.07);
+
+/// The factor of how tightly the drawing pins the part ([`Spread`]), with what it says:
+/// 1 while the worst dimension's spread is within 1.5 tolerances, falling to 0.3 at 5
+/// (alone, a dimension the drawing leaves 3.3 tolerances loose makes the part doubtful:
+/// at that spread most snaps miss it). No spread, no doubt.
+fn pinned(spread: Option<&Spread>) -> (f64, String) {
+    let Some(spread) = spread else {
+        return (1.0, String::new());
+    };
+    let (worst, name) = spread.worst(PINNED.0, PINNED.1, PINNED.2);
+    let how = match name {
+        "direction" => format!("{:.0}°", spread.axis.to_degrees()),
+        "position" => format!("{:.0} % of its size", 100.0 * spread.centre),
+        "radius" => format!("{:.0} %", 100.0 * spread.radius),
+        _ => format!("{:.0} %", 100.0 * spread.length),
+    };
+    let why = if worst.is_finite() {
+        format!("its strokes pin its {name} only to about ±{how}")
+    } else {
+        format!("its strokes do not pin its {name}")
+    };
+    (0.3 + 0.7 * ramp(worst, 1.5, 5.0), why)
 }
 
 #[cfg(test)]
@@ -551,6 +604,24 @@ mod tests {
     }
 
     #[test]
+    fn a_pose_its_strokes_do_not_hold_is_doubtful_for_the_dimension_they_would_change() {
+        let (context, dropped) = drawn_cylinder();
+        let settings = SnapSettings::default();
+        let mut result = snap(&context, &dropped, &settings).expect("it snaps");
+        let Primitive::Cylinder(fitted) = &result.primitive else {
+            unreachable!("a cylinder snaps to a cylinder")
+        };
+        result.primitive = Primitive::Cylinder(Cylinder {
+            length: 1.4 * fitted.length,
+            ..*fitted
+        });
+        let confidence = result.confidence(&dropped, &nobody, &settings);
+        assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");
+        let spread = confidence.evidence.spread.expect("a spread");
+        assert!(spread.length > 0.2, "{spread:?}");
+    }
+
+    #[test]
     fn a_part_dropped_on_a_modelled_part_is_doubtful_and_names_it() {
         let (context, dropped) = drawn_cylinder();
         let settings = SnapSettings::default();
@@ -587,8 +658,12 @@ mod tests {
         let confidence = result.confidence(&dropped, &nobody, &settings);
         assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");
         assert!(confidence.evidence.support < 0.5, "{confidence:?}");
+        // Three edges leave the box free to slide and stretch along the undrawn ones:
+        // the fit is flat there, and the reason says so.
+        let spread = confidence.evidence.spread.expect("a spread");
+        assert!(spread.length.is_infinite(), "{spread:?}");
         let reason = confidence.reason.unwrap_or_default();
-        assert!(reason.contains("visible outline is drawn"), "{reason}");
+        assert!(reason.contains("do not pin"), "{reason}");
     }
 
     fn cylinder(axis: DVec3, length: f64, radius: f64) -> Primitive {

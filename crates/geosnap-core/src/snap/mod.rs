@@ -15,6 +15,7 @@ mod confidence;
 mod context;
 pub(crate) mod initial;
 mod objective;
+mod spread;
 
 use thiserror::Error;
 
@@ -25,6 +26,7 @@ pub use assign::{
 pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
 pub use context::{SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
+pub use spread::Spread;
 
 use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::solve::{

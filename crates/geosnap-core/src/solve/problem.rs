@@ -159,6 +159,15 @@ impl Problem {
         self.tape.eval(x)[0]
     }
 
+    /// The objective value at `x`, with its gradient written into `grad`.
+    ///
+    /// # Panics
+    ///
+    /// If `x` or `grad` does not have [`Problem::var_count`] entries.
+    pub fn gradient(&mut self, x: &[f64], grad: &mut [f64]) -> f64 {
+        self.tape.gradient(x, grad)
+    }
+
     /// The constraint values at `x`: equalities, then inequalities.
     ///
     /// # Panics
@@ -205,5 +214,11 @@ mod tests {
         assert!(!p.set_param("nope", 5.0));
         assert_eq!(p.constraints(&[1.0, 1.0]), vec![6.0, 1.0]);
         assert!((p.objective(&[2.0, 3.0]) - 6.0).abs() < 1e-15);
+        let mut grad = [0.0; 2];
+        assert!((p.gradient(&[2.0, 3.0], &mut grad) - 6.0).abs() < 1e-15);
+        assert!(
+            (grad[0] - 3.0).abs() < 1e-15 && (grad[1] - 2.0).abs() < 1e-15,
+            "{grad:?}"
+        );
     }
 }
