@@ -39,7 +39,7 @@ use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::assign::{curve_distance, curve_length};
-use super::{Alternative, SnapResult, Spread};
+use super::{Alternative, Dimension, SnapResult, Spread};
 use crate::primitive::{Curve2, CurveClass, Primitive, Shape};
 use crate::sketch::StrokeId;
 
@@ -528,13 +528,14 @@ fn pinned(spread: Option<&Spread>) -> (f64, String) {
     let Some(spread) = spread else {
         return (1.0, String::new());
     };
-    let (worst, name) = spread.worst(PINNED.0, PINNED.1, PINNED.2);
-    let how = match name {
-        "direction" => format!("{:.0}°", spread.axis.to_degrees()),
-        "position" => format!("{:.0} % of its size", 100.0 * spread.centre),
-        "radius" => format!("{:.0} %", 100.0 * spread.radius),
-        _ => format!("{:.0} %", 100.0 * spread.length),
+    let (worst, dimension) = spread.worst(PINNED.0, PINNED.1, PINNED.2);
+    let value = spread.of(dimension);
+    let how = match dimension {
+        Dimension::Direction => format!("{:.0}°", value.to_degrees()),
+        Dimension::Position => format!("{:.0} % of its size", 100.0 * value),
+        Dimension::Radius | Dimension::Length => format!("{:.0} %", 100.0 * value),
     };
+    let name = dimension.name();
     let why = if worst.is_finite() {
         format!("its strokes pin its {name} only to about ±{how}")
     } else {

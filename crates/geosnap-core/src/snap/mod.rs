@@ -26,7 +26,7 @@ pub use assign::{
 pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
 pub use context::{SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
-pub use spread::Spread;
+pub use spread::{Dimension, Spread};
 
 use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
 use crate::solve::{

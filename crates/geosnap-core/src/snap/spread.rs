@@ -65,18 +65,28 @@ pub struct Spread {
 }
 
 impl Spread {
+    /// The spread of `dimension`.
+    pub fn of(&self, dimension: Dimension) -> f64 {
+        match dimension {
+            Dimension::Position => self.centre,
+            Dimension::Direction => self.axis,
+            Dimension::Radius => self.radius,
+            Dimension::Length => self.length,
+        }
+    }
+
     /// The spread as multiples of the tolerances a recovered part is held to: the centre
     /// within `centre` sizes, the axis within `axis` radians, radii and lengths within
-    /// `size` (relative). Its largest entry with the dimension's name.
-    pub fn worst(&self, centre: f64, axis: f64, size: f64) -> (f64, &'static str) {
+    /// `size` (relative). Its largest entry with its dimension.
+    pub fn worst(&self, centre: f64, axis: f64, size: f64) -> (f64, Dimension) {
         [
-            (self.centre / centre, "position"),
-            (self.axis / axis, "direction"),
-            (self.radius / size, "radius"),
-            (self.length / size, "length"),
+            (self.centre / centre, Dimension::Position),
+            (self.axis / axis, Dimension::Direction),
+            (self.radius / size, Dimension::Radius),
+            (self.length / size, Dimension::Length),
         ]
         .into_iter()
-        .fold((0.0, "position"), |best, x| {
+        .fold((0.0, Dimension::Position), |best, x| {
             if x.0 > best.0 || x.0.is_nan() {
                 x
             } else {
@@ -88,11 +98,27 @@ impl Spread {
 
 /// The dimensions a spread is reported for, each a few numbers of a primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Dimension {
-    Centre,
-    Axis,
+pub enum Dimension {
+    /// The projected centre.
+    Position,
+    /// The axis (a box's axes, a bent tube's chord).
+    Direction,
+    /// The end radii (a sphere's radius).
     Radius,
+    /// The lengths (a box's sides, a bent tube's spine).
     Length,
+}
+
+impl Dimension {
+    /// The dimension in words.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Position => "position",
+            Self::Direction => "direction",
+            Self::Radius => "radius",
+            Self::Length => "length",
+        }
+    }
 }
 
 /// The measured numbers of `p`: for each, its dimension, its value's scale (a relative
@@ -111,19 +137,19 @@ fn measures(p: &Primitive) -> Vec<(Dimension, usize, f64, f64)> {
     let centre = p.center().truncate();
     push_group(
         &mut out,
-        Dimension::Centre,
+        Dimension::Position,
         &[(1.0, centre.x), (1.0, centre.y)],
     );
     let dir = |v: DVec3| [(1.0, v.x), (1.0, v.y), (1.0, v.z)];
     let rel = |v: f64| (v.abs().max(f64::MIN_POSITIVE), v);
     match p {
         Primitive::Cylinder(c) => {
-            push_group(&mut out, Dimension::Axis, &dir(c.axis));
+            push_group(&mut out, Dimension::Direction, &dir(c.axis));
             push_group(&mut out, Dimension::Radius, &[rel(c.radius)]);
             push_group(&mut out, Dimension::Length, &[rel(c.length)]);
         }
         Primitive::Cone(c) => {
-            push_group(&mut out, Dimension::Axis, &dir(c.axis));
+            push_group(&mut out, Dimension::Direction, &dir(c.axis));
             push_group(&mut out, Dimension::Radius, &[rel(c.radius_bottom)]);
             push_group(&mut out, Dimension::Radius, &[rel(c.radius_top)]);
             push_group(&mut out, Dimension::Length, &[rel(c.length)]);
@@ -131,12 +157,12 @@ fn measures(p: &Primitive) -> Vec<(Dimension, usize, f64, f64)> {
         Primitive::Sphere(s) => push_group(&mut out, Dimension::Radius, &[rel(s.radius)]),
         Primitive::Cuboid(b) => {
             for (axis, side) in b.axes().into_iter().zip(b.size.to_array()) {
-                push_group(&mut out, Dimension::Axis, &dir(axis));
+                push_group(&mut out, Dimension::Direction, &dir(axis));
                 push_group(&mut out, Dimension::Length, &[rel(side)]);
             }
         }
         Primitive::Sgc(s) => {
-            push_group(&mut out, Dimension::Axis, &dir(s.axis));
+            push_group(&mut out, Dimension::Direction, &dir(s.axis));
             push_group(&mut out, Dimension::Radius, &[rel(s.radii[0])]);
             push_group(
                 &mut out,
@@ -147,7 +173,7 @@ fn measures(p: &Primitive) -> Vec<(Dimension, usize, f64, f64)> {
         }
         Primitive::Bgc(b) => {
             let chord = (b.spine[b.spine.len() - 1] - b.spine[0]).normalize_or_zero();
-            push_group(&mut out, Dimension::Axis, &dir(chord));
+            push_group(&mut out, Dimension::Direction, &dir(chord));
             push_group(&mut out, Dimension::Radius, &[rel(b.radii[0])]);
             push_group(
                 &mut out,
@@ -178,10 +204,15 @@ pub(crate) fn spread(primitive: &Primitive, assignment: &Assignment, rms: f64) -
     if pose.is_empty() || !pose.iter().all(|v| v.is_finite()) {
         return None;
     }
-    let x0 = settled(&mut problem, primitive, &pose)?;
+    let at_pose = feasible_directions(&mut problem, &pose);
+    let x0 = settled(&mut problem, primitive, &pose, &at_pose)?;
+    let basis = if x0 == pose {
+        at_pose
+    } else {
+        feasible_directions(&mut problem, &x0)
+    };
     let settled_pose = local.with_params(&x0);
     let hessian = hessian(&mut problem, &x0)?;
-    let basis = feasible_directions(&mut problem, &x0);
     let eigen = SymmetricEigen::new(basis.transpose() * &hessian * &basis);
     let largest = eigen.eigenvalues.iter().copied().fold(0.0, f64::max);
     if largest <= 0.0 || !largest.is_finite() {
@@ -215,15 +246,19 @@ pub(crate) fn spread(primitive: &Primitive, assignment: &Assignment, rms: f64) -
 }
 
 /// The parameters at the minimum of `problem` nearest `pose`: `pose` itself when the
-/// fit already stopped there, else those of one more fit from it. A snap's last
+/// fit already stopped there (its slope along `basis`, the feasible directions at
+/// `pose`, is flat), else those of one more fit from it. A snap's last
 /// assignment can hold other strokes than its last fit did (a bent tube is fitted to
 /// its strokes clipped at junctions and named with the drawing's whole strokes), and
 /// the curvature tells the spread only at a minimum.
-fn settled(problem: &mut Problem, primitive: &Primitive, pose: &[f64]) -> Option<Vec<f64>> {
-    let n = pose.len();
-    let mut slope = vec![0.0; n];
+fn settled(
+    problem: &mut Problem,
+    primitive: &Primitive,
+    pose: &[f64],
+    basis: &DMatrix<f64>,
+) -> Option<Vec<f64>> {
+    let mut slope = vec![0.0; pose.len()];
     problem.gradient(pose, &mut slope);
-    let basis = feasible_directions(problem, pose);
     if (basis.transpose() * DVector::from(slope)).norm() <= STATIONARY {
         return Some(pose.to_vec());
     }
@@ -311,8 +346,8 @@ fn gather(base: &[(Dimension, usize, f64, f64)], variances: &[f64]) -> Spread {
             .fold(0.0, f64::max)
     };
     Spread {
-        centre: worst(Dimension::Centre),
-        axis: worst(Dimension::Axis),
+        centre: worst(Dimension::Position),
+        axis: worst(Dimension::Direction),
         radius: worst(Dimension::Radius),
         length: worst(Dimension::Length),
     }
