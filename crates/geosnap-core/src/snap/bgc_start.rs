@@ -2,8 +2,8 @@
 //!
 //! A BGC is dropped straight and in the view plane, but the drawing shows where its spine
 //! runs and how it leaves the view plane:
-//! - the **medial axis** of its two outlines: every sample of a silhouette stroke near
-//!   the drop is paired with the nearest point of another such stroke that lies across
+//! - the **medial axis** of its two outlines: every sample of an outline near the drop
+//!   is paired with the nearest point of another outline that lies across
 //!   the tube (roughly perpendicular to the stroke, running roughly parallel to it, at a
 //!   plausible width; only the samples near the drop, so an outline that runs on into
 //!   another part gives only the piece near the drop); the midpoints of the pairs trace
@@ -11,7 +11,7 @@
 //!   midpoints, in the frame of their principal direction (a C: a bend of up to about
 //!   120° is a graph over its chord), or a cubic when it fits them at least twice as
 //!   closely (an S), is the projected spine, from the first to the last midpoint;
-//! - the **end ellipses**: each feature stroke near the tube goes to the nearer end of
+//! - the **end ellipses**: each other stroke near the tube goes to the nearer end of
 //!   that spine and is read as a whole ellipse (it ends near where it began; a free fit)
 //!   or a front arc (its extent across the spine is the major axis); the one nearest an
 //!   end moves the end to its centre; its minor/major ratio is |t_z|, the out-of-plane
@@ -24,6 +24,14 @@
 //!   squares with a small pull towards the view plane: with one ellipse, or none, the
 //!   least tilted plane that explains what is drawn).
 //!
+//! A stroke's class is a prior here, not a gate: the roles are decided in the tube's
+//! context. The outlines are the silhouette strokes, and any feature stroke that runs
+//! with the drop over half its length (a bent outline is often classified a feature
+//! arc), paired across a silhouette; the strokes that then find a partner across the
+//! tube for at least half their samples are the outlines, and every other stroke may be
+//! an end (an end arc drawn flat is often classified a silhouette), a feature stroke
+//! before any other.
+//!
 //! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
 //! measured half-widths linearly. `None` when the strokes show no tube near the drop, and
 //! for a BGC that is already bent (an earlier fit snaps from itself).
@@ -35,7 +43,7 @@ use super::context::{prepare, SnapContext};
 use super::{SnapError, SnapResult, SnapSettings};
 use crate::geom::{fit_ellipse, fit_line, Ellipse2};
 use crate::primitive::{Bgc, Primitive};
-use crate::sketch::StrokeClass;
+use crate::sketch::{StrokeClass, StrokeId};
 use crate::solve::SolveContext;
 
 mod medial;
@@ -48,23 +56,31 @@ const DENSE: usize = 200;
 
 /// The end ellipses drawn near the ends `ends` of the projected spine (where it runs
 /// along the unit `taus`, outwards or inwards), for a tube of half-width about `widths`:
-/// per end (ellipse, drawn whole). Each feature stroke near the tube is read on its own:
+/// per end (ellipse, drawn whole). Each stroke near the tube but its `outlines` is read on
+/// its own, whatever its class (an end arc drawn flat is often classified a silhouette;
+/// the medial axis has shown which strokes are the outlines):
 /// a stroke drawn all round is a whole ellipse (a free fit; its minor axis lies along the
 /// spine there); otherwise it is a front arc, whose extent across the spine is the major
 /// axis (the arc's own principal direction, not the spine's estimated tangent: the ends
 /// of the medial axis are its least certain part). A stroke goes to the end nearer its
-/// centre, and each end keeps the nearest.
+/// centre, and each end keeps the nearest feature stroke, or the nearest other stroke
+/// when no feature stroke is read there.
 fn end_ellipses(
     context: &SnapContext,
+    outlines: &[StrokeId],
     ends: [DVec2; 2],
     taus: [DVec2; 2],
     widths: [f64; 2],
 ) -> [Option<(Ellipse2, bool)>; 2] {
-    let mut best: [Option<(f64, Ellipse2, bool)>; 2] = [None, None];
+    // The class is the prior: a stroke classified a feature beats any other, the nearest
+    // first among its peers. Per end: ((overruled, distance), ellipse, drawn whole).
+    type Candidate = ((bool, f64), Ellipse2, bool);
+    let mut best: [Option<Candidate>; 2] = [None, None];
     for stroke in &context.strokes {
-        if stroke.class != StrokeClass::Feature || stroke.points.len() < 5 {
+        if outlines.contains(&stroke.id) || stroke.points.len() < 5 {
             continue;
         }
+        let overruled = stroke.class != StrokeClass::Feature;
         let (lo, hi) = stroke.bounds;
         let centre = (lo + hi) / 2.0;
         let side = usize::from(centre.distance(ends[1]) < centre.distance(ends[0]));
@@ -84,9 +100,11 @@ fn end_ellipses(
         if rms <= 0.15 * fit.semi_major
             && d <= 2.0 * radius
             && (0.4..=2.5).contains(&ratio)
-            && best[side].as_ref().is_none_or(|(b, _, _)| d < *b)
+            && best[side]
+                .as_ref()
+                .is_none_or(|(b, _, _)| (overruled, d) < *b)
         {
-            best[side] = Some((d, fit, whole));
+            best[side] = Some(((overruled, d), fit, whole));
         }
     }
     best.map(|b| b.map(|(_, e, whole)| (e, whole)))
@@ -106,34 +124,73 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
     }
 }
 
-/// A reading of the drawing: medial samples (midpoint, half-width), and the strokes to fit
-/// to (see [`Start`]).
-type Reading = (Vec<(DVec2, f64)>, Option<Clipped>);
+/// A reading of the drawing: medial samples (midpoint, half-width), the strokes to fit
+/// to (see [`Start`]), and the strokes read as the tube's outlines.
+type Reading = (Vec<(DVec2, f64)>, Option<Clipped>, Vec<StrokeId>);
+
+/// A stroke whose samples near the drop found a partner across the tube at least this
+/// often is one of the tube's outlines, whatever its class (see [`medial::paired_shares`]).
+const OUTLINE_SHARE: f64 = 0.5;
+
+/// Whether a stroke classified a feature may still be one of a tube's outlines, in the
+/// context of the drop `drop` with radius about `r`: it is open (an end ellipse is drawn
+/// round) and runs with the drop (its principal direction within 45° of the drop's) over
+/// at least half the drop's length and one and a half tube widths. A bent outline is often
+/// classified a feature arc; an end ellipse or arc runs across the tube or is shorter.
+fn runs_along(points: &[DVec2], drop: [DVec2; 2], r: f64) -> bool {
+    let (Some(first), Some(last), Some(line)) = (points.first(), points.last(), fit_line(points))
+    else {
+        return false;
+    };
+    let axis = (drop[1] - drop[0]).normalize_or(DVec2::Y);
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let x = (*p - line.centroid).dot(line.direction);
+            (lo.min(x), hi.max(x))
+        });
+    let extent = hi - lo;
+    first.distance(*last) > 0.4 * extent
+        && line.direction.dot(axis).abs() >= std::f64::consts::FRAC_1_SQRT_2
+        && extent > (3.0 * r).max(0.5 * drop[0].distance(drop[1]))
+}
 
 /// The drawing a tube is fitted to when its outlines stop at junctions (see [`Start`]).
 type Clipped = (SnapContext, SnapContext, Vec<medial::Wall>);
 
 /// Medial samples (midpoint, half-width) of the tube dropped from `first` to `last` with
-/// radius about `r` (see [`medial`]): the silhouette strokes near the drop are paired
-/// within `reach` of its centre, the pairs grouped into chains, the chains cut at their
-/// junctions, and the piece nearest the drop kept with its continuations. With them, the
-/// drawing with the tube's outlines clipped where they stop at a junction (`None` when
-/// none does), so that its fit does not run on along them into the part beyond.
+/// radius about `r` (see [`medial`]): the outlines near the drop (see the module docs)
+/// are paired within `reach` of its centre, the pairs grouped into chains, the chains cut
+/// at their junctions, and the piece nearest the drop kept with its continuations. With
+/// them, the drawing with the tube's outlines clipped where they stop at a junction
+/// (`None` when none does), so that its fit does not run on along them into the part
+/// beyond, and the strokes read as the outlines.
 fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> Vec<Reading> {
     let center = (drop[0] + drop[1]) / 2.0;
     let indices: Vec<usize> = (0..context.strokes.len())
         .filter(|i| {
             let s = &context.strokes[*i];
-            s.class == StrokeClass::Silhouette
-                && s.points.len() >= 2
+            s.points.len() >= 2
                 && s.points.iter().any(|p| p.distance(center) <= reach)
+                && (s.class == StrokeClass::Silhouette || runs_along(&s.points, drop, r))
         })
         .collect();
     let outlines: Vec<&[DVec2]> = indices
         .iter()
         .map(|i| context.strokes[*i].points.as_slice())
         .collect();
-    let samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
+    let mut samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
+    // A feature stroke is overruled as an outline only across a silhouette: two features
+    // side by side are more likely the halves of one end ellipse than a tube.
+    let silhouette = |k: usize| context.strokes[indices[k]].class == StrokeClass::Silhouette;
+    samples.retain(|m| silhouette(m.pair.0) || silhouette(m.pair.1));
+    let shares = medial::paired_shares(&outlines, center, reach, &samples);
+    let outline_ids: Vec<StrokeId> = indices
+        .iter()
+        .zip(&shares)
+        .filter(|(_, share)| **share >= OUTLINE_SHARE)
+        .map(|(i, _)| context.strokes[*i].id)
+        .collect();
     let all: Vec<(DVec2, f64)> = samples.iter().map(|m| (m.at, m.half)).collect();
     let chains = medial::chains(samples);
     let pieces = medial::cut_at_junctions(&chains, drop);
@@ -141,7 +198,7 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     if tube.stops.is_empty() {
         // No junction: every pair near the drop is read together (a hand's outline that
         // breaks up or wanders off its partner for a stretch breaks the chains).
-        return vec![(all, None)];
+        return vec![(all, None, outline_ids)];
     }
     let mut clipped = context.clone();
     for (k, index) in indices.iter().enumerate() {
@@ -185,7 +242,11 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
         .retain(|s| !across.contains(&s.id) && s.points.len() >= 2);
     let mut whole = context.clone();
     whole.strokes.retain(|s| !across.contains(&s.id));
-    vec![(tube.samples, Some((clipped, whole, tube.walls)))]
+    vec![(
+        tube.samples,
+        Some((clipped, whole, tube.walls)),
+        outline_ids,
+    )]
 }
 
 /// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
@@ -280,8 +341,8 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<St
     let readings = medial_axis(context, [first, last], length + 3.0 * r, r);
     let starts: Vec<Start> = readings
         .into_iter()
-        .filter_map(|(medial, clipped)| {
-            pose_from(context, dropped, &medial).map(|pose| Start {
+        .filter_map(|(medial, clipped, outlines)| {
+            pose_from(context, dropped, &medial, &outlines).map(|pose| Start {
                 pose,
                 context: clipped,
             })
@@ -292,7 +353,12 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<St
 
 /// The starting BGC for `dropped` from the medial samples `medial` of its outlines (see
 /// the module docs).
-fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> Option<Primitive> {
+fn pose_from(
+    context: &SnapContext,
+    dropped: &Bgc,
+    medial: &[(DVec2, f64)],
+    outlines: &[StrokeId],
+) -> Option<Primitive> {
     let k = dropped.spine.len();
     let first = dropped.spine.first()?.truncate();
     let last = dropped.spine.last()?.truncate();
@@ -322,6 +388,7 @@ fn pose_from(context: &SnapContext, dropped: &Bgc, medial: &[(DVec2, f64)]) -> O
     // End ellipses move the ends and tell the tilt.
     let [bottom, top] = end_ellipses(
         context,
+        outlines,
         [curve(x0), curve(x1)],
         [slope_dir(x0), slope_dir(x1)],
         [width(x0), width(x1)],
@@ -692,4 +759,124 @@ fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; 
         x[row] = (b[row] - tail) / a[row][row];
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A C-shaped tube of radius 10 round (0, 0): its spine runs on the circle of radius
+    /// 100 from −50° to 50°; per stroke (points, drawn as an outline). The outlines are
+    /// the arcs of radius 90 and 110; the bottom end is drawn as a front arc, the top end
+    /// as a whole ellipse, both 10 across and 4 along the spine (the tube leaves the view
+    /// plane there).
+    fn c_tube() -> Vec<(Vec<DVec2>, bool)> {
+        let arc = |radius: f64| -> Vec<DVec2> {
+            (0..=50)
+                .map(|i| {
+                    let a = (-50.0 + 2.0 * f64::from(i)).to_radians();
+                    DVec2::new(radius * a.cos(), radius * a.sin())
+                })
+                .collect()
+        };
+        let end = |degrees: f64, whole: bool| -> Vec<DVec2> {
+            let a = f64::to_radians(degrees);
+            let (centre, across) = (
+                DVec2::new(100.0 * a.cos(), 100.0 * a.sin()),
+                DVec2::new(a.cos(), a.sin()),
+            );
+            let along = across.perp();
+            let sweep = if whole {
+                std::f64::consts::TAU
+            } else {
+                std::f64::consts::PI
+            };
+            (0..=24)
+                .map(|i| {
+                    let t = sweep * f64::from(i) / 24.0;
+                    centre + across * 10.0 * t.cos() - along * 4.0 * t.sin()
+                })
+                .collect()
+        };
+        vec![
+            (arc(90.0), true),
+            (arc(110.0), true),
+            (end(-50.0, false), false),
+            (end(50.0, true), false),
+        ]
+    }
+
+    /// The start for a straight drop along the tube's chord, radius 9, in a drawing of
+    /// `strokes` with the given classes.
+    fn start_of(strokes: &[(Vec<DVec2>, bool)], classes: &[StrokeClass]) -> Option<Bgc> {
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .zip(classes)
+                .enumerate()
+                .map(|(i, ((points, _), class))| (StrokeId(i as u32), points.as_slice(), *class)),
+        );
+        let a = 50f64.to_radians();
+        let (first, last) = (
+            DVec3::new(100.0 * a.cos(), -100.0 * a.sin(), 0.0),
+            DVec3::new(100.0 * a.cos(), 100.0 * a.sin(), 0.0),
+        );
+        let spine = (0..8)
+            .map(|i| first.lerp(last, f64::from(i) / 7.0))
+            .collect();
+        let dropped = Primitive::Bgc(Bgc::through(spine, 9.0));
+        let start = starts(&context, &dropped).into_iter().next()?;
+        match start.pose {
+            Primitive::Bgc(b) => Some(b),
+            _ => None,
+        }
+    }
+
+    /// The larger out-of-view-plane component of the start's spine direction at its ends.
+    fn end_tilt(b: &Bgc) -> f64 {
+        let k = b.spine.len();
+        let bottom = (b.spine[1] - b.spine[0]).normalize().z.abs();
+        bottom.max((b.spine[k - 1] - b.spine[k - 2]).normalize().z.abs())
+    }
+
+    #[test]
+    fn a_bent_tube_starts_from_its_drawn_outlines_and_ends() {
+        use StrokeClass::{Feature, Silhouette};
+        let b = start_of(&c_tube(), &[Silhouette, Silhouette, Feature, Feature])
+            .expect("a start from the drawn tube");
+        // The spine bends through the arc of radius 100, and it leaves the view plane at
+        // its ends as their ellipses show (minor/major 0.4).
+        let mid = b.spine[3].truncate().midpoint(b.spine[4].truncate());
+        assert!((mid.length() - 100.0).abs() < 5.0, "middle at {mid}");
+        assert!(end_tilt(&b) > 0.25, "end tilt {}", end_tilt(&b));
+    }
+
+    #[test]
+    fn an_end_arc_classified_as_an_outline_is_still_read_as_the_end() {
+        use StrokeClass::Silhouette;
+        // Only one end is drawn, so only its arc can tilt the tube.
+        let mut strokes = c_tube();
+        strokes.truncate(3);
+        let misread = start_of(&strokes, &[Silhouette; 3]).expect("a start from the drawn tube");
+        assert!(
+            end_tilt(&misread) > 0.25,
+            "end tilt {}: the end arc was not read",
+            end_tilt(&misread)
+        );
+        // Without its arc, the tube shows no tilt: the arc is what was read.
+        strokes.truncate(2);
+        let without = start_of(&strokes, &[Silhouette; 2]).expect("a start");
+        assert!(end_tilt(&without) < 0.1, "end tilt {}", end_tilt(&without));
+    }
+
+    #[test]
+    fn a_bent_outline_classified_as_a_feature_still_pairs_with_its_partner() {
+        use StrokeClass::{Feature, Silhouette};
+        let b = start_of(&c_tube(), &[Feature, Silhouette, Feature, Feature])
+            .expect("the inner outline is overruled as an outline in the tube's context");
+        let mid = b.spine[3].truncate().midpoint(b.spine[4].truncate());
+        assert!((mid.length() - 100.0).abs() < 5.0, "middle at {mid}");
+        // Two features side by side are not a tube on their own.
+        assert!(start_of(&c_tube(), &[Feature, Feature, Feature, Feature]).is_none());
+    }
 }

@@ -33,6 +33,8 @@ pub(super) struct Medial {
     pub along: f64,
     /// Arc length along `pair.1` where the pair lies.
     pub along_b: f64,
+    /// The outline whose sample found the pair (`pair.0` or `pair.1`).
+    pub from: usize,
 }
 
 /// A piece of a chain: its samples in order, and the junctions where it was cut at its
@@ -186,11 +188,37 @@ pub(super) fn medial_samples(
                     pair,
                     along,
                     along_b,
+                    from: i,
                 });
             }
         }
     }
     medial
+}
+
+/// The share of each outline's samples near `center` (see [`medial_samples`]) that found
+/// a partner across the tube in `medial`: about 1 for a tube's outline, low for a stroke
+/// that only touches one (an end arc meets its outlines tangentially, so only its tips
+/// pair), 0 for a stroke with no samples near the drop.
+pub(super) fn paired_shares(
+    outlines: &[&[DVec2]],
+    center: DVec2,
+    reach: f64,
+    medial: &[Medial],
+) -> Vec<f64> {
+    outlines
+        .iter()
+        .enumerate()
+        .map(|(i, points)| {
+            let sampled = samples(points, center, reach).len();
+            let paired = medial.iter().filter(|m| m.from == i).count();
+            if sampled == 0 {
+                0.0
+            } else {
+                paired as f64 / sampled as f64
+            }
+        })
+        .collect()
 }
 
 /// The median of some values (0 for none).
@@ -635,6 +663,7 @@ mod tests {
                         pair,
                         along: 200.0 * t,
                         along_b: 200.0 * t,
+                        from: pair.0,
                     }
                 })
                 .collect()
