@@ -329,7 +329,7 @@ pub fn save_session(path: impl AsRef<Path>, session: &Session) -> Result<(), Sav
 /// naming the file, whose source is the error of [`parse_session`].
 pub fn load_session(path: impl AsRef<Path>) -> Result<Session, SessionError> {
     let path = path.as_ref();
-    let data = std::fs::read(path).map_err(|source| SessionError::Read {
+    let data = crate::io::input::read_input(path).map_err(|source| SessionError::Read {
         path: path.to_owned(),
         source,
     })?;
