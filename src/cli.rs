@@ -8,13 +8,16 @@
 //! - `geosnap solve MODEL --out MODEL`: re-solves a model with its relations.
 //! - `geosnap selftest`: the solver on the Hock–Schittkowski problems.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{run_steps, Companions, GlobalSettings, SessionSettings, StepOutcome};
+use geosnap::core::model::{
+    run_steps_with, Companions, GlobalSettings, SessionSettings, StepOutcome,
+};
 use geosnap::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
@@ -464,11 +467,13 @@ fn run(args: &RunArgs<'_>) -> Result<ExitCode> {
     let steps = &script.steps;
     let clock = MonotonicClock::start();
     let settings = SessionSettings::default();
-    let (mut document, outcomes) = run_steps(
+    let mut progress = Progress::new(steps.len(), std::io::stderr().is_terminal());
+    let (mut document, outcomes) = run_steps_with(
         &loaded.sketch,
         steps,
         &settings,
         SolveContext::default().with_clock(&clock),
+        &mut |index, outcome| progress.step(index, outcome),
     );
     if args.accept_suggestions {
         let accepted = document.accept_suggestions();
@@ -500,7 +505,7 @@ fn run(args: &RunArgs<'_>) -> Result<ExitCode> {
         &script,
         &loaded,
         (&document, &outcomes),
-        elapsed,
+        (elapsed, &progress.step_ms),
         gltf_report,
     )?;
     Ok(ExitCode::SUCCESS)
@@ -554,7 +559,7 @@ fn run_summary(
     script: &Script,
     loaded: &LoadedSketch,
     (document, outcomes): (&geosnap::core::model::Document, &[StepOutcome]),
-    elapsed: std::time::Duration,
+    (elapsed, step_ms): (std::time::Duration, &[f64]),
     gltf_report: Option<ExportReport>,
 ) -> Result<()> {
     let (script_path, out, steps) = (args.script, args.out, &script.steps);
@@ -583,9 +588,16 @@ fn run_summary(
         }
     );
     solve_ms.sort_by(f64::total_cmp);
+    let (solves, resolves) = solve_counts(outcomes);
+    let slowest = step_ms
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, ms)| format!("; slowest step {i}: {ms:.1} ms with its re-solves"))
+        .unwrap_or_default();
     println!(
-        "{} global solve(s), median {:.1} ms, max {:.1} ms; {:.1} ms in all; wrote {}",
-        solve_ms.len(),
+        "{solves} global solve(s) ({resolves} re-solve(s) after conflicts); last solve per \
+         step median {:.1} ms, max {:.1} ms{slowest}; {:.1} ms in all; wrote {}",
         solve_ms.get(solve_ms.len() / 2).copied().unwrap_or(0.0),
         solve_ms.last().copied().unwrap_or(0.0),
         elapsed.as_secs_f64() * 1e3,
@@ -616,6 +628,78 @@ fn run_summary(
         }
     }
     Ok(())
+}
+
+/// Every global solve of a run's steps, and how many of them were re-solves after a
+/// conflict was switched off.
+fn solve_counts(outcomes: &[StepOutcome]) -> (usize, usize) {
+    outcomes
+        .iter()
+        .filter_map(|o| match o {
+            StepOutcome::Placed { solve, .. } => Some(solve.solves),
+            _ => None,
+        })
+        .fold((0, 0), |(all, again), n| {
+            (all + n, again + n.saturating_sub(1))
+        })
+}
+
+/// Per-step progress of `geosnap run`: each step's wall time, and a line per step on
+/// stderr when it is a terminal (a long script is never silent).
+struct Progress {
+    total: usize,
+    show: bool,
+    last: std::time::Instant,
+    /// Each step's wall time (snap, inference and every solve), in ms.
+    step_ms: Vec<f64>,
+}
+
+impl Progress {
+    fn new(total: usize, show: bool) -> Self {
+        if show && total > 0 {
+            eprintln!("running {total} step(s)…");
+        }
+        Self {
+            total,
+            show,
+            last: std::time::Instant::now(),
+            step_ms: Vec::with_capacity(total),
+        }
+    }
+
+    fn step(&mut self, index: usize, outcome: &StepOutcome) {
+        let now = std::time::Instant::now();
+        let ms = now.duration_since(self.last).as_secs_f64() * 1e3;
+        self.last = now;
+        self.step_ms.push(ms);
+        if !self.show {
+            return;
+        }
+        let what = match outcome {
+            StepOutcome::Placed {
+                id, snap, solve, ..
+            } => {
+                let again = solve.solves.saturating_sub(1);
+                format!(
+                    "{} #{} placed{}",
+                    snap.primitive.kind().name(),
+                    id.0,
+                    if again > 0 {
+                        format!(", {again} re-solve(s) after conflicts")
+                    } else {
+                        String::new()
+                    }
+                )
+            }
+            StepOutcome::Skipped(_) => "skipped".to_owned(),
+            StepOutcome::Refused { .. } => "refused".to_owned(),
+        };
+        eprintln!(
+            "[{}/{}] step {index}: {what} in {ms:.0} ms",
+            index + 1,
+            self.total
+        );
+    }
 }
 
 /// The most invalid steps a refused script lists.

@@ -252,6 +252,12 @@ fn bad_outputs_are_refused_before_anything_is_written() {
     ]);
     assert!(done.status.success(), "{}", stderr(&done));
     assert!(out.exists() && png.exists() && glb.exists());
+    // Case 8: the summary counts every solve, re-solves after conflicts included.
+    assert!(
+        stdout(&done).contains("re-solve(s) after conflicts)"),
+        "{}",
+        stdout(&done)
+    );
     let export = geosnap(&[
         "export",
         &out.to_string_lossy(),
@@ -352,4 +358,32 @@ fn special_files_are_refused_without_a_hang() {
         assert!(!done.status.success());
         assert!(stderr(&done).contains(says), "{}", stderr(&done));
     }
+}
+
+/// Case 8: the runner reports each step as soon as it is done, in order, with the
+/// outcome the run returns.
+#[test]
+fn each_step_is_reported_as_it_ends() {
+    use geosnap::core::model::{run_steps_with, SessionSettings, StepOutcome};
+    use geosnap::core::solve::SolveContext;
+
+    let dir = Scratch::new("progress");
+    let script =
+        geosnap::io::script::load_script(dir.path("vase.script.json")).expect("the sample");
+    let sketch = geosnap::io::load_sketch(&script.sketch).expect("its drawing");
+    let mut seen = Vec::new();
+    let (_, outcomes) = run_steps_with(
+        &sketch.sketch,
+        &script.steps,
+        &SessionSettings::default(),
+        SolveContext::default(),
+        &mut |index, outcome| seen.push((index, matches!(outcome, StepOutcome::Placed { .. }))),
+    );
+    let expected: Vec<(usize, bool)> = outcomes
+        .iter()
+        .enumerate()
+        .map(|(i, o)| (i, matches!(o, StepOutcome::Placed { .. })))
+        .collect();
+    assert_eq!(seen, expected);
+    assert_eq!(seen.len(), script.steps.len());
 }
