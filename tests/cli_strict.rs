@@ -57,8 +57,22 @@ fn run(args: &[&Path]) -> Output {
     command.output().expect("the binary runs")
 }
 
+/// Runs `geosnap run` with `args`, which must fail; returns its stderr.
+fn run_refused(args: &[&Path]) -> String {
+    let done = run(args);
+    let message = stderr(&done);
+    assert!(!done.status.success(), "must fail: {message}");
+    message
+}
+
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Asserts that the command's stderr says `text`.
+fn assert_says(output: &Output, text: &str) {
+    let message = stderr(output);
+    assert!(message.contains(text), "expected {text:?} in: {message}");
 }
 
 fn stdout(output: &Output) -> String {
@@ -82,9 +96,7 @@ fn a_typo_in_a_step_is_refused_before_any_work() {
         r#"{"place": "cylinder", "at": [1, 2], "raduis": 4}"#,
     );
     let out = dir.path("typo.model.json");
-    let done = run(&[&script, Path::new("--out"), &out]);
-    let message = stderr(&done);
-    assert!(!done.status.success(), "{message}");
+    let message = run_refused(&[&script, Path::new("--out"), &out]);
     assert!(
         message.contains("step 0: line 1, column ")
             && message.contains("unknown field `raduis`; did you mean `radius`?"),
@@ -100,9 +112,7 @@ fn a_script_of_the_wrong_shape_is_refused_in_our_words() {
     let script = dir.path("array.script.json");
     std::fs::write(&script, r#"["geosnap-script", 1, "vase.svg"]"#).expect("written");
     let out = dir.path("array.model.json");
-    let done = run(&[&script, Path::new("--out"), &out]);
-    let message = stderr(&done);
-    assert!(!done.status.success(), "{message}");
+    let message = run_refused(&[&script, Path::new("--out"), &out]);
     assert!(
         message.contains("a placement script must be a JSON object")
             && message.contains("array.script.json"),
@@ -124,9 +134,7 @@ fn a_sketch_without_strokes_is_refused() {
     )
     .expect("written");
     let out = dir.path("empty.model.json");
-    let done = run(&[&dir.path("vase.script.json"), Path::new("--out"), &out]);
-    let message = stderr(&done);
-    assert!(!done.status.success(), "{message}");
+    let message = run_refused(&[&dir.path("vase.script.json"), Path::new("--out"), &out]);
     assert!(message.contains("has no strokes"), "{message}");
     assert!(!out.exists(), "nothing written");
 }
@@ -143,19 +151,11 @@ fn strict_fails_when_a_step_is_skipped() {
     let out = dir.path("skip.model.json");
     let lenient = run(&[&script, Path::new("--out"), &out]);
     assert!(lenient.status.success(), "{}", stderr(&lenient));
-    assert!(
-        stderr(&lenient).contains("warning: 1 of 2 step(s) were skipped"),
-        "{}",
-        stderr(&lenient)
-    );
+    assert_says(&lenient, "warning: 1 of 2 step(s) were skipped");
     std::fs::remove_file(&out).expect("written");
     let strict = run(&[&script, Path::new("--out"), &out, Path::new("--strict")]);
     assert!(!strict.status.success(), "{}", stdout(&strict));
-    assert!(
-        stderr(&strict).contains("--strict: 1 step(s)"),
-        "{}",
-        stderr(&strict)
-    );
+    assert_says(&strict, "--strict: 1 step(s)");
     assert!(out.exists(), "--strict still writes the outputs");
 }
 
@@ -168,11 +168,7 @@ fn outputs_that_are_inputs_are_refused() {
     let before = std::fs::read(&script).expect("the script");
     let done = run(&[&script, Path::new("--out"), &script]);
     assert!(!done.status.success());
-    assert!(
-        stderr(&done).contains("is an input of this command"),
-        "{}",
-        stderr(&done)
-    );
+    assert_says(&done, "is an input of this command");
     assert_eq!(std::fs::read(&script).expect("the script"), before);
 
     // The sketch named inside the script, through another spelling of its path.
@@ -187,11 +183,7 @@ fn outputs_that_are_inputs_are_refused() {
     .expect("written");
     let other_spelling = dir.0.join(".").join("drawing.json");
     let done = run(&[&script, Path::new("--out"), &other_spelling]);
-    assert!(
-        stderr(&done).contains("is an input of this command"),
-        "{}",
-        stderr(&done)
-    );
+    assert_says(&done, "is an input of this command");
     assert_eq!(std::fs::read_to_string(&sketch).expect("sketch"), native);
 
     // The same for `solve`.
@@ -200,11 +192,7 @@ fn outputs_that_are_inputs_are_refused() {
     assert!(made.status.success(), "{}", stderr(&made));
     let model_text = model.to_string_lossy();
     let done = geosnap(&["solve", &model_text, "--out", &model_text]);
-    assert!(
-        stderr(&done).contains("is an input of this command"),
-        "{}",
-        stderr(&done)
-    );
+    assert_says(&done, "is an input of this command");
 }
 
 /// Case 5: a missing folder or an unsupported extension of any output is found before
@@ -229,15 +217,11 @@ fn bad_outputs_are_refused_before_anything_is_written() {
     ] {
         let done = run(&[&script, Path::new("--out"), &out, Path::new(option), &path]);
         assert!(!done.status.success(), "{option} {}", path.display());
-        assert!(stderr(&done).contains(says), "{}", stderr(&done));
+        assert_says(&done, says);
         assert!(!out.exists(), "the model is not written");
     }
     let done = run(&[&script, Path::new("--out"), &dir.path("vase.svg.bak")]);
-    assert!(
-        stderr(&done).contains("--out takes a .json file"),
-        "{}",
-        stderr(&done)
-    );
+    assert_says(&done, "--out takes a .json file");
 
     // All outputs at once, when they are fine.
     let (png, glb) = (dir.path("vase.png"), dir.path("vase.glb"));
@@ -264,11 +248,7 @@ fn bad_outputs_are_refused_before_anything_is_written() {
         "--out",
         &dir.path("x.stl").to_string_lossy(),
     ]);
-    assert!(
-        stderr(&export).contains("--out takes a .glb or .gltf file"),
-        "{}",
-        stderr(&export)
-    );
+    assert_says(&export, "--out takes a .glb or .gltf file");
 }
 
 /// Case 9: a script named where a sketch is expected gets a hint, and `check` decides
@@ -283,11 +263,7 @@ fn kinds_are_decided_by_content_with_hints() {
     )
     .expect("written");
     let done = run(&[&script, Path::new("--out"), &dir.path("o.model.json")]);
-    assert!(
-        stderr(&done).contains("this is a placement script"),
-        "{}",
-        stderr(&done)
-    );
+    assert_says(&done, "this is a placement script");
 
     // A script under a plain name is checked as a script.
     let plain = dir.path("plain.json");
@@ -304,11 +280,7 @@ fn kinds_are_decided_by_content_with_hints() {
     let typo = dir.script("typo.script.json", r#"{"plcae": "cone", "at": [1, 2]}"#);
     let checked = geosnap(&["check", &typo.to_string_lossy()]);
     assert!(!checked.status.success());
-    assert!(
-        stderr(&checked).contains("did you mean `place`?"),
-        "{}",
-        stderr(&checked)
-    );
+    assert_says(&checked, "did you mean `place`?");
     assert!(
         !stdout(&checked).contains("did you mean"),
         "{}",
@@ -356,7 +328,7 @@ fn special_files_are_refused_without_a_hang() {
             .expect("spawned");
         let done = wait_at_most(child, Duration::from_secs(30)).expect("no hang");
         assert!(!done.status.success());
-        assert!(stderr(&done).contains(says), "{}", stderr(&done));
+        assert_says(&done, says);
     }
 }
 

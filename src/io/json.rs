@@ -414,6 +414,36 @@ pub fn root_object<'v>(
     })
 }
 
+/// A value of the wrong kind at `path`: "must be {expected}, found an array [1,2]".
+pub fn wrong_kind(path: &JsonPath, expected: &str, found: &Value) -> JsonProblem {
+    JsonProblem::at(
+        path,
+        format!(
+            "must be {expected}, found {} {}",
+            kind_of(found),
+            shown(found)
+        ),
+    )
+}
+
+/// The list in the optional field `field` of the root `object` (empty when missing or
+/// null).
+///
+/// # Errors
+///
+/// A [`wrong_kind`] problem when the field is neither a list nor null.
+pub fn optional_list<'v>(
+    object: &'v Map<String, Value>,
+    field: &str,
+    expected: &str,
+) -> Result<&'v [Value], JsonProblem> {
+    match object.get(field) {
+        None | Some(Value::Null) => Ok(&[]),
+        Some(Value::Array(items)) => Ok(items.as_slice()),
+        Some(other) => Err(wrong_kind(&JsonPath::root().key(field), expected, other)),
+    }
+}
+
 /// The known name closest to `word`, if it is close enough to be a typo: at most two
 /// edits (insertions, deletions, substitutions or swaps of neighbours) and fewer than
 /// half its letters, or the same name in another case.

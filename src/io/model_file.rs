@@ -675,26 +675,14 @@ fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
         None | Some(Value::Null) => String::new(),
         Some(Value::String(sketch)) => sketch.clone(),
         Some(other) => {
-            return Err(JsonProblem::at(
+            return Err(json::wrong_kind(
                 &root.key("sketch"),
-                format!("must be a path (a string), found {}", json::shown(other)),
+                "a path (a string)",
+                other,
             ))
         }
     };
-    let list = |field: &'static str| -> Result<&[Value], JsonProblem> {
-        match object.get(field) {
-            None | Some(Value::Null) => Ok(&[]),
-            Some(Value::Array(items)) => Ok(items.as_slice()),
-            Some(other) => Err(JsonProblem::at(
-                &root.key(field),
-                format!(
-                    "must be a list, found {} {}",
-                    json::kind_of(other),
-                    json::shown(other)
-                ),
-            )),
-        }
-    };
+    let list = |field| json::optional_list(object, field, "a list");
     let (primitives, relations, skipped) =
         (list("primitives")?, list("relations")?, list("skipped")?);
     for (field, items, known) in [
@@ -705,14 +693,7 @@ fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
         for (index, item) in items.iter().enumerate() {
             let path = root.key(field).index(index);
             let Some(entry) = item.as_object() else {
-                return Err(JsonProblem::at(
-                    &path,
-                    format!(
-                        "must be an object, found {} {}",
-                        json::kind_of(item),
-                        json::shown(item)
-                    ),
-                ));
+                return Err(json::wrong_kind(&path, "an object", item));
             };
             // A primitive may carry further fields (formats.md §3); its misspelt
             // required fields are caught by `misspelt`.
@@ -951,8 +932,8 @@ mod tests {
                 "unknown feature `front` for a cylinder",
             ),
         ] {
-            let text = text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1);
-            let error = parse_model(text.as_bytes()).expect_err(bad).to_string();
+            let error =
+                refused(&text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1));
             assert!(
                 error.contains("relation 0") && error.contains(says),
                 "{error}"
@@ -1096,8 +1077,7 @@ mod tests {
                 "skipped[0].reasons: unknown field `reasons`; did you mean `reason`?",
             ),
         ] {
-            let text = FORMATS_EXAMPLE.replacen(from, to, 1);
-            let error = parse_model(text.as_bytes()).expect_err(to).to_string();
+            let error = refused(&FORMATS_EXAMPLE.replacen(from, to, 1));
             assert!(
                 error.starts_with("line ") && error.contains(says),
                 "{to}: {error}"
@@ -1105,28 +1085,28 @@ mod tests {
         }
     }
 
+    /// Why a model text is refused (it must be).
+    fn refused(text: &str) -> String {
+        parse_model(text.as_bytes())
+            .expect_err("the model is refused")
+            .to_string()
+    }
+
     /// Issue 19, case 9: a wrong version says which was found; wrong shapes in our words.
     #[test]
     fn wrong_versions_and_shapes_say_what_was_found() {
         let newer = FORMATS_EXAMPLE.replacen(r#""version": 1"#, r#""version": 3"#, 1);
-        let error = parse_model(newer.as_bytes())
-            .expect_err("newer")
-            .to_string();
+        let error = refused(&newer);
         assert!(error.contains("version 3 is not supported"), "{error}");
         let text = FORMATS_EXAMPLE.replacen(r#""version": 1"#, r#""version": "one""#, 1);
-        let error = parse_model(text.as_bytes())
-            .expect_err("a string")
-            .to_string();
+        let error = refused(&text);
         assert!(error.contains(r#"version "one" is not valid"#), "{error}");
-        let error = parse_model(br#"["geosnap-model", 1]"#)
-            .expect_err("an array")
-            .to_string();
+        let error = refused(r#"["geosnap-model", 1]"#);
         assert!(
             error.contains("a model file must be a JSON object"),
             "{error}"
         );
-        let script = br#"{"format": "geosnap-script", "version": 1, "sketch": "a.svg"}"#;
-        let error = parse_model(script).expect_err("a script").to_string();
+        let error = refused(r#"{"format": "geosnap-script", "version": 1, "sketch": "a.svg"}"#);
         assert!(error.contains("this is a placement script"), "{error}");
         let members: Vec<String> = (0..100_000).map(|i| i.to_string()).collect();
         let text = FORMATS_EXAMPLE.replacen(
@@ -1134,9 +1114,7 @@ mod tests {
             &format!(r#""members": [{}], "mode": "hard""#, members.join(",")),
             1,
         );
-        let error = parse_model(text.as_bytes())
-            .expect_err("too many")
-            .to_string();
+        let error = refused(&text);
         assert!(error.len() < 300, "{error}");
     }
 

@@ -177,12 +177,10 @@ fn read_envelope(value: &Value) -> Result<Envelope<'_>, JsonProblem> {
     let sketch = match object.get("sketch") {
         Some(Value::String(sketch)) if !sketch.is_empty() => sketch.as_str(),
         Some(other) => {
-            return Err(JsonProblem::at(
+            return Err(json::wrong_kind(
                 &root.key("sketch"),
-                format!(
-                    "must be the path of the sketch (a non-empty string), found {}",
-                    json::shown(other)
-                ),
+                "the path of the sketch (a non-empty string)",
+                other,
             ))
         }
         None => {
@@ -196,29 +194,14 @@ fn read_envelope(value: &Value) -> Result<Envelope<'_>, JsonProblem> {
         None | Some(Value::Null) => None,
         Some(Value::String(image)) => Some(image.as_str()),
         Some(other) => {
-            return Err(JsonProblem::at(
+            return Err(json::wrong_kind(
                 &root.key("image"),
-                format!(
-                    "must be the path of an image (a string) or null, found {}",
-                    json::shown(other)
-                ),
+                "the path of an image (a string) or null",
+                other,
             ))
         }
     };
-    let steps = match object.get("steps") {
-        None | Some(Value::Null) => &[][..],
-        Some(Value::Array(steps)) => steps.as_slice(),
-        Some(other) => {
-            return Err(JsonProblem::at(
-                &root.key("steps"),
-                format!(
-                    "must be a list of steps, found {} {}",
-                    json::kind_of(other),
-                    json::shown(other)
-                ),
-            ))
-        }
-    };
+    let steps = json::optional_list(object, "steps", "a list of steps")?;
     Ok(Envelope {
         sketch,
         image,

@@ -289,27 +289,10 @@ fn parse_xml(text: &str) -> Result<roxmltree::Document<'_>, LoadError> {
     })
 }
 
-/// The attributes that carry coordinates, sizes or transforms: an element with a number
-/// beyond [`MAX_SOURCE_NUMBER`] in any of them is not imported.
-const COORDINATE_ATTRIBUTES: [&str; 17] = [
-    "x",
-    "y",
-    "width",
-    "height",
-    "cx",
-    "cy",
-    "r",
-    "rx",
-    "ry",
-    "x1",
-    "y1",
-    "x2",
-    "y2",
-    "points",
-    "d",
-    "transform",
-    "viewBox",
-];
+/// The attributes that carry coordinates, sizes or transforms, separated by spaces: an
+/// element with a number beyond [`MAX_SOURCE_NUMBER`] in any of them is not imported.
+const COORDINATE_ATTRIBUTES: &str =
+    "x y width height cx cy r rx ry x1 y1 x2 y2 points d transform viewBox";
 
 /// Elements with numbers beyond [`MAX_SOURCE_NUMBER`] in a coordinate attribute, found
 /// before usvg sees them: usvg and tiny-skia work in `f32` and build arcs, strokes and
@@ -333,7 +316,10 @@ impl AbsurdGeometry {
                 continue;
             }
             let Some(attribute) = node.attributes().find(|a| {
-                COORDINATE_ATTRIBUTES.contains(&a.name()) && has_absurd_number(a.value())
+                COORDINATE_ATTRIBUTES
+                    .split(' ')
+                    .any(|name| name == a.name())
+                    && has_absurd_number(a.value())
             }) else {
                 continue;
             };
