@@ -414,7 +414,7 @@ pub fn root_object<'v>(
     })
 }
 
-/// A value of the wrong kind at `path`: "must be {expected}, found an array [1,2]".
+/// A value of the wrong kind at `path`: "must be {expected}, found an array `[1,2]`".
 pub fn wrong_kind(path: &JsonPath, expected: &str, found: &Value) -> JsonProblem {
     JsonProblem::at(
         path,

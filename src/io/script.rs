@@ -106,7 +106,7 @@ impl Script {
 /// # Errors
 ///
 /// [`ScriptError::Read`] when the file cannot be read (see
-/// [`read_input`](crate::io::input::read_input)), else [`ScriptError::File`] naming it,
+/// [`read_input`]), else [`ScriptError::File`] naming it,
 /// with the errors of [`parse_script`].
 pub fn load_script(path: impl AsRef<Path>) -> Result<Script, ScriptError> {
     let path = path.as_ref();
