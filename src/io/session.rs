@@ -399,7 +399,7 @@ pub fn parse_session(data: &[u8]) -> Result<Session, SessionError> {
         Some(Value::String(format)) if format == SESSION_FORMAT => {}
         other => {
             return Err(SessionError::WrongFormat {
-                found: other.map_or_else(|| "missing".to_owned(), Value::to_string),
+                found: other.map_or_else(|| "missing".to_owned(), crate::io::json::shown),
             })
         }
     }
@@ -407,7 +407,7 @@ pub fn parse_session(data: &[u8]) -> Result<Session, SessionError> {
         Some(v) if v.as_u64() == Some(SESSION_VERSION) => {}
         other => {
             return Err(SessionError::UnsupportedVersion {
-                found: other.map_or_else(|| "missing".to_owned(), Value::to_string),
+                found: other.map_or_else(|| "missing".to_owned(), crate::io::json::shown),
             })
         }
     }
