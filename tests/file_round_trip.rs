@@ -15,17 +15,63 @@ use std::path::{Path, PathBuf};
 use common::{run_script_document, scripts_in, shared_dir};
 use geosnap::core::model::Document;
 use geosnap::core::sketch::Sketch;
-use geosnap::io::model_file::{model_json, parse_model};
+use geosnap::io::model_file::parse_model;
 use geosnap::io::session::{parse_session, session_bytes, Session};
 use geosnap::io::sketch_file::{parse_sketch_file, sketch_file_bytes};
 use serde_json::Value;
 
 /// The model file's bytes for a document, as `save_model` writes them.
 fn model_bytes(document: &Document, sketch: &str) -> Vec<u8> {
-    let mut text =
-        serde_json::to_string_pretty(&model_json(document, sketch)).expect("a model encodes");
-    text.push('\n');
-    text.into_bytes()
+    geosnap::io::model_file::model_bytes(document, sketch).expect("a model encodes")
+}
+
+/// Every file under `dir` (recursively) whose name ends with `suffix`, sorted.
+fn files_ending(dir: &Path, suffix: &str) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut folders = vec![dir.to_owned()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).expect("a readable folder") {
+            let path = entry.expect("an entry").path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.to_string_lossy().ends_with(suffix) {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+/// Issue 19: the strict readers accept every file the project ships: each sample
+/// drawing and script under `sketches/` and each script under `tests/shared_scripts/`
+/// (read alone: their drawings live in the shared folder), with no invalid step.
+#[test]
+fn every_shipped_sketch_and_script_still_loads() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let sketches = files_ending(&root.join("sketches"), ".svg");
+    assert!(sketches.len() >= 5, "{sketches:?}");
+    for sketch in &sketches {
+        let loaded = geosnap::io::load_sketch(sketch).expect("a sample drawing loads");
+        assert!(!loaded.sketch.strokes.is_empty(), "{}", sketch.display());
+    }
+    let mut scripts = files_ending(&root.join("sketches"), ".script.json");
+    let samples = scripts.len();
+    scripts.extend(files_ending(
+        &root.join("tests/shared_scripts"),
+        ".script.json",
+    ));
+    assert!(samples >= 5 && scripts.len() > samples, "{scripts:?}");
+    for path in &scripts {
+        let script = geosnap::io::script::load_script(path)
+            .unwrap_or_else(|e| panic!("{} loads: {e:#?}", path.display()));
+        assert!(
+            script.invalid_steps().is_empty(),
+            "{}: {:?}",
+            path.display(),
+            script.invalid_steps()
+        );
+    }
 }
 
 /// Whether two JSON files are the same but for numbers that differ in their last digits.

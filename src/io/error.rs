@@ -7,6 +7,8 @@
 
 use std::path::PathBuf;
 
+use crate::io::json::JsonProblem;
+
 /// Why a sketch (SVG or native sketch file) could not be loaded.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -56,14 +58,16 @@ pub enum LoadError {
         expected: &'static str,
     },
     /// The data is not valid JSON or does not have the structure of a sketch file.
-    #[error("malformed sketch file")]
+    #[error("malformed sketch file: {problem}")]
     Json {
-        /// The JSON parser's error (with line and column).
-        #[source]
-        source: serde_json::Error,
+        /// Where (line and column) and what, in our words.
+        problem: JsonProblem,
     },
     /// The JSON is not a geosnap sketch file (its `format` field is wrong or missing).
-    #[error("not a geosnap sketch file: format is {found}, expected \"geosnap-sketch\"")]
+    #[error(
+        "not a geosnap sketch file: format is {found}, expected \"geosnap-sketch\"{}",
+        format_hint(found)
+    )]
     WrongFormat {
         /// The `format` value found, as JSON, or `missing`.
         found: String,
@@ -91,6 +95,15 @@ pub enum LoadError {
     /// The sketch breaks an invariant (too few points, non-finite values, duplicate ids).
     #[error(transparent)]
     InvalidSketch(#[from] SketchError),
+}
+
+/// What a file with the `format` found (as JSON) is, when it is another geosnap file.
+fn format_hint(found: &str) -> String {
+    serde_json::from_str::<String>(found)
+        .ok()
+        .and_then(|format| crate::io::json::describe_format(&format))
+        .map(|what| format!("; this is {what}"))
+        .unwrap_or_default()
 }
 
 /// Why a sketch could not be saved.

@@ -14,8 +14,13 @@
 //!   relations, dimensions and snap records) saved and reopened.
 //! - [`gltf`]: glTF 2.0 export (`.glb`, `.gltf`) with the model's meaning in `extras`,
 //!   and the reader of those extras.
+//! - [`json`]: strict JSON reading for scripts and models: unknown fields refused with a
+//!   suggestion, messages in our words with the line and column.
+//! - [`input`]: [`read_input`](input::read_input), which reads only regular files up to
+//!   a size limit.
 //! - [`atomic`]: [`write_atomic`], which replaces a file so that a crash or a full disk
-//!   never leaves it half written.
+//!   never leaves it half written, [`write_all_atomic`] for the several outputs of one
+//!   command (all or none), and [`check_target`] to check an output before any work.
 //!
 //! Errors are typed: [`LoadError`] when reading, [`SaveError`] when writing, and
 //! [`SketchError`] for a sketch that breaks the stroke invariants.
@@ -23,6 +28,8 @@
 pub mod atomic;
 mod error;
 pub mod gltf;
+pub mod input;
+pub mod json;
 pub mod model_file;
 pub mod overlay;
 pub mod script;
@@ -30,7 +37,7 @@ pub mod session;
 pub mod sketch_file;
 pub mod svg;
 
-pub use atomic::write_atomic;
+pub use atomic::{check_target, write_all_atomic, write_atomic};
 pub use error::{LoadError, SaveError, SketchError};
 pub use session::{
     load_session, parse_session, save_session, session_bytes, Session, SessionError,

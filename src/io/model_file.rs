@@ -18,6 +18,8 @@ use crate::core::relation::{Mode, RelationKind};
 use crate::core::sketch::StrokeId;
 use crate::core::snap::Verdict;
 use crate::io::atomic::write_atomic;
+use crate::io::input::read_input;
+use crate::io::json::{self, JsonPath, JsonProblem, Position};
 
 /// The `format` value of a model file.
 pub const MODEL_FORMAT: &str = "geosnap-model";
@@ -36,52 +38,94 @@ pub enum ModelError {
         #[source]
         source: std::io::Error,
     },
-    /// Not valid JSON.
-    #[error("malformed model file")]
+    /// The file's content is not a model; the cause says where and why.
+    #[error("{}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with its content.
+        #[source]
+        source: Box<Self>,
+    },
+    /// The model could not be encoded as JSON.
+    #[error("cannot encode the model as json")]
     Json {
-        /// The parser's error.
+        /// The encoder's error.
         #[source]
         source: serde_json::Error,
     },
-    /// Not a geosnap model, or a version this build does not read.
-    #[error("not a version-1 geosnap model: {0}")]
-    Format(String),
+    /// Not valid JSON, not a version-1 geosnap model, or a field that is unknown or of
+    /// the wrong kind: where (line, column and field) and why.
+    #[error(transparent)]
+    Invalid(#[from] JsonProblem),
     /// A relation is invalid.
-    #[error("relation {index}: {reason}")]
+    #[error("{}relation {index}: {reason}", at_prefix(*.at))]
     Relation {
         /// Its position in the `relations` list.
         index: usize,
         /// What is wrong.
         reason: RelationReadError,
+        /// Where it is in the file, when known.
+        at: Option<Position>,
     },
     /// A primitive is invalid.
-    #[error("primitive {id}: {reason}")]
+    #[error("{}primitive {id}: {reason}", at_prefix(*.at))]
     Primitive {
         /// The primitive's id (or its index when the id is missing).
         id: String,
         /// What is wrong.
         reason: PrimitiveReadError,
+        /// Where it is in the file, when known.
+        at: Option<Position>,
     },
 }
+
+/// `line L, column C: ` for a known position.
+fn at_prefix(at: Option<Position>) -> String {
+    at.map(|p| format!("{p}: ")).unwrap_or_default()
+}
+
+/// The fields of a model file (formats.md §3).
+pub const MODEL_FIELDS: [&str; 6] = [
+    "format",
+    "version",
+    "sketch",
+    "primitives",
+    "relations",
+    "skipped",
+];
+/// The fields of a relation (formats.md §3).
+pub const RELATION_FIELDS: [&str; 6] = [
+    "kind",
+    "members",
+    "features",
+    "mode",
+    "confidence",
+    "evidence",
+];
+/// The fields of a primitive's `fit` (formats.md §3).
+pub const FIT_FIELDS: [&str; 5] = ["strokes", "rms", "verdict", "confidence", "reason"];
+/// The fields of an entry of `skipped` (formats.md §3).
+pub const SKIPPED_FIELDS: [&str; 2] = ["step", "reason"];
 
 /// What is wrong with one relation of a model file (or of a glTF file's extras).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum RelationReadError {
     /// `kind` is missing or names no relation kind.
-    #[error("unknown `kind` {0}")]
+    #[error("unknown `kind` {}", json::shown(.0))]
     Kind(Value),
     /// `members` is missing or not a list.
     #[error("`members` must be a list of primitives")]
     Members,
     /// A member names no primitive.
-    #[error("member {0} is not a primitive")]
+    #[error("member {} is not a primitive", json::shown(.0))]
     Member(Value),
     /// `features` is not a list.
-    #[error("`features` {0} is not a list")]
+    #[error("`features` {} is not a list", json::shown(.0))]
     Features(Value),
     /// An entry of `features` is not a name.
-    #[error("feature {0} is not a name")]
+    #[error("feature {} is not a name", json::shown(.0))]
     FeatureName(Value),
     /// A member's kind has no feature of that name.
     #[error("unknown feature `{name}` for a {kind}")]
@@ -92,10 +136,10 @@ pub enum RelationReadError {
         kind: &'static str,
     },
     /// `mode` names no mode.
-    #[error("unknown `mode` {0} (hard, soft, off or suggested)")]
+    #[error("unknown `mode` {} (hard, soft, off or suggested)", json::shown(.0))]
     Mode(Value),
     /// The confidence is not a number in [0, 1].
-    #[error("`confidence` {0} is not a number in [0, 1]")]
+    #[error("`confidence` {} is not a number in [0, 1]", json::shown(.0))]
     Confidence(Value),
     /// The relation does not suit its members (see [`Document::add_relation`]).
     #[error(transparent)]
@@ -148,6 +192,18 @@ pub enum PrimitiveReadError {
     /// The `fit.confidence` is not a number in [0, 1] (the JSON found).
     #[error("`fit.confidence` must be a number in [0, 1], not {0}")]
     Confidence(String),
+    /// An object has a field formats.md does not document (the message names it, with a
+    /// suggestion for a near miss).
+    #[error("{0}")]
+    UnknownField(String),
+    /// A required field is missing, and an unknown field looks like a typo for it.
+    #[error("`{missing}` is missing; `{found}` looks like a typo for it")]
+    Misspelt {
+        /// The required field.
+        missing: &'static str,
+        /// The field found instead.
+        found: String,
+    },
     /// The primitive breaks an invariant of its kind.
     #[error(transparent)]
     Invalid(#[from] PrimitiveError),
@@ -269,12 +325,20 @@ fn parse_fit(p: &Value) -> Result<Fit, PrimitiveReadError> {
             ..Fit::default()
         });
     };
+    if let Some(fit) = f.as_object() {
+        if let Some(field) = fit.keys().find(|k| !FIT_FIELDS.contains(&k.as_str())) {
+            return Err(PrimitiveReadError::UnknownField(format!(
+                "`fit`: {}",
+                json::unknown_field(field, &FIT_FIELDS)
+            )));
+        }
+    }
     let verdict = match f.get("verdict") {
         None => None,
         Some(v) => Some(
             v.as_str()
                 .and_then(Verdict::from_name)
-                .ok_or_else(|| PrimitiveReadError::Verdict(v.to_string()))?,
+                .ok_or_else(|| PrimitiveReadError::Verdict(json::shown(v)))?,
         ),
     };
     Ok(Fit {
@@ -296,7 +360,7 @@ fn parse_fit(p: &Value) -> Result<Fit, PrimitiveReadError> {
             Some(c) => Some(
                 c.as_f64()
                     .filter(|c| (0.0..=1.0).contains(c))
-                    .ok_or_else(|| PrimitiveReadError::Confidence(c.to_string()))?,
+                    .ok_or_else(|| PrimitiveReadError::Confidence(json::shown(c)))?,
             ),
         },
         reason: f.get("reason").and_then(Value::as_str).map(str::to_owned),
@@ -339,6 +403,18 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
     })
 }
 
+/// The bytes of a model file for a document (pretty JSON, ending with a newline).
+///
+/// # Errors
+///
+/// [`ModelError::Json`] if encoding fails.
+pub fn model_bytes(document: &Document, sketch: &str) -> Result<Vec<u8>, ModelError> {
+    let mut text = serde_json::to_string_pretty(&model_json(document, sketch))
+        .map_err(|source| ModelError::Json { source })?;
+    text.push('\n');
+    Ok(text.into_bytes())
+}
+
 /// Writes a model file atomically.
 ///
 /// # Errors
@@ -350,10 +426,8 @@ pub fn save_model(
     sketch: &str,
 ) -> Result<(), ModelError> {
     let path = path.as_ref();
-    let mut text = serde_json::to_string_pretty(&model_json(document, sketch))
-        .map_err(|source| ModelError::Json { source })?;
-    text.push('\n');
-    write_atomic(path, text.as_bytes()).map_err(|source| ModelError::Io {
+    let bytes = model_bytes(document, sketch)?;
+    write_atomic(path, &bytes).map_err(|source| ModelError::Io {
         path: path.to_owned(),
         source,
     })
@@ -372,15 +446,19 @@ pub struct LoadedModel {
 ///
 /// # Errors
 ///
-/// [`ModelError`] when the file cannot be read, is not a version-1 model, or holds an
-/// invalid primitive.
+/// [`ModelError::Io`] when the file cannot be read (see
+/// [`read_input`]); else [`ModelError::File`] naming it, with the errors of
+/// [`parse_model`].
 pub fn load_model(path: impl AsRef<Path>) -> Result<LoadedModel, ModelError> {
     let path = path.as_ref();
-    let data = std::fs::read(path).map_err(|source| ModelError::Io {
+    let data = read_input(path).map_err(|source| ModelError::Io {
         path: path.to_owned(),
         source,
     })?;
-    parse_model(&data)
+    parse_model(&data).map_err(|source| ModelError::File {
+        path: path.to_owned(),
+        source: Box::new(source),
+    })
 }
 
 fn get_f64(map: &Value, field: &'static str) -> Result<f64, PrimitiveReadError> {
@@ -521,33 +599,22 @@ pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, PrimitiveReadError
 ///
 /// [`ModelError`] as [`load_model`].
 pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
-    let v: Value = serde_json::from_slice(data).map_err(|source| ModelError::Json { source })?;
-    if v.get("format").and_then(Value::as_str) != Some(MODEL_FORMAT) {
-        return Err(ModelError::Format(
-            "`format` is not \"geosnap-model\"".into(),
-        ));
-    }
-    if v.get("version").and_then(Value::as_u64) != Some(MODEL_VERSION) {
-        return Err(ModelError::Format("`version` is not 1".into()));
-    }
-    let sketch = v
-        .get("sketch")
-        .and_then(Value::as_str)
-        .unwrap_or_default()
-        .to_owned();
+    let v = json::parse(data)?;
+    let (sketch, primitives, relations, skipped) =
+        read_envelope(&v).map_err(|problem| ModelError::Invalid(problem.locate(data)))?;
     let mut document = Document::new();
-    let empty = Vec::new();
-    let primitives = v
-        .get("primitives")
-        .and_then(Value::as_array)
-        .unwrap_or(&empty);
+    let root = JsonPath::root();
     for (index, p) in primitives.iter().enumerate() {
-        let id_text = p
-            .get("id")
-            .map_or_else(|| format!("#{index}"), Value::to_string);
-        let fail = |reason: PrimitiveReadError| ModelError::Primitive {
-            id: id_text.clone(),
-            reason,
+        let id_text = p.get("id").map_or_else(|| format!("#{index}"), json::shown);
+        let fail = |reason: PrimitiveReadError| {
+            let at = JsonProblem::at(&root.key("primitives").index(index), "")
+                .locate(data)
+                .position;
+            ModelError::Primitive {
+                id: id_text.clone(),
+                reason,
+                at,
+            }
         };
         let id = p
             .get("id")
@@ -557,36 +624,129 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
         if document.get(PrimitiveId(id)).is_some() {
             return Err(fail(PrimitiveReadError::DuplicateId));
         }
-        let primitive = parse_primitive(p).map_err(fail)?;
+        let primitive = parse_primitive(p)
+            .map_err(|reason| misspelt(p, reason))
+            .map_err(fail)?;
         let fit = parse_fit(p).map_err(fail)?;
         document.insert(PrimitiveId(id), Placed { primitive, fit });
     }
-    if let Some(skipped) = v.get("skipped").and_then(Value::as_array) {
-        document.skipped = skipped
-            .iter()
-            .map(|s| Skipped {
-                step: s
-                    .get("step")
-                    .and_then(Value::as_u64)
-                    .map_or(0, |x| usize::try_from(x).unwrap_or(usize::MAX)),
-                reason: s
-                    .get("reason")
-                    .and_then(Value::as_str)
-                    .unwrap_or_default()
-                    .to_owned(),
-            })
-            .collect();
-    }
-    if let Some(relations) = v.get("relations").and_then(Value::as_array) {
-        for (index, r) in relations.iter().enumerate() {
-            let fail = |reason: RelationReadError| ModelError::Relation { index, reason };
-            let relation = parse_relation(r, &document).map_err(fail)?;
-            document
-                .add_relation(relation)
-                .map_err(|e| fail(e.into()))?;
-        }
+    document.skipped = skipped
+        .iter()
+        .map(|s| Skipped {
+            step: s
+                .get("step")
+                .and_then(Value::as_u64)
+                .map_or(0, |x| usize::try_from(x).unwrap_or(usize::MAX)),
+            reason: s
+                .get("reason")
+                .and_then(Value::as_str)
+                .unwrap_or_default()
+                .to_owned(),
+        })
+        .collect();
+    for (index, r) in relations.iter().enumerate() {
+        let fail = |reason: RelationReadError| ModelError::Relation {
+            index,
+            reason,
+            at: JsonProblem::at(&root.key("relations").index(index), "")
+                .locate(data)
+                .position,
+        };
+        let relation = parse_relation(r, &document).map_err(fail)?;
+        document
+            .add_relation(relation)
+            .map_err(|e| fail(e.into()))?;
     }
     Ok(LoadedModel { document, sketch })
+}
+
+/// The lists of a model file.
+type Lists<'v> = (String, &'v [Value], &'v [Value], &'v [Value]);
+
+/// Checks the top level of a model file and the fields of its relations and skipped
+/// steps; returns the sketch and the lists.
+fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
+    let object = json::root_object(v, "a model file")?;
+    json::check_format(object, MODEL_FORMAT)?;
+    json::check_version(object, MODEL_VERSION, false)?;
+    let root = JsonPath::root();
+    json::check_fields(object, &MODEL_FIELDS, &root)?;
+    let sketch = match object.get("sketch") {
+        None | Some(Value::Null) => String::new(),
+        Some(Value::String(sketch)) => sketch.clone(),
+        Some(other) => {
+            return Err(json::wrong_kind(
+                &root.key("sketch"),
+                "a path (a string)",
+                other,
+            ))
+        }
+    };
+    let list = |field| json::optional_list(object, field, "a list");
+    let (primitives, relations, skipped) =
+        (list("primitives")?, list("relations")?, list("skipped")?);
+    for (field, items, known) in [
+        ("primitives", primitives, &[][..]),
+        ("relations", relations, &RELATION_FIELDS[..]),
+        ("skipped", skipped, &SKIPPED_FIELDS[..]),
+    ] {
+        for (index, item) in items.iter().enumerate() {
+            let path = root.key(field).index(index);
+            let Some(entry) = item.as_object() else {
+                return Err(json::wrong_kind(&path, "an object", item));
+            };
+            // A primitive may carry further fields (formats.md §3); its misspelt
+            // required fields are caught by `misspelt`.
+            if !known.is_empty() {
+                json::check_fields(entry, known, &path)?;
+            }
+        }
+    }
+    Ok((sketch, primitives, relations, skipped))
+}
+
+/// The fields a primitive of some kind may need.
+const PRIMITIVE_FIELDS: [&str; 12] = [
+    "id",
+    "kind",
+    "center",
+    "axis",
+    "axes",
+    "length",
+    "radius",
+    "radius_bottom",
+    "radius_top",
+    "size",
+    "radii",
+    "spine",
+];
+
+/// A missing required field of a primitive named as a typo when one of the primitive's
+/// further fields is a near miss for it ("`radius` is missing; `raduis` looks like a
+/// typo for it"); other reasons unchanged.
+fn misspelt(p: &Value, reason: PrimitiveReadError) -> PrimitiveReadError {
+    let missing = match &reason {
+        PrimitiveReadError::Number(field)
+        | PrimitiveReadError::Vector(field)
+        | PrimitiveReadError::Radii(field) => *field,
+        PrimitiveReadError::Axes => "axes",
+        PrimitiveReadError::Spine => "spine",
+        _ => return reason,
+    };
+    let Some(object) = p.as_object() else {
+        return reason;
+    };
+    if object.contains_key(missing) {
+        return reason;
+    }
+    object
+        .keys()
+        .filter(|k| !PRIMITIVE_FIELDS.contains(&k.as_str()))
+        .find(|k| json::suggest(k, &[missing]).is_some())
+        .map_or(reason, |found| PrimitiveReadError::Misspelt {
+            missing,
+            found: found.clone(),
+        })
 }
 
 /// One entry of `relations` (the caller adds it to `document`, which checks it).
@@ -772,8 +932,8 @@ mod tests {
                 "unknown feature `front` for a cylinder",
             ),
         ] {
-            let text = text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1);
-            let error = parse_model(text.as_bytes()).expect_err(bad).to_string();
+            let error =
+                refused(&text.replacen(r#""relations":["#, &format!(r#""relations":[{bad},"#), 1));
             assert!(
                 error.contains("relation 0") && error.contains(says),
                 "{error}"
@@ -851,6 +1011,111 @@ mod tests {
             assert!(close || negated, "{pa:?} vs {pb:?}");
             assert_eq!(a.fit, b.fit);
         }
+    }
+
+    /// The example of formats.md §3, numbers filled in, with every optional field.
+    const FORMATS_EXAMPLE: &str = r#"{
+      "format": "geosnap-model",
+      "version": 1,
+      "sketch": "table.svg",
+      "primitives": [
+        { "id": 0, "kind": "cylinder", "center": [1, 2, 3], "axis": [0, 1, 0], "length": 180.0, "radius": 12.0,
+          "fit": { "strokes": [1, 2], "rms": 0.5, "verdict": "doubtful", "confidence": 0.4, "reason": "why" },
+          "step": 0, "colour": "red" },
+        { "id": 1, "kind": "cone", "center": [0, 0, 0], "axis": [0, 1, 0], "length": 120.0, "radius_bottom": 40.0, "radius_top": 15.0 },
+        { "id": 2, "kind": "sphere", "center": [0, 0, 0], "radius": 90.0 },
+        { "id": 3, "kind": "cuboid", "center": [0, 0, 0], "axes": [[1,0,0],[0,1,0],[0,0,1]], "size": [200.0, 80.0, 120.0] },
+        { "id": 4, "kind": "sgc", "center": [0, 0, 0], "axis": [0, 1, 0], "length": 300.0, "radii": [60.0, 55.0, 40.0] },
+        { "id": 5, "kind": "bgc", "spine": [[0, 0, 0], [10, 0, 0], [20, 5, 0]], "radii": [20.0, 20.0, 20.0] }
+      ],
+      "relations": [
+        { "kind": "parallel", "members": [0, 1], "mode": "hard" },
+        { "kind": "concentric", "members": [0, 1], "features": ["top", "bottom"], "mode": "soft",
+          "confidence": 0.8, "evidence": { "anything": "free-form" } }
+      ],
+      "skipped": [ { "step": 3, "reason": "no strokes near it" } ]
+    }"#;
+
+    /// Strictness refuses nothing formats.md documents: optional fields, a primitive's
+    /// further fields, free-form evidence.
+    #[test]
+    fn the_example_of_formats_md_with_every_optional_field_reads() {
+        let model = parse_model(FORMATS_EXAMPLE.as_bytes()).expect("the documented example reads");
+        assert_eq!(model.document.len(), 6);
+        assert_eq!(model.document.relations().len(), 2);
+        assert_eq!(model.document.skipped.len(), 1);
+    }
+
+    /// Issue 19, case 4: typos in a model are errors naming the field, its position and
+    /// the field meant.
+    #[test]
+    fn unknown_fields_are_refused_with_their_place_and_a_suggestion() {
+        for (from, to, says) in [
+            (
+                r#""skipped":"#,
+                r#""skiped":"#,
+                "skiped: unknown field `skiped`; did you mean `skipped`?",
+            ),
+            (
+                r#""mode": "hard""#,
+                r#""mdoe": "hard""#,
+                "relations[0].mdoe: unknown field `mdoe`; did you mean `mode`?",
+            ),
+            (
+                r#""rms": 0.5"#,
+                r#""rsm": 0.5"#,
+                "primitive 0: `fit`: unknown field `rsm`; did you mean `rms`?",
+            ),
+            (
+                r#""radius": 90.0"#,
+                r#""raduis": 90.0"#,
+                "primitive 2: `radius` is missing; `raduis` looks like a typo for it",
+            ),
+            (
+                r#""step": 3, "reason""#,
+                r#""step": 3, "reasons""#,
+                "skipped[0].reasons: unknown field `reasons`; did you mean `reason`?",
+            ),
+        ] {
+            let error = refused(&FORMATS_EXAMPLE.replacen(from, to, 1));
+            assert!(
+                error.starts_with("line ") && error.contains(says),
+                "{to}: {error}"
+            );
+        }
+    }
+
+    /// Why a model text is refused (it must be).
+    fn refused(text: &str) -> String {
+        parse_model(text.as_bytes())
+            .expect_err("the model is refused")
+            .to_string()
+    }
+
+    /// Issue 19, case 9: a wrong version says which was found; wrong shapes in our words.
+    #[test]
+    fn wrong_versions_and_shapes_say_what_was_found() {
+        let newer = FORMATS_EXAMPLE.replacen(r#""version": 1"#, r#""version": 3"#, 1);
+        let error = refused(&newer);
+        assert!(error.contains("version 3 is not supported"), "{error}");
+        let text = FORMATS_EXAMPLE.replacen(r#""version": 1"#, r#""version": "one""#, 1);
+        let error = refused(&text);
+        assert!(error.contains(r#"version "one" is not valid"#), "{error}");
+        let error = refused(r#"["geosnap-model", 1]"#);
+        assert!(
+            error.contains("a model file must be a JSON object"),
+            "{error}"
+        );
+        let error = refused(r#"{"format": "geosnap-script", "version": 1, "sketch": "a.svg"}"#);
+        assert!(error.contains("this is a placement script"), "{error}");
+        let members: Vec<String> = (0..100_000).map(|i| i.to_string()).collect();
+        let text = FORMATS_EXAMPLE.replacen(
+            r#""members": [0, 1], "mode": "hard""#,
+            &format!(r#""members": [{}], "mode": "hard""#, members.join(",")),
+            1,
+        );
+        let error = refused(&text);
+        assert!(error.len() < 300, "{error}");
     }
 
     #[test]

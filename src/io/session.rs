@@ -329,7 +329,7 @@ pub fn save_session(path: impl AsRef<Path>, session: &Session) -> Result<(), Sav
 /// naming the file, whose source is the error of [`parse_session`].
 pub fn load_session(path: impl AsRef<Path>) -> Result<Session, SessionError> {
     let path = path.as_ref();
-    let data = std::fs::read(path).map_err(|source| SessionError::Read {
+    let data = crate::io::input::read_input(path).map_err(|source| SessionError::Read {
         path: path.to_owned(),
         source,
     })?;
@@ -399,7 +399,7 @@ pub fn parse_session(data: &[u8]) -> Result<Session, SessionError> {
         Some(Value::String(format)) if format == SESSION_FORMAT => {}
         other => {
             return Err(SessionError::WrongFormat {
-                found: other.map_or_else(|| "missing".to_owned(), Value::to_string),
+                found: other.map_or_else(|| "missing".to_owned(), crate::io::json::shown),
             })
         }
     }
@@ -407,7 +407,7 @@ pub fn parse_session(data: &[u8]) -> Result<Session, SessionError> {
         Some(v) if v.as_u64() == Some(SESSION_VERSION) => {}
         other => {
             return Err(SessionError::UnsupportedVersion {
-                found: other.map_or_else(|| "missing".to_owned(), Value::to_string),
+                found: other.map_or_else(|| "missing".to_owned(), crate::io::json::shown),
             })
         }
     }

@@ -38,6 +38,8 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use crate::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
+use crate::io::input::read_input;
+use crate::io::json;
 use crate::io::svg::{import_svg, SvgOptions};
 use crate::io::{write_atomic, LoadError, SaveError, SketchError};
 
@@ -93,7 +95,7 @@ pub fn load_sketch_with(
     options: &SvgOptions,
 ) -> Result<LoadedSketch, LoadError> {
     let path = path.as_ref();
-    let data = std::fs::read(path).map_err(|source| LoadError::Read {
+    let data = read_input(path).map_err(|source| LoadError::Read {
         path: path.to_owned(),
         source,
     })?;
@@ -205,8 +207,7 @@ struct StrokeV1 {
 /// # Ok::<(), geosnap::io::LoadError>(())
 /// ```
 pub fn parse_sketch_file(data: &[u8]) -> Result<LoadedSketch, LoadError> {
-    let value: serde_json::Value =
-        serde_json::from_slice(data).map_err(|source| LoadError::Json { source })?;
+    let value = json::parse(data).map_err(|problem| LoadError::Json { problem })?;
     let Some(header) = value.as_object() else {
         return Err(LoadError::WrongFormat {
             found: "missing (the data is not a json object)".to_owned(),
@@ -216,7 +217,7 @@ pub fn parse_sketch_file(data: &[u8]) -> Result<LoadedSketch, LoadError> {
         Some(serde_json::Value::String(format)) if format == SKETCH_FORMAT => {}
         Some(other) => {
             return Err(LoadError::WrongFormat {
-                found: other.to_string(),
+                found: json::shown(other),
             })
         }
         None => {
@@ -231,7 +232,7 @@ pub fn parse_sketch_file(data: &[u8]) -> Result<LoadedSketch, LoadError> {
                 .as_u64()
                 .filter(|v| *v > 0)
                 .ok_or_else(|| LoadError::InvalidVersion {
-                    found: value.to_string(),
+                    found: json::shown(value),
                 })?
         }
         None => {
@@ -249,7 +250,9 @@ pub fn parse_sketch_file(data: &[u8]) -> Result<LoadedSketch, LoadError> {
     // The header is checked first so that a wrong format or a future version gives a clear
     // error instead of a confusing field error. Only version 1 exists; an older version
     // would be migrated here. Parsing the bytes again keeps line and column in errors.
-    let file: FileV1 = serde_json::from_slice(data).map_err(|source| LoadError::Json { source })?;
+    let file: FileV1 = serde_json::from_slice(data).map_err(|error| LoadError::Json {
+        problem: json::from_serde(&error, data),
+    })?;
     let view_box = file
         .view_box
         .map(|[x, y, w, h]| (DVec2::new(x, y), DVec2::new(w, h)));
@@ -571,8 +574,9 @@ mod tests {
             "{\n\"format\": \"geosnap-sketch\", \"version\": 1,\n\"strokes\": [{\"id\": \"a\"}]}",
         )
         .unwrap_err();
-        let cause = std::error::Error::source(&error).unwrap().to_string();
-        assert!(cause.contains("line 3"), "{cause}");
+        let message = error.to_string();
+        assert!(message.contains("line 3"), "{message}");
+        assert!(!message.contains("u32"), "{message}");
     }
 
     #[test]

@@ -216,7 +216,8 @@ pub fn import_svg(data: &[u8], options: &SvgOptions) -> Result<SvgImport, LoadEr
     })?;
     let xml = parse_xml(text)?;
     // Arcs become cubics at a fixed absolute accuracy inside usvg, so an absurd radius
-    // means millions of cubics (or an endless loop): blank such geometry first.
+    // means millions of cubics (or an endless loop), and huge positions or transforms
+    // overflow its f32 geometry: drop such elements first.
     let absurd = AbsurdGeometry::find(&xml, text)?;
     let sanitized: String;
     let xml = if absurd.ranges.is_empty() {
@@ -225,7 +226,7 @@ pub fn import_svg(data: &[u8], options: &SvgOptions) -> Result<SvgImport, LoadEr
         sanitized = absurd.blank(text);
         parse_xml(&sanitized)?
     };
-    let survey = Survey::of(&xml, &absurd.elements)?;
+    let survey = Survey::of(&xml)?;
     let tree = usvg::Tree::from_xmltree(&xml, &usvg_options())
         .map_err(|source| LoadError::Svg { source })?;
 
@@ -233,8 +234,8 @@ pub fn import_svg(data: &[u8], options: &SvgOptions) -> Result<SvgImport, LoadEr
     if !absurd.ids.is_empty() {
         let ids: Vec<&str> = absurd.ids.iter().filter_map(|id| id.as_deref()).collect();
         warnings.push(format!(
-            "{} element(s) with coordinates or radii beyond ±{MAX_SOURCE_NUMBER:e} were not \
-             imported{}",
+            "{} element(s) with coordinates, sizes or transforms beyond ±{MAX_SOURCE_NUMBER:e} \
+             were not imported{}",
             absurd.ids.len(),
             list_ids(&ids)
         ));
@@ -288,77 +289,68 @@ fn parse_xml(text: &str) -> Result<roxmltree::Document<'_>, LoadError> {
     })
 }
 
-/// Geometry attributes with numbers beyond [`MAX_SOURCE_NUMBER`], found before usvg sees
-/// them.
+/// The attributes that carry coordinates, sizes or transforms, separated by spaces: an
+/// element with a number beyond [`MAX_SOURCE_NUMBER`] in any of them is not imported.
+const COORDINATE_ATTRIBUTES: &str =
+    "x y width height cx cy r rx ry x1 y1 x2 y2 points d transform viewBox";
+
+/// Elements with numbers beyond [`MAX_SOURCE_NUMBER`] in a coordinate attribute, found
+/// before usvg sees them: usvg and tiny-skia work in `f32` and build arcs, strokes and
+/// bounds at fixed accuracies, so such numbers cost unbounded memory or time.
 #[derive(Debug, Default)]
 struct AbsurdGeometry {
-    /// Byte ranges of the attribute values in the text, in document order.
-    ranges: Vec<(std::ops::Range<usize>, &'static str)>,
+    /// Byte ranges of the elements in the text, in document order.
+    ranges: Vec<std::ops::Range<usize>>,
     /// The id (if any) of each element concerned.
     ids: Vec<Option<String>>,
-    /// Their indices among the document's elements in document order.
-    elements: HashSet<usize>,
 }
 
 impl AbsurdGeometry {
-    /// Finds them: `d` anywhere, and the sizes and radii of circles, ellipses and rects,
-    /// the only attributes from which usvg builds arcs.
+    /// Finds them, in every attribute of [`COORDINATE_ATTRIBUTES`]. On the root `<svg>`
+    /// the whole drawing is refused, as its frame is in doubt.
     fn find(xml: &roxmltree::Document<'_>, text: &str) -> Result<Self, LoadError> {
         let mut found = Self::default();
-        for (index, node) in xml
-            .descendants()
-            .filter(roxmltree::Node::is_element)
-            .enumerate()
-        {
+        let root = xml.root_element();
+        for node in xml.descendants().filter(roxmltree::Node::is_element) {
             if !matches!(node.tag_name().namespace(), None | Some(SVG_NS)) {
                 continue;
             }
-            let shape = matches!(node.tag_name().name(), "circle" | "ellipse" | "rect");
-            let mut hit = false;
-            for attribute in node.attributes() {
-                let replacement = match attribute.name() {
-                    "d" => "",
-                    "r" | "rx" | "ry" | "width" | "height" if shape => "0",
-                    _ => continue,
-                };
-                if !has_absurd_number(attribute.value()) {
-                    continue;
-                }
-                let range = attribute.range_value();
-                // Guard against roxmltree's documented position limits: the range must sit
-                // between matching quotes.
-                let bytes = text.as_bytes();
-                let quoted = range.start > 0
-                    && matches!(bytes.get(range.start - 1), Some(b'"' | b'\''))
-                    && bytes.get(range.start - 1) == bytes.get(range.end);
-                if !quoted {
-                    return Err(LoadError::TooComplex {
-                        reason: format!("coordinates beyond ±{MAX_SOURCE_NUMBER:e}"),
-                    });
-                }
-                found.ranges.push((range, replacement));
-                hit = true;
+            let Some(attribute) = node.attributes().find(|a| {
+                COORDINATE_ATTRIBUTES
+                    .split(' ')
+                    .any(|name| name == a.name())
+                    && has_absurd_number(a.value())
+            }) else {
+                continue;
+            };
+            let range = node.range();
+            // Guard against roxmltree's documented position limits: the range must hold
+            // the element.
+            let sane = text.get(range.clone()).is_some_and(|e| e.starts_with('<'));
+            if node == root || !sane {
+                return Err(LoadError::TooComplex {
+                    reason: format!(
+                        "the root <svg> has `{}` beyond ±{MAX_SOURCE_NUMBER:e}",
+                        attribute.name()
+                    ),
+                });
             }
-            if hit {
-                found.ids.push(node.attribute("id").map(str::to_owned));
-                found.elements.insert(index);
-            }
+            found.ranges.push(range);
+            found.ids.push(node.attribute("id").map(str::to_owned));
         }
-        found.ranges.sort_by_key(|(range, _)| range.start);
+        found.ranges.sort_by_key(|range| range.start);
         Ok(found)
     }
 
-    /// The text with those attribute values replaced (empty path data, zero sizes), so
-    /// usvg drops the elements.
+    /// The text without those elements (and their content), so usvg never sees them.
     fn blank(&self, text: &str) -> String {
         let mut out = String::with_capacity(text.len());
         let mut at = 0;
-        for (range, replacement) in &self.ranges {
+        for range in &self.ranges {
             if range.start < at {
                 continue;
             }
             out.push_str(text.get(at..range.start).unwrap_or_default());
-            out.push_str(replacement);
             at = range.end;
         }
         out.push_str(text.get(at..).unwrap_or_default());
@@ -634,9 +626,9 @@ struct Survey {
 }
 
 impl Survey {
-    /// Walks the document without recursion; the `excluded` elements (by index in
-    /// document order) are not counted as drawable, as they are reported already.
-    fn of(xml: &roxmltree::Document<'_>, excluded: &HashSet<usize>) -> Result<Self, LoadError> {
+    /// Walks the document without recursion (elements with absurd geometry are already
+    /// removed from it, and reported).
+    fn of(xml: &roxmltree::Document<'_>) -> Result<Self, LoadError> {
         let mut survey = Self::default();
         let root = xml.root_element();
         survey.root = RootInfo {
@@ -656,11 +648,8 @@ impl Survey {
         let mut marker_used = false;
         // (node, depth, drawn context: every ancestor is svg/g/a, hidden by display:none)
         let mut stack = vec![(root, 1usize, true, false)];
-        let mut index = 0;
         while let Some((node, depth, drawn, hidden)) = stack.pop() {
             // Popping a stack of reversed children visits elements in document order.
-            let excluded = excluded.contains(&index);
-            index += 1;
             if depth > MAX_DEPTH {
                 return Err(LoadError::TooComplex {
                     reason: format!("elements are nested more than {MAX_DEPTH} deep"),
@@ -690,7 +679,7 @@ impl Survey {
                     survey.has_use_or_switch = true;
                 }
             }
-            if svg && drawn && !excluded && SHAPES.contains(&name) {
+            if svg && drawn && SHAPES.contains(&name) {
                 if hidden {
                     survey.hidden += 1;
                 } else {
@@ -1630,23 +1619,21 @@ mod tests {
         let import = import_body(
             r#"<path id="overflow" d="M 0 0 L 1e39 0 L 10 10"/>
                <path d="M 0 0 L NaN 5 L 10 10"/>
-               <g transform="scale(1e30)"><path id="far" transform="scale(1e30)" d="M 0 0 L 1 1"/></g>
-               <g transform="scale(1e20)"><path d="M 0 0 C 1e10 1e10 -1e10 1e10 1e10 0"/></g>
+               <g id="far" transform="scale(1e30)"><path transform="scale(1e30)" d="M 0 0 L 1 1"/></g>
+               <g id="wide" transform="scale(1e20)"><path d="M 0 0 C 1e10 1e10 -1e10 1e10 1e10 0"/></g>
+               <g transform="scale(1e6)"><path id="big-but-fine" d="M 0 0 C 1e5 1e5 -1e5 1e5 1e5 0"/></g>
                <path d="M 1 1 L 2 2"/>"#,
         );
         let all = import.warnings.join("\n");
-        assert!(all.contains("#overflow"), "{all}");
-        assert!(all.contains("#far"), "{all}");
-        // The curve 1e30 units wide is flattened, but not at the drawing's tolerance.
+        assert!(all.contains("#overflow, #far, #wide"), "{all}");
+        // The curve 1e11 units wide is flattened, but not at the drawing's tolerance.
         let points: usize = import.sketch.strokes.iter().map(|s| s.points.len()).sum();
         assert!(points < 100_000, "{points} points");
-        assert!(import
-            .sketch
-            .strokes
-            .iter()
-            .any(|s| s.points.iter().any(|p| p.x > 1e29)));
         for stroke in &import.sketch.strokes {
-            assert!(stroke.points.iter().all(|p| p.is_finite()));
+            assert!(stroke
+                .points
+                .iter()
+                .all(|p| p.is_finite() && p.abs().max_element() <= 2e11));
         }
         assert!(import
             .sketch
@@ -1679,7 +1666,7 @@ mod tests {
         assert_eq!(import.sketch.strokes.len(), 1);
         let all = import.warnings.join("\n");
         assert!(
-            all.contains("5 element(s) with coordinates or radii beyond"),
+            all.contains("5 element(s) with coordinates, sizes or transforms beyond"),
             "{all}"
         );
         assert!(all.contains("#huge-arc, #wide-arc, #big"), "{all}");
@@ -1687,6 +1674,47 @@ mod tests {
             !all.contains("drawable element(s) were not imported"),
             "{all}"
         );
+    }
+
+    /// Issue 19, case 7: the guard covers every coordinate attribute, not only path data
+    /// and radii; a huge number on the root refuses the drawing.
+    #[test]
+    fn huge_numbers_in_any_coordinate_attribute_drop_the_element() {
+        let tiny = br#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><rect y="3.4028235e38" width="10" height="10"/><path d="M1 1L9 9"/></svg>"#;
+        assert!(tiny.len() < 150);
+        let import = import_svg(tiny, &SvgOptions::default()).expect("imported");
+        assert_eq!(import.sketch.strokes.len(), 1, "the rect is dropped");
+        assert!(
+            import.warnings.iter().any(|w| w.contains("1 element(s)")),
+            "{:?}",
+            import.warnings
+        );
+        for attribute in [
+            r#"x="2e38""#,
+            r#"cx="-1e13""#,
+            r#"x1="1e20""#,
+            r#"points="0 0 1e30 5""#,
+            r#"transform="translate(0 1e300)""#,
+        ] {
+            let import = import_body(&format!(
+                r#"<circle id="bad" r="4" {attribute}/><path d="M1 1L9 9"/>"#
+            ));
+            assert_eq!(import.sketch.strokes.len(), 1, "{attribute}");
+            assert!(
+                import.warnings.iter().any(|w| w.contains("#bad")),
+                "{attribute}"
+            );
+        }
+        for root in [r#"viewBox="0 0 1e30 10""#, r#"width="1e20""#] {
+            let text = format!(
+                r#"<svg xmlns="http://www.w3.org/2000/svg" {root}><path d="M1 1L9 9"/></svg>"#
+            );
+            let error = import_svg(text.as_bytes(), &SvgOptions::default()).expect_err(root);
+            assert!(
+                matches!(error, LoadError::TooComplex { .. }),
+                "{root}: {error}"
+            );
+        }
     }
 
     #[test]

@@ -532,7 +532,19 @@ pub fn run_steps(
     sketch: &Sketch,
     steps: &[Step],
     settings: &SessionSettings,
+    solve: SolveContext<'_>,
+) -> (Document, Vec<StepOutcome>) {
+    run_steps_with(sketch, steps, settings, solve, &mut |_, _| {})
+}
+
+/// [`run_steps`], calling `on_step` with each step's index and outcome as soon as the
+/// step is done (for progress reports on long scripts).
+pub fn run_steps_with(
+    sketch: &Sketch,
+    steps: &[Step],
+    settings: &SessionSettings,
     mut solve: SolveContext<'_>,
+    on_step: &mut dyn FnMut(usize, &StepOutcome),
 ) -> (Document, Vec<StepOutcome>) {
     let context = SnapContext::from_sketch(sketch);
     let default_size = sketch
@@ -597,6 +609,9 @@ pub fn run_steps(
                 StepOutcome::Skipped(skipped)
             }
         });
+        if let Some(done) = outcomes.last() {
+            on_step(index, done);
+        }
     }
     (document, outcomes)
 }
