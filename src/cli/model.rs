@@ -1,0 +1,105 @@
+//! `geosnap solve` and `geosnap export`: a model file re-solved, or exported as glTF.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use geosnap::clock::MonotonicClock;
+use geosnap::core::model::{Companions, GlobalSettings};
+use geosnap::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
+use geosnap::io::model_file::{load_model, model_bytes};
+
+use super::outputs::{check_outputs, write_outputs, Output, GLTF_EXTENSIONS, MODEL_EXTENSIONS};
+
+#[expect(clippy::print_stdout, reason = "CLI output")]
+pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
+    check_outputs(
+        &[Output {
+            path: out,
+            option: "--out",
+            extensions: MODEL_EXTENSIONS,
+        }],
+        &[path],
+    )?;
+    let mut loaded = load_model(path).context("reading the model")?;
+    let clock = MonotonicClock::start();
+    let outcome = loaded.document.solve(
+        None,
+        &GlobalSettings::default(),
+        Companions {
+            clock: Some(&clock),
+            ..Companions::default()
+        },
+    );
+    for conflict in &outcome.conflicts {
+        println!("conflict: {}", conflict.message);
+    }
+    if outcome.reverted {
+        println!("the solve was refused: the model is written as it was");
+    }
+    if let Some(report) = &outcome.report {
+        println!(
+            "solved {} part(s) with {} relation(s): {}, ‖ψ‖∞ {:.1e}, {} evaluations, {:.1} ms",
+            outcome.solved.len(),
+            outcome.relations,
+            report.termination,
+            report.max_violation,
+            report.evaluations,
+            report.elapsed.as_secs_f64() * 1e3
+        );
+    }
+    let bytes = model_bytes(&loaded.document, &loaded.sketch)
+        .with_context(|| format!("encoding {}", out.display()))?;
+    write_outputs(&[(out, bytes)])?;
+    println!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+pub(super) fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> Result<ExitCode> {
+    check_outputs(
+        &[Output {
+            path: out,
+            option: "--out",
+            extensions: GLTF_EXTENSIONS,
+        }],
+        &[model],
+    )?;
+    let settings = ExportSettings::new(scale, segments, Origin::default())?;
+    let loaded = load_model(model).context("reading the model")?;
+    let (bytes, report) = gltf_bytes(&loaded.document, out, &settings)?;
+    write_outputs(&[(out, bytes)])?;
+    print_gltf_report(&report, out, &settings);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Encodes a document as glTF for `path` (binary or JSON by its extension).
+pub(super) fn gltf_bytes(
+    document: &geosnap::core::model::Document,
+    path: &Path,
+    settings: &ExportSettings,
+) -> Result<(Vec<u8>, ExportReport)> {
+    let format = GltfFormat::from_path(path).with_context(|| {
+        format!(
+            "{}: unsupported extension; glTF is .glb or .gltf",
+            path.display()
+        )
+    })?;
+    encode_gltf(document, format, settings)
+        .with_context(|| format!("exporting glTF {}", path.display()))
+}
+
+/// Reports what a glTF export wrote.
+#[expect(clippy::print_stdout, reason = "CLI output")]
+pub(super) fn print_gltf_report(report: &ExportReport, path: &Path, settings: &ExportSettings) {
+    for warning in &report.warnings {
+        eprintln!("warning: {warning}");
+    }
+    println!(
+        "glTF: {} primitive nodes, {} triangles, {} bytes, {} m per unit; wrote {}",
+        report.nodes,
+        report.triangles,
+        report.bytes,
+        settings.metres_per_unit(),
+        path.display()
+    );
+}
