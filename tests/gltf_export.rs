@@ -60,7 +60,7 @@ fn sample_models() -> Vec<(String, Document)> {
                 let (top, bottom) = (named(a, "top"), named(b, "bottom"));
                 for (kind, features, mode) in [
                     (RelationKind::Parallel, vec![top, bottom], Mode::Hard),
-                    (RelationKind::SameRadius, Vec::new(), Mode::Soft),
+                    (RelationKind::SameRadius, vec![top, bottom], Mode::Soft),
                 ] {
                     document
                         .add_relation(Relation {

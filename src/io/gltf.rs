@@ -1037,7 +1037,11 @@ mod tests {
             relation(
                 RelationKind::CollinearCenters,
                 &[0, 1, 4],
-                &[Some(Feature::Top), None, Some(Feature::Bottom)],
+                &[
+                    Some(Feature::Top),
+                    Some(Feature::Top),
+                    Some(Feature::Bottom),
+                ],
                 Mode::Soft,
             ),
             relation(RelationKind::EqualLength, &[0, 1], &[], Mode::Off),

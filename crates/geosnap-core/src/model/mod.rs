@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::primitive::{Feature, Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use crate::relation::evidence::Inferred;
-use crate::relation::{InferenceSettings, Mode, RelationKind};
+use crate::relation::{residuals, InferenceSettings, Member, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
 use crate::snap::{snap, Assignment, Confidence, SnapContext, SnapResult, SnapSettings, Verdict};
 use crate::solve::SolveContext;
@@ -168,6 +168,50 @@ pub enum RelationError {
         /// The feature it lacks.
         feature: Feature,
     },
+    /// A member names no feature and its kind has no default one for the relation (see
+    /// [`default_feature`]).
+    #[error(
+        "a {} relation must name the feature of primitive {} (a {}): which of its features \
+         it relates is not clear",
+        .kind.name(), .member.0, .primitive.name()
+    )]
+    MissingFeature {
+        /// The relation's kind.
+        kind: RelationKind,
+        /// The member.
+        member: PrimitiveId,
+        /// The member's kind.
+        primitive: PrimitiveKind,
+    },
+    /// The named features are not of the sort the relation relates.
+    #[error("{reason}")]
+    Unsuited {
+        /// Why, in words.
+        reason: String,
+    },
+}
+
+/// The feature a relation of kind `relation` uses on a member of kind `primitive` that
+/// names none, where the choice is clear:
+/// - a primitive with a single feature uses it (a sphere's `outline`);
+/// - a cylinder, cone or SGC in `parallel`, `orthogonal` or `coaxial` uses `top`: both its
+///   ends lie on its axis, so either end gives the same relation;
+/// - a cylinder in `same_radius` uses `top`: both its ends have its radius.
+///
+/// `None` otherwise (a box's face, a bent tube's end, a cone's end for its radius, an end
+/// for concentric or collinear centres): the relation must name it.
+pub fn default_feature(relation: RelationKind, primitive: PrimitiveKind) -> Option<Feature> {
+    use PrimitiveKind::{Cone, Cylinder, Sgc};
+    use RelationKind::{Coaxial, Orthogonal, Parallel, SameRadius};
+    if let [only] = primitive.features() {
+        return Some(*only);
+    }
+    match (relation, primitive) {
+        (Parallel | Orthogonal | Coaxial, Cylinder | Cone | Sgc) | (SameRadius, Cylinder) => {
+            Some(Feature::Top)
+        }
+        _ => None,
+    }
 }
 
 /// A step that could not be placed, with the reason.
@@ -371,26 +415,71 @@ impl Document {
                 members: relation.members.len(),
             });
         }
+        let mut relation = relation;
+        let mut defaulted = Vec::with_capacity(relation.members.len());
         for (k, &member) in relation.members.iter().enumerate() {
             let placed = self
                 .get(member)
                 .ok_or(RelationError::MissingPrimitive { id: member })?;
             let kind = placed.primitive.kind();
-            if let Some(&Some(feature)) = relation.features.get(k) {
-                if !kind.has(feature) {
+            let feature = match relation.features.get(k).copied().flatten() {
+                Some(feature) if !kind.has(feature) => {
                     return Err(RelationError::ForeignFeature {
                         member,
                         kind,
                         feature,
                     });
                 }
-            }
+                Some(feature) => Some(feature),
+                // Equal length relates the primitives themselves: it needs no feature.
+                None if relation.kind == RelationKind::EqualLength => None,
+                None => Some(default_feature(relation.kind, kind).ok_or(
+                    RelationError::MissingFeature {
+                        kind: relation.kind,
+                        member,
+                        primitive: kind,
+                    },
+                )?),
+            };
+            defaulted.push(feature);
         }
+        if defaulted.iter().any(Option::is_some) {
+            relation.features = defaulted;
+        }
+        self.check_relation(&relation)?;
         let id = RelationId(self.next_relation);
         self.next_relation += 1;
         self.relations.push(relation);
         self.relation_ids.push(id);
         Ok(id)
+    }
+
+    /// Whether `relation`'s residuals can be written for its members as they are now:
+    /// each named feature must be of the sort its kind relates (a circle for concentric,
+    /// say, not a box face).
+    fn check_relation(&self, relation: &Relation) -> Result<(), RelationError> {
+        let shapes: Vec<_> = relation
+            .members
+            .iter()
+            .filter_map(|m| self.get(*m))
+            .map(|p| p.primitive.current_shape().features)
+            .collect();
+        let members: Vec<Member<'_, f64>> = shapes
+            .iter()
+            .zip(
+                relation
+                    .features
+                    .iter()
+                    .copied()
+                    .chain(std::iter::repeat(None)),
+            )
+            .map(|(features, feature)| Member { features, feature })
+            .collect();
+        residuals(relation.kind, &members)
+            .map(|_| ())
+            .map_err(|error| RelationError::Unsuited {
+                reason: error.to_string(),
+            })
     }
 
     /// The relations, in the order they were added.
@@ -736,6 +825,77 @@ mod tests {
             "a parallel relation relates 2 primitives, not 1"
         );
         assert!(doc.relations().is_empty(), "nothing was added");
+    }
+
+    #[test]
+    fn a_relation_without_features_takes_the_documented_default_or_is_refused() {
+        let mut doc = Document::new();
+        let (a, b) = (doc.add(rod(0.0)), doc.add(rod(5.0)));
+        let ball = doc.add(Placed {
+            primitive: Primitive::Sphere(Sphere {
+                center: DVec3::new(0.0, 20.0, 0.0),
+                radius: 3.0,
+            }),
+            fit: Fit::default(),
+        });
+        let bare = |kind, members: Vec<PrimitiveId>| Relation {
+            kind,
+            members,
+            features: Vec::new(),
+            mode: Mode::Hard,
+            inferred: None,
+        };
+        // A rod's axis: either end gives it, so `top` is used.
+        let id = doc
+            .add_relation(bare(RelationKind::Parallel, vec![a, b]))
+            .expect("defaulted");
+        let features = &doc.relation(id).expect("added").features;
+        assert_eq!(features, &[Some(Feature::Top), Some(Feature::Top)]);
+        // A sphere has one feature; the rod's end is not clear for a sphere contact.
+        let on_sphere = doc.add_relation(bare(RelationKind::OnSphere, vec![ball, a]));
+        assert_eq!(
+            on_sphere,
+            Err(RelationError::MissingFeature {
+                kind: RelationKind::OnSphere,
+                member: a,
+                primitive: PrimitiveKind::Cylinder,
+            })
+        );
+        let mut named = bare(RelationKind::OnSphere, vec![ball, a]);
+        named.features = vec![None, Some(Feature::Bottom)];
+        let id = doc
+            .add_relation(named)
+            .expect("the sphere's outline is its only feature");
+        let features = &doc.relation(id).expect("added").features;
+        assert_eq!(features, &[Some(Feature::Outline), Some(Feature::Bottom)]);
+        // Which ends are concentric is never guessed.
+        let error = doc
+            .add_relation(bare(RelationKind::Concentric, vec![a, b]))
+            .expect_err("no default end");
+        assert!(
+            error.to_string().contains("must name the feature"),
+            "{error}"
+        );
+        // Equal length needs no feature.
+        doc.add_relation(bare(RelationKind::EqualLength, vec![a, b]))
+            .expect("lengths");
+        // A named feature of the wrong sort: a box face has no centre circle.
+        let brick = doc.add(Placed {
+            primitive: Primitive::Cuboid(crate::primitive::Cuboid {
+                center: DVec3::new(0.0, -10.0, 0.0),
+                rotation: glam::DQuat::IDENTITY,
+                size: DVec3::new(8.0, 2.0, 8.0),
+            }),
+            fit: Fit::default(),
+        });
+        let mut face = bare(RelationKind::Concentric, vec![a, brick]);
+        face.features = vec![
+            Some(Feature::Bottom),
+            Some(Feature::face(crate::primitive::Axis::Y, true)),
+        ];
+        let error = doc.add_relation(face).expect_err("a face is no circle");
+        assert!(matches!(error, RelationError::Unsuited { .. }), "{error}");
+        assert_eq!(doc.relations().len(), 3, "only the valid ones were added");
     }
 
     #[test]
