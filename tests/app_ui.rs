@@ -8,7 +8,12 @@
 //! - a saved session reopens to the same model; a glTF export passes the Khronos
 //!   validator (when installed, as in tests/gltf_export.rs);
 //! - bad files (a corrupt session, an image that is not one, an SVG without strokes) give
-//!   a message and leave the work untouched.
+//!   a message and leave the work untouched;
+//! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
+//! - a palette drag shows its controls and the status bar names it, in plain words,
+//!   with lengths in mm and developer figures hidden until asked for;
+//! - the standard views turn the 3D camera, which stays above the grid, and Home works
+//!   on an empty model.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -66,6 +71,15 @@ fn step_until(
 /// Drags `label` from the palette to the sketch point `at`, in small pointer moves,
 /// waits for the snapped preview, drops it and waits for the solve.
 fn drag_from_palette(harness: &mut Harness<'static, GeosnapApp>, label: &str, at: DVec2) {
+    let to = drag_over(harness, label, at);
+    harness.drop_at(to);
+    harness.step();
+    step_until(harness, "the placement's solve", |app| app.job().is_none());
+}
+
+/// Drags `label` from the palette to the sketch point `at` and waits for its snapped
+/// preview there, still holding the button; the screen point reached.
+fn drag_over(harness: &mut Harness<'static, GeosnapApp>, label: &str, at: DVec2) -> egui::Pos2 {
     let from = harness.get_by_label(label).rect().center();
     let to = harness.state().canvas_view().to_screen(at);
     harness.hover_at(from);
@@ -90,9 +104,7 @@ fn drag_from_palette(harness: &mut Harness<'static, GeosnapApp>, label: &str, at
         !preview.assignment.stroke_ids().is_empty(),
         "the preview takes strokes"
     );
-    harness.drop_at(to);
-    harness.step();
-    step_until(harness, "the placement's solve", |app| app.job().is_none());
+    to
 }
 
 /// A primary click at `at` on the canvas: hover, press, release.
@@ -125,7 +137,7 @@ fn a_palette_drag_snaps_a_part_and_undo_redo_take_it_back_and_again() {
         .sketch()
         .bounds()
         .expect("the sample has strokes");
-    drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
 
     let app = harness.state();
     assert_eq!(app.editor().document().len(), 1, "{:?}", app.messages());
@@ -329,7 +341,7 @@ fn esc_drops_a_drag_and_a_typed_dimension_holds_after_the_solve() {
     );
 
     // Place the vase, then type its length in the properties panel.
-    drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
     let id = harness
         .state()
         .selection()
@@ -444,7 +456,7 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
     let dir = scratch("bad");
     let mut harness = app(&dir, None);
     let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
-    drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
     let before = harness.state().editor().document().clone();
     let strokes = harness.state().editor().sketch().strokes.clone();
 
@@ -496,7 +508,7 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash() {
     let dir = scratch("autosave");
     let mut harness = app(&dir, None);
     let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
-    drag_from_palette(&mut harness, "Straight GC", (lo + hi) / 2.0);
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
     harness.state_mut().autosave_now();
     let parts = harness.state().editor().document().len();
     // A crash: the app is dropped without its clean exit.
@@ -507,4 +519,222 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash() {
     next.step();
     next.step();
     assert_eq!(next.state().editor().document().len(), parts, "recovered");
+}
+
+#[test]
+fn f1_lists_every_shortcut_and_the_first_run_hint_is_dismissed() {
+    let dir = scratch("help");
+    let mut harness = app(&dir, None);
+    // The sample opens with a welcome hint; "Got it" dismisses it.
+    assert!(harness.query_by_label("Welcome to geosnap").is_some());
+    harness.get_by_label("Got it").click();
+    harness.run_steps(2);
+    assert!(harness.query_by_label("Welcome to geosnap").is_none());
+
+    assert!(!harness.state().shortcuts_window_open());
+    press(&mut harness, Modifiers::NONE, Key::F1);
+    assert!(
+        harness.state().shortcuts_window_open(),
+        "F1 opens the window"
+    );
+    harness.run_steps(2);
+    // Every row of the table the shortcut handler reads, with its keys.
+    for what in geosnap::app::shortcut_descriptions() {
+        assert!(
+            harness.query_by_label(what).is_some(),
+            "the window lists “{what}”"
+        );
+    }
+    for keys in ["Ctrl+Z", "Ctrl+Shift+Z or Ctrl+Y", "F1", "Home", "Esc"] {
+        assert!(
+            harness.query_all_by_label(keys).next().is_some(),
+            "keys “{keys}”"
+        );
+    }
+    // And the mouse controls, the drag's among them.
+    for gesture in ["Shift + wheel", "Turn the axis", "Double-click", "Pan"] {
+        assert!(
+            harness.query_all_by_label(gesture).next().is_some(),
+            "mouse control “{gesture}”"
+        );
+    }
+    press(&mut harness, Modifiers::NONE, Key::F1);
+    assert!(!harness.state().shortcuts_window_open(), "F1 closes it");
+    // The Help menu opens it too.
+    harness.get_by_label("Help").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Keyboard shortcuts").click();
+    harness.run_steps(2);
+    assert!(
+        harness.state().shortcuts_window_open(),
+        "Help → Keyboard shortcuts"
+    );
+}
+
+#[test]
+fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
+    let dir = scratch("legend");
+    let mut harness = app(&dir, None);
+    assert!(harness.query_by_label("Ready").is_some(), "idle");
+    // The palette names kinds in words, not file names.
+    for label in ["Cylinder", "Cone", "Sphere", "Box", "Profile", "Bent tube"] {
+        assert!(harness.query_by_label(label).is_some(), "palette “{label}”");
+    }
+    for jargon in ["Straight GC", "Bent GC", "sgc", "bgc"] {
+        assert!(harness.query_by_label(jargon).is_none(), "no “{jargon}”");
+    }
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    drag_over(&mut harness, "Profile", (lo + hi) / 2.0);
+    let ctx = harness.ctx.clone();
+    let app = harness.state();
+    let legend = app.drag_legend(&ctx);
+    let gestures: Vec<&str> = legend.iter().map(|(g, _)| g.as_str()).collect();
+    assert_eq!(
+        gestures,
+        ["Wheel", "Shift + wheel", "Release", "Esc"],
+        "{legend:?}"
+    );
+    assert!(legend.iter().any(|(_, what)| what == "Turn the axis"));
+    let hint = app.canvas_hint();
+    assert!(
+        hint.starts_with("Placing a profile") && !hint.contains("Select"),
+        "{hint}"
+    );
+    let action = app.action_text().expect("an action in progress");
+    assert!(
+        action.starts_with("Dragging a profile — release to place"),
+        "{action}"
+    );
+    assert!(
+        harness.query_by_label("Ready").is_none(),
+        "not “Ready” while dragging"
+    );
+    assert!(harness
+        .query_by_label_contains("Dragging a profile")
+        .is_some());
+    // Developer figures stay hidden by default.
+    assert!(harness.query_by_label_contains("snap ").is_none());
+    assert!(harness.query_by_label_contains("UI ").is_none());
+
+    // Release: the placement is named while it runs, the part in words after.
+    let to = harness.state().canvas_view().to_screen((lo + hi) / 2.0);
+    harness.drop_at(to);
+    harness.step();
+    if let Some(job) = harness.state().job() {
+        assert_eq!(job.label, "Place profile");
+    }
+    step_until(&mut harness, "the placement's solve", |app| {
+        app.job().is_none()
+    });
+    assert!(harness.state().action_text().is_none());
+    assert!(harness.state().drag_legend(&ctx).is_empty());
+    let id = harness
+        .state()
+        .selection()
+        .expect("the new part is selected");
+    assert!(
+        harness
+            .query_by_label(&format!("#{} Profile", id.0))
+            .is_some(),
+        "the properties name the kind"
+    );
+    assert!(harness.query_by_label_contains("Centre at").is_some());
+    assert!(
+        harness.query_by_label_contains(") mm").is_some(),
+        "the centre in mm"
+    );
+    assert!(
+        harness.query_by_label_contains("mm on average").is_some(),
+        "the fit in mm"
+    );
+    assert!(harness.query_by_label_contains("RMS").is_none());
+    for message in harness.state().messages() {
+        for jargon in ["sgc", "RMS", "MaxOuterIterations", "ellipse(s)"] {
+            assert!(!message.text.contains(jargon), "{}", message.text);
+        }
+    }
+    assert!(
+        harness.query_by_label_contains("Ready").is_some(),
+        "ready again once placed"
+    );
+    for jargon in ["Converged", "MaxOuterIterations", "|c|"] {
+        assert!(
+            harness.query_by_label_contains(jargon).is_none(),
+            "{jargon}"
+        );
+    }
+
+    // View → Developer info shows the figures.
+    harness.get_by_label("View").click();
+    harness.run_steps(2);
+    harness.get_by_label("Developer info").click();
+    harness.run_steps(3);
+    assert!(
+        harness.query_by_label_contains("UI ").is_some(),
+        "frame time shown"
+    );
+}
+
+#[test]
+fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
+    let dir = scratch("views");
+    let mut harness = app(&dir, None);
+    assert!(harness.state().editor().document().is_empty());
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
+    let home = harness.state().camera_3d();
+    assert!(home.distance.is_finite() && home.distance > 0.0);
+
+    press(&mut harness, Modifiers::NONE, Key::Num2);
+    let top = harness.state().camera_3d();
+    assert!(top.pitch > 1.5, "top view looks down: {top:?}");
+    press(&mut harness, Modifiers::NONE, Key::Num1);
+    let front = harness.state().camera_3d();
+    assert!(
+        close(front.yaw, 0.0) && close(front.pitch, 0.0),
+        "{front:?}"
+    );
+    press(&mut harness, Modifiers::NONE, Key::Num3);
+    let side = harness.state().camera_3d();
+    assert!(close(side.yaw, std::f32::consts::FRAC_PI_2), "{side:?}");
+    press(&mut harness, Modifiers::NONE, Key::Num4);
+    let iso = harness.state().camera_3d();
+    assert!(
+        close(iso.yaw, std::f32::consts::FRAC_PI_4) && close(iso.pitch, 0.615_479_7),
+        "{iso:?}"
+    );
+    // The View menu does the same.
+    harness.get_by_label("View").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Top").click();
+    harness.run_steps(2);
+    assert!(harness.state().camera_3d().pitch > 1.5, "View → Top");
+
+    // Dragging the 3D view far upwards orbits down to the horizon, not under the grid.
+    press(&mut harness, Modifiers::NONE, Key::Num4);
+    let view = egui::pos2(1070.0, 200.0);
+    harness.hover_at(view);
+    harness.step();
+    harness.drag_at(view);
+    harness.step();
+    for k in 1..=10 {
+        harness.hover_at(view - egui::vec2(0.0, 30.0 * k as f32));
+        harness.step();
+    }
+    harness.drop_at(view - egui::vec2(0.0, 300.0));
+    harness.run_steps(2);
+    let orbited = harness.state().camera_3d();
+    assert!(
+        orbited.pitch >= 0.0,
+        "the camera stays above the grid: {orbited:?}"
+    );
+    assert!(orbited.pitch < iso.pitch, "the drag orbited: {orbited:?}");
+    // Home, with the model still empty, resets the angle and frames the grid again.
+    press(&mut harness, Modifiers::NONE, Key::Home);
+    let again = harness.state().camera_3d();
+    assert!(close(again.yaw, home.yaw) && close(again.pitch, home.pitch));
+    assert!(
+        close(again.distance, home.distance),
+        "{again:?} vs {home:?}"
+    );
+    assert!((again.target - home.target).length() < 1e-3);
 }

@@ -9,7 +9,7 @@ use egui::{Color32, Pos2, Rect, Sense, Stroke as Pen, Ui, Vec2};
 use glam::DVec2;
 
 use super::view3d::part_color;
-use super::GeosnapApp;
+use super::{words, GeosnapApp};
 use crate::core::primitive::Primitive;
 use crate::core::sketch::{classify_sketch, ClassifyOptions, StrokeClass, StrokeId};
 use crate::core::snap::Verdict;
@@ -490,19 +490,34 @@ impl GeosnapApp {
                 Color32::from_gray(120),
             );
         }
-        let hint = match self.canvas.tool {
-            Tool::Select => "Select: click a part; drag it to move and re-snap",
-            Tool::Draw => "Draw: drag to draw a stroke",
-            Tool::Erase => "Erase: click or drag over strokes",
-            Tool::Reclassify => "Reclassify: click a stroke to switch feature / silhouette",
-        };
         painter.text(
             rect.left_top() + Vec2::new(8.0, 6.0),
             egui::Align2::LEFT_TOP,
-            hint,
-            egui::FontId::proportional(12.0),
-            Color32::from_gray(110),
+            self.canvas_hint(),
+            egui::FontId::proportional(13.0),
+            Color32::from_gray(90),
         );
+        self.paint_drag_legend(&painter, rect);
+        self.first_run_hint(ui, rect);
+    }
+
+    /// The hint in the canvas's upper left corner: what the drag in progress does, or
+    /// what the tool does.
+    pub fn canvas_hint(&self) -> String {
+        if let Some(drag) = &self.drag {
+            let noun = words::kind_noun(drag.kind());
+            return match drag.replacing {
+                Some(id) => format!("Moving #{}: release on its strokes to snap it there", id.0),
+                None => format!("Placing a {noun}: release on its strokes to place it"),
+            };
+        }
+        match self.canvas.tool {
+            Tool::Select => "Select: click a part; drag it to move and re-snap",
+            Tool::Draw => "Draw: drag to draw a stroke",
+            Tool::Erase => "Erase: click or drag over strokes",
+            Tool::Reclassify => "Reclassify: click a stroke to switch end / outline",
+        }
+        .to_owned()
     }
 
     fn paint_image(&self, painter: &egui::Painter) {
@@ -693,15 +708,15 @@ impl GeosnapApp {
                 }
             }
         }
+        let title = words::kind_title(drag.kind);
         let label = match (drag.preview(), drag.preview_error()) {
             (Some(p), _) => format!(
-                "{}: {} strokes, RMS {:.2}",
-                drag.kind.name(),
+                "{title}: {} strokes, {} off on average",
                 p.assignment.stroke_ids().len(),
-                p.rms
+                words::mm(p.rms)
             ),
-            (None, Some(e)) => format!("{}: {e}", drag.kind.name()),
-            (None, None) => format!("{}…", drag.kind.name()),
+            (None, Some(e)) => format!("{title}: {}", words::snap_error(e, self.status.developer)),
+            (None, None) => format!("{title}…"),
         };
         let at = self.canvas.view.to_screen(drag.placement.at) + Vec2::new(14.0, 14.0);
         painter.text(

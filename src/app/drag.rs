@@ -288,7 +288,7 @@ impl GeosnapApp {
         let replacing = drag.replacing;
         let label = match replacing {
             Some(id) => format!("Move #{}", id.0),
-            None => format!("Place {}", drag.kind.name()),
+            None => format!("Place {}", super::words::kind_noun(drag.kind)),
         };
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {

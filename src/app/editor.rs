@@ -249,7 +249,11 @@ impl Editor {
         if !fixed {
             return false;
         }
-        self.checkpoint(&format!("Free #{} {}", id.0, quantity.name()));
+        self.checkpoint(&format!(
+            "Free #{} {}",
+            id.0,
+            super::words::quantity_name(quantity)
+        ));
         self.document.remove_dimension(id, quantity);
         true
     }

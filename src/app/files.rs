@@ -383,8 +383,14 @@ impl GeosnapApp {
             self.warn("There is nothing to export yet: place a primitive first.");
             return;
         }
-        match export_gltf(self.editor.document(), path, &ExportSettings::default()) {
-            Ok(_) => self.say(format!("Exported {}.", path.display())),
+        let settings = ExportSettings::default();
+        match export_gltf(self.editor.document(), path, &settings) {
+            Ok(_) => self.say(format!(
+                "Exported {} (in metres: one {} of the drawing is {} m).",
+                path.display(),
+                super::words::UNIT,
+                settings.metres_per_unit()
+            )),
             Err(error) => {
                 let text = format!("Could not export {}: {error}", path.display());
                 self.warn(text.clone());

@@ -22,9 +22,11 @@ mod canvas;
 mod drag;
 pub mod editor;
 mod files;
+mod help;
 mod panels;
 mod status;
 mod view3d;
+mod words;
 pub mod worker;
 
 use std::path::PathBuf;
@@ -40,7 +42,8 @@ use canvas::Canvas;
 pub use canvas::{CanvasView, Tool};
 pub use drag::{size_under, Drag};
 use editor::Editor;
-use files::{After, Files};
+use files::Files;
+pub use help::shortcut_descriptions;
 use panels::Panels;
 pub use status::Message;
 use status::Status;
@@ -119,6 +122,7 @@ pub struct GeosnapApp {
     files: Files,
     status: Status,
     automation: Automation,
+    help: help::Help,
     /// The window title last sent (a title change is a round trip to the window system).
     title: String,
 }
@@ -145,12 +149,21 @@ impl GeosnapApp {
             Err(error) => messages.push(Message {
                 text: format!("The built-in sample could not be read: {error}"),
                 warning: true,
+                detail: None,
             }),
         }
         let recent = cc
             .storage
             .and_then(|s| eframe::get_value::<Vec<PathBuf>>(s, "recent"))
             .unwrap_or_default();
+        let hint_seen = cc
+            .storage
+            .and_then(|s| eframe::get_value::<bool>(s, help::HINT_SEEN_KEY))
+            .unwrap_or(false);
+        let developer = cc
+            .storage
+            .and_then(|s| eframe::get_value::<bool>(s, status::DEVELOPER_KEY))
+            .unwrap_or(false);
         if let Some(inference) = cc
             .storage
             .and_then(|s| eframe::get_value(s, "inference_settings"))
@@ -169,8 +182,13 @@ impl GeosnapApp {
             files: Files::new(recent, options.autosave_dir.clone()),
             status: Status::new(messages),
             automation: Automation::new(&options),
+            help: help::Help {
+                hint_seen,
+                ..help::Help::default()
+            },
             title: String::new(),
         };
+        app.status.developer = developer;
         if let Some(script) = &options.play {
             match crate::io::script::load_script(script) {
                 Ok(script) => {
@@ -185,6 +203,8 @@ impl GeosnapApp {
             app.say(
                 "The sample sketch (a vase) is open: drag a primitive from the palette onto it.",
             );
+            // Not over the frame-time measurement: it measures the drag alone.
+            app.help.first_run_hint = !app.help.hint_seen && options.drag_benchmark.is_none();
         }
         app
     }
@@ -224,6 +244,11 @@ impl GeosnapApp {
     /// The canvas's pan and zoom.
     pub fn canvas_view(&self) -> &CanvasView {
         self.canvas.view()
+    }
+
+    /// The 3D view's camera.
+    pub fn camera_3d(&self) -> crate::render::OrbitCamera {
+        self.view3d.camera
     }
 
     /// The running snap-and-solve or re-solve.
@@ -299,7 +324,9 @@ impl GeosnapApp {
             .as_ref()
             .is_some_and(|o| !o.conflicts.is_empty() || o.reverted);
         for text in &output.messages {
-            self.status.push(format!("{}: {text}", job.label), warning);
+            let (text, detail) = words::split_figures(text);
+            self.status
+                .push_detailed(format!("{}: {text}", job.label), detail, warning);
         }
         if let Some(document) = output.document {
             self.editor.apply_document(&job.label, document);
@@ -406,68 +433,6 @@ impl GeosnapApp {
         );
     }
 
-    fn shortcuts(&mut self, ctx: &egui::Context) {
-        use egui::{Key, KeyboardShortcut, Modifiers};
-        let typing = ctx.egui_wants_keyboard_input();
-        let shortcut = |m, k| ctx.input_mut(|i| i.consume_shortcut(&KeyboardShortcut::new(m, k)));
-        if shortcut(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z)
-            || shortcut(Modifiers::COMMAND, Key::Y)
-        {
-            self.redo();
-        }
-        if shortcut(Modifiers::COMMAND, Key::Z) {
-            self.undo();
-        }
-        if shortcut(Modifiers::COMMAND | Modifiers::SHIFT, Key::S) {
-            self.save_as(ctx);
-        }
-        if shortcut(Modifiers::COMMAND, Key::S) {
-            self.save(ctx);
-        }
-        if shortcut(Modifiers::COMMAND, Key::O) {
-            self.request(ctx, After::Open(None));
-        }
-        if shortcut(Modifiers::COMMAND, Key::N) {
-            self.request(ctx, After::New);
-        }
-        if shortcut(Modifiers::COMMAND, Key::E) {
-            self.export_dialog();
-        }
-        if shortcut(Modifiers::COMMAND, Key::D) {
-            self.duplicate_selected();
-        }
-        if typing {
-            return;
-        }
-        if ctx.input(|i| i.key_pressed(Key::Escape)) {
-            if self.drag.is_some() {
-                self.cancel_drag();
-                self.say("Drag cancelled.");
-            } else if self.busy() {
-                self.cancel_job();
-            } else if !self.canvas.cancel_stroke() {
-                self.selection = None;
-            }
-        }
-        if ctx.input(|i| i.key_pressed(Key::Delete) || i.key_pressed(Key::Backspace)) {
-            self.delete_selected();
-        }
-        if ctx.input(|i| i.key_pressed(Key::F)) {
-            self.canvas.request_fit();
-            self.view3d.request_fit();
-        }
-        for (key, tool) in [
-            (Key::V, Tool::Select),
-            (Key::B, Tool::Draw),
-            (Key::E, Tool::Erase),
-            (Key::C, Tool::Reclassify),
-        ] {
-            if ctx.input(|i| i.key_pressed(key) && i.modifiers.is_none()) {
-                *self.canvas.tool_mut() = tool;
-            }
-        }
-    }
-
     fn emphasis(&self) -> Emphasis {
         Emphasis {
             selected: self.selection,
@@ -555,6 +520,7 @@ impl eframe::App for GeosnapApp {
             .show(ui, |ui| self.canvas_ui(ui));
         self.prompts(&ctx);
         self.settings_window(&ctx);
+        self.shortcuts_window(&ctx);
 
         self.autosave_tick();
         let title = self.window_title();
@@ -581,6 +547,8 @@ impl eframe::App for GeosnapApp {
             "inference_settings",
             &self.editor.settings().inference,
         );
+        eframe::set_value(storage, help::HINT_SEEN_KEY, &self.help.hint_seen);
+        eframe::set_value(storage, status::DEVELOPER_KEY, &self.status.developer);
     }
 
     fn on_exit(&mut self) {

@@ -6,40 +6,11 @@ use std::collections::BTreeMap;
 use egui::{Color32, RichText, Ui};
 
 use super::files::{After, PathAction};
-use super::{mode_name, GeosnapApp, Tool};
+use super::help::{keys_text, Action};
+use super::{mode_name, words, GeosnapApp, Tool};
 use crate::core::model::Quantity;
 use crate::core::primitive::PrimitiveKind;
 use crate::core::relation::{Mode, RelationKind};
-
-/// The palette's entries: kind, label, tooltip.
-const PALETTE: [(PrimitiveKind, &str, &str); 6] = [
-    (
-        PrimitiveKind::Cylinder,
-        "Cylinder",
-        "A straight tube with two equal round ends",
-    ),
-    (
-        PrimitiveKind::Cone,
-        "Cone",
-        "A truncated cone: two round ends of different radii",
-    ),
-    (PrimitiveKind::Sphere, "Sphere", "A ball"),
-    (
-        PrimitiveKind::Cuboid,
-        "Box",
-        "A box: three pairs of parallel faces",
-    ),
-    (
-        PrimitiveKind::Sgc,
-        "Straight GC",
-        "A straight generalized cylinder: a straight axis with a varying radius (vases, bottles)",
-    ),
-    (
-        PrimitiveKind::Bgc,
-        "Bent GC",
-        "A bent generalized cylinder: a curved axis in a plane (handles, pipes)",
-    ),
-];
 
 /// The panels' own state: the dimension values being typed, and whether the settings
 /// window is open.
@@ -60,10 +31,22 @@ impl GeosnapApp {
                 egui::MenuBar::new().ui(ui, |ui| {
                     let ctx = ui.ctx().clone();
                     ui.menu_button("File", |ui| {
-                        if ui.button("New").clicked() {
+                        if ui
+                            .add(
+                                egui::Button::new("New")
+                                    .shortcut_text(keys_text(&ctx, Action::New)),
+                            )
+                            .clicked()
+                        {
                             self.request(&ctx, After::New);
                         }
-                        if ui.button("Open…  Ctrl+O").clicked() {
+                        if ui
+                            .add(
+                                egui::Button::new("Open…")
+                                    .shortcut_text(keys_text(&ctx, Action::Open)),
+                            )
+                            .clicked()
+                        {
                             self.request(&ctx, After::Open(None));
                         }
                         ui.menu_button("Open recent", |ui| {
@@ -80,17 +63,35 @@ impl GeosnapApp {
                             self.ask_path(PathAction::Open);
                         }
                         ui.separator();
-                        if ui.button("Save  Ctrl+S").clicked() {
+                        if ui
+                            .add(
+                                egui::Button::new("Save")
+                                    .shortcut_text(keys_text(&ctx, Action::Save)),
+                            )
+                            .clicked()
+                        {
                             self.save(&ctx);
                         }
-                        if ui.button("Save as…  Ctrl+Shift+S").clicked() {
+                        if ui
+                            .add(
+                                egui::Button::new("Save as…")
+                                    .shortcut_text(keys_text(&ctx, Action::SaveAs)),
+                            )
+                            .clicked()
+                        {
                             self.save_as(&ctx);
                         }
                         if ui.button("Save to path…").clicked() {
                             self.ask_path(PathAction::SaveAs);
                         }
                         ui.separator();
-                        if ui.button("Export glTF…  Ctrl+E").clicked() {
+                        if ui
+                            .add(
+                                egui::Button::new("Export glTF…")
+                                    .shortcut_text(keys_text(&ctx, Action::Export)),
+                            )
+                            .clicked()
+                        {
                             self.export_dialog();
                         }
                         if ui.button("Export to path…").clicked() {
@@ -102,27 +103,23 @@ impl GeosnapApp {
                         }
                     });
                     ui.menu_button("Edit", |ui| {
-                        let undo = self
-                            .editor
-                            .undo_label()
-                            .map(|l| format!("Undo {l}  Ctrl+Z"));
+                        let undo = self.editor.undo_label().map(|l| format!("Undo {l}"));
                         if ui
                             .add_enabled(
                                 undo.is_some() && !self.busy(),
-                                egui::Button::new(undo.unwrap_or_else(|| "Undo".into())),
+                                egui::Button::new(undo.unwrap_or_else(|| "Undo".into()))
+                                    .shortcut_text(keys_text(&ctx, Action::Undo)),
                             )
                             .clicked()
                         {
                             self.undo();
                         }
-                        let redo = self
-                            .editor
-                            .redo_label()
-                            .map(|l| format!("Redo {l}  Ctrl+Shift+Z"));
+                        let redo = self.editor.redo_label().map(|l| format!("Redo {l}"));
                         if ui
                             .add_enabled(
                                 redo.is_some() && !self.busy(),
-                                egui::Button::new(redo.unwrap_or_else(|| "Redo".into())),
+                                egui::Button::new(redo.unwrap_or_else(|| "Redo".into()))
+                                    .shortcut_text(keys_text(&ctx, Action::Redo)),
                             )
                             .clicked()
                         {
@@ -131,13 +128,21 @@ impl GeosnapApp {
                         ui.separator();
                         let selected = self.selection.is_some() && !self.busy();
                         if ui
-                            .add_enabled(selected, egui::Button::new("Duplicate  Ctrl+D"))
+                            .add_enabled(
+                                selected,
+                                egui::Button::new("Duplicate")
+                                    .shortcut_text(keys_text(&ctx, Action::Duplicate)),
+                            )
                             .clicked()
                         {
                             self.duplicate_selected();
                         }
                         if ui
-                            .add_enabled(selected, egui::Button::new("Delete  Del"))
+                            .add_enabled(
+                                selected,
+                                egui::Button::new("Delete")
+                                    .shortcut_text(keys_text(&ctx, Action::Delete)),
+                            )
                             .clicked()
                         {
                             self.delete_selected();
@@ -148,14 +153,40 @@ impl GeosnapApp {
                         }
                     });
                     ui.menu_button("View", |ui| {
-                        if ui.button("Fit  F").clicked() {
-                            self.canvas.request_fit();
-                            self.view3d.request_fit();
+                        for (text, action) in [
+                            ("Fit", Action::Fit),
+                            ("Front (as drawn)", Action::FrontView),
+                            ("Top", Action::TopView),
+                            ("Side", Action::SideView),
+                            ("Isometric", Action::IsometricView),
+                            ("Home", Action::HomeView),
+                        ] {
+                            let button =
+                                egui::Button::new(text).shortcut_text(keys_text(&ctx, action));
+                            if ui.add(button).clicked() {
+                                self.run_action(&ctx, action);
+                            }
                         }
+                        ui.separator();
                         ui.add(
                             egui::Slider::new(self.canvas.image_mut().opacity_mut(), 0.0..=1.0)
                                 .text("Image opacity"),
                         );
+                        ui.checkbox(&mut self.status.developer, "Developer info")
+                            .on_hover_text(
+                                "Show solver figures (rounds, residuals) and frame and snap \
+                                 times",
+                            );
+                    });
+                    ui.menu_button("Help", |ui| {
+                        let button = egui::Button::new("Keyboard shortcuts")
+                            .shortcut_text(keys_text(&ctx, Action::Help));
+                        if ui.add(button).clicked() {
+                            self.help.shortcuts_open = true;
+                        }
+                        if ui.button("Show the welcome hint").clicked() {
+                            self.help.first_run_hint = true;
+                        }
                     });
                 });
             });
@@ -170,8 +201,10 @@ impl GeosnapApp {
                 ui.add_space(4.0);
                 ui.heading("Primitives");
                 ui.label(RichText::new("Drag onto the drawing").small().weak());
-                for (kind, label, tip) in PALETTE {
-                    let button = egui::Button::new(label)
+                for kind in PrimitiveKind::ALL {
+                    let tip = words::kind_long(kind);
+                    let tip = format!("{}{}", tip[..1].to_uppercase(), &tip[1..]);
+                    let button = egui::Button::new(words::kind_title(kind))
                         .min_size(egui::vec2(ui.available_width(), 28.0))
                         .sense(egui::Sense::click_and_drag());
                     let response = ui.add_enabled(!self.busy(), button).on_hover_text(tip);
@@ -209,8 +242,8 @@ impl GeosnapApp {
                 ui.add_space(12.0);
                 ui.heading("Strokes");
                 for (color, label) in [
-                    (Color32::from_rgb(40, 110, 220), "feature (ends)"),
-                    (Color32::from_rgb(45, 45, 50), "silhouette (sides)"),
+                    (Color32::from_rgb(40, 110, 220), "ends (feature)"),
+                    (Color32::from_rgb(45, 45, 50), "outlines (sides)"),
                 ] {
                     ui.horizontal(|ui| {
                         let (rect, _) =
@@ -364,14 +397,22 @@ impl GeosnapApp {
             return;
         };
         let p = &placed.primitive;
-        ui.label(RichText::new(format!("#{} {}", id.0, p.kind().name())).strong());
+        ui.label(RichText::new(format!("#{} {}", id.0, words::kind_title(p.kind()))).strong())
+            .on_hover_text(words::kind_long(p.kind()));
         let c = p.center();
-        ui.label(format!("centre ({:.1}, {:.1}, {:.1})", c.x, c.y, c.z));
         ui.label(format!(
-            "fit RMS {:.2} over {} strokes",
-            placed.fit.rms,
-            placed.fit.strokes.len()
+            "Centre at ({:.1}, {:.1}, {:.1}) {}",
+            c.x,
+            c.y,
+            c.z,
+            words::UNIT
         ));
+        ui.label(format!(
+            "Fits its {} strokes to {} on average",
+            placed.fit.strokes.len(),
+            words::mm(placed.fit.rms)
+        ))
+        .on_hover_text("The root mean square distance from the strokes to the part's outlines");
         if let Some(verdict) = placed.fit.verdict {
             let confidence = placed.fit.confidence.map_or(String::new(), |c| {
                 format!(" (confidence {:.0} %)", 100.0 * c)
@@ -401,7 +442,7 @@ impl GeosnapApp {
                 };
                 let key = format!("{}:{}", id.0, quantity.name());
                 let is_fixed = fixed.iter().find(|(q, _)| q == quantity).map(|(_, v)| *v);
-                let name = ui.label(quantity.name().replace('_', " "));
+                let name = ui.label(words::quantity_name(*quantity));
                 let text = self
                     .panels
                     .typed
@@ -413,8 +454,9 @@ impl GeosnapApp {
                         .min_size(egui::vec2(90.0, 0.0)),
                 );
                 let edit = edit.labelled_by(name.id).on_hover_text(format!(
-                    "Type an exact {} and press Enter: it becomes a hard constraint",
-                    quantity.name()
+                    "Type an exact {} in {} and press Enter: it becomes a hard constraint",
+                    words::quantity_name(*quantity),
+                    words::UNIT
                 ));
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 if !edit.has_focus() && !entered {
@@ -428,24 +470,29 @@ impl GeosnapApp {
                             .push(format!("“{}” is not a number.", text.trim()), true),
                     }
                 }
-                if is_fixed.is_some() {
-                    if ui
-                        .small_button("free")
-                        .on_hover_text(format!("Free the {}", quantity.name()))
-                        .clicked()
+                ui.horizontal(|ui| {
+                    ui.label(words::UNIT);
+                    if is_fixed.is_some()
+                        && ui
+                            .small_button("free")
+                            .on_hover_text(format!("Free the {}", words::quantity_name(*quantity)))
+                            .clicked()
                     {
                         free = Some(*quantity);
                     }
-                } else {
-                    ui.label("");
-                }
+                });
                 ui.end_row();
             }
         });
         if let Some((quantity, value)) = set {
             match self.editor.dimension_set(id, quantity, value) {
                 Ok(document) => self.resolve_in_background(
-                    &format!("#{} {} = {value}", id.0, quantity.name()),
+                    &format!(
+                        "#{} {} = {value} {}",
+                        id.0,
+                        words::quantity_name(quantity),
+                        words::UNIT
+                    ),
                     document,
                     Some(vec![id]),
                 ),

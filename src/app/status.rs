@@ -1,5 +1,7 @@
-//! What the app tells the user: the message log, the status bar with the running job or
-//! the last solve, and the frame times it shows.
+//! What the app tells the user: the message log, the status bar naming the action in
+//! progress (a drag, its snapping, a solve) or the last solve in words, and the
+//! developer figures (iterations, residuals, frame and snap times) shown only with
+//! View → Developer info.
 
 use std::collections::VecDeque;
 use std::time::Duration;
@@ -7,7 +9,11 @@ use std::time::Duration;
 use egui::{Color32, RichText, Ui};
 
 use super::worker::{Job, JobOutput};
-use super::GeosnapApp;
+use super::{words, GeosnapApp};
+use crate::core::solve::Termination;
+
+/// The storage key of [`Status::developer`].
+pub(crate) const DEVELOPER_KEY: &str = "developer_info";
 
 /// A message in the log.
 #[derive(Clone, Debug)]
@@ -16,6 +22,9 @@ pub struct Message {
     pub text: String,
     /// Whether it reports a problem.
     pub warning: bool,
+    /// Developer figures behind it (a residual, an RMS), shown only with View →
+    /// Developer info.
+    pub detail: Option<String>,
 }
 
 /// The last solve, for the status bar.
@@ -26,7 +35,7 @@ struct LastSolve {
     violation: f64,
     seconds: f64,
     /// How it ended.
-    how: String,
+    how: Termination,
 }
 
 /// The message log, the last solve and the frame times.
@@ -36,6 +45,8 @@ pub(crate) struct Status {
     messages: Vec<Message>,
     last_solve: Option<LastSolve>,
     timer: FrameTimer,
+    /// Whether developer figures are shown (View → Developer info).
+    pub(crate) developer: bool,
 }
 
 impl Status {
@@ -54,7 +65,16 @@ impl Status {
 
     /// Logs a message.
     pub(crate) fn push(&mut self, text: String, warning: bool) {
-        self.messages.push(Message { text, warning });
+        self.push_detailed(text, None, warning);
+    }
+
+    /// Logs a message with developer figures behind it.
+    pub(crate) fn push_detailed(&mut self, text: String, detail: Option<String>, warning: bool) {
+        self.messages.push(Message {
+            text,
+            warning,
+            detail,
+        });
     }
 
     /// Records the solve of a finished job, if it ran one.
@@ -64,7 +84,7 @@ impl Status {
                 iterations: report.outer_iterations,
                 violation: report.max_violation,
                 seconds: output.elapsed.as_secs_f64(),
-                how: format!("{:?}", report.termination),
+                how: report.termination,
             });
         }
     }
@@ -85,7 +105,11 @@ impl Status {
             self.messages.clear();
         }
         for message in self.messages.iter().rev().take(30) {
-            let text = RichText::new(&message.text).small();
+            let text = match (&message.detail, self.developer) {
+                (Some(detail), true) => format!("{} ({detail})", message.text),
+                _ => message.text.clone(),
+            };
+            let text = RichText::new(text);
             if message.warning {
                 ui.colored_label(Color32::from_rgb(200, 90, 20), text);
             } else {
@@ -94,18 +118,30 @@ impl Status {
         }
     }
 
-    /// The left of the status bar: the running job's progress, or the last solve.
+    /// The left of the status bar: the running job, or the last solve, in words
+    /// (with the figures when developer info is on).
     fn job_ui(&self, ui: &mut Ui, job: Option<&Job>) {
         if let Some(job) = job {
             let p = job.progress();
             ui.spinner();
-            ui.label(format!(
-                "{} — solving: iteration {}, |c| {:.1e}, {:.1} s   (Esc cancels)",
-                job.label,
-                p.iterations,
-                p.violation,
-                p.elapsed.as_secs_f64()
-            ));
+            let what = if job.label.starts_with("Place") || job.label.starts_with("Move") {
+                "snapping and solving…"
+            } else {
+                "solving…"
+            };
+            ui.label(format!("{} — {what} (Esc cancels)", job.label));
+            if self.developer {
+                ui.label(
+                    RichText::new(format!(
+                        "round {}, |c| {:.1e}, {:.1} s",
+                        p.iterations,
+                        p.violation,
+                        p.elapsed.as_secs_f64()
+                    ))
+                    .small()
+                    .weak(),
+                );
+            }
             if ui.button("Cancel").clicked() {
                 job.cancel();
             }
@@ -117,9 +153,17 @@ impl Status {
         }) = &self.last_solve
         {
             ui.label(format!(
-                "Last solve: {how}, {iterations} iterations, |c| {violation:.1e}, {:.0} ms",
-                seconds * 1e3
+                "Ready. The last solve {} ({:.1} s).",
+                words::termination(*how),
+                seconds
             ));
+            if self.developer {
+                ui.label(
+                    RichText::new(format!("{how:?}, {iterations} rounds, |c| {violation:.1e}"))
+                        .small()
+                        .weak(),
+                );
+            }
         } else {
             ui.label("Ready");
         }
@@ -155,32 +199,72 @@ impl FrameTimer {
 }
 
 impl GeosnapApp {
+    /// What the user is doing now, for the status bar: a drag and its snapping; `None`
+    /// when no drag is on (the running job or the last solve is shown then).
+    pub fn action_text(&self) -> Option<String> {
+        let drag = self.drag.as_ref()?;
+        let noun = words::kind_noun(drag.kind());
+        let what = match drag.replacing {
+            Some(id) => format!("Moving #{}", id.0),
+            None => format!("Dragging a {noun}"),
+        };
+        if !drag.over_canvas {
+            return Some(format!("{what} — move it over the drawing"));
+        }
+        let state = if drag.generation() != drag.preview_generation() {
+            "Snapping…".to_owned()
+        } else if let Some(preview) = drag.preview() {
+            format!(
+                "snapped to {} strokes",
+                preview.assignment.stroke_ids().len()
+            )
+        } else if let Some(error) = drag.preview_error() {
+            format!("no snap here: {}", words::snap_error(error, false))
+        } else {
+            "Snapping…".to_owned()
+        };
+        Some(format!("{what} — release to place · {state}"))
+    }
+
     pub(crate) fn status_bar(&mut self, ui: &mut Ui) {
+        let action = self.action_text();
         egui::Panel::bottom("status")
             .frame(super::unfilled(3.0))
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
-                    self.status.job_ui(ui, self.workers.job());
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        if let Some(median) = self.status.timer.median_cpu_ms() {
-                            ui.label(RichText::new(format!("UI {median:.1} ms")).small().weak());
+                    match &action {
+                        Some(action) => {
+                            ui.label(action);
                         }
-                        if let Some(drag) = &self.drag {
-                            ui.label(
-                                RichText::new(format!(
-                                    "snap {:.0} ms",
-                                    drag.preview_time().as_secs_f64() * 1e3
-                                ))
-                                .small()
-                                .weak(),
-                            );
+                        None => self.status.job_ui(ui, self.workers.job()),
+                    }
+                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                        if self.status.developer {
+                            if let Some(median) = self.status.timer.median_cpu_ms() {
+                                ui.label(
+                                    RichText::new(format!("UI {median:.1} ms")).small().weak(),
+                                );
+                            }
+                            if let Some(drag) = &self.drag {
+                                ui.label(
+                                    RichText::new(format!(
+                                        "snap {:.0} ms",
+                                        drag.preview_time().as_secs_f64() * 1e3
+                                    ))
+                                    .small()
+                                    .weak(),
+                                );
+                            }
                         }
                         let document = self.editor.document();
+                        let count = |n: usize, one: &str, many: &str| {
+                            format!("{n} {}", if n == 1 { one } else { many })
+                        };
                         ui.label(format!(
-                            "{} strokes · {} parts · {} relations",
-                            self.editor.sketch().strokes.len(),
-                            document.len(),
-                            document.relations().len()
+                            "{} · {} · {}",
+                            count(self.editor.sketch().strokes.len(), "stroke", "strokes"),
+                            count(document.len(), "part", "parts"),
+                            count(document.relations().len(), "relation", "relations")
                         ));
                     });
                 });

@@ -1,5 +1,7 @@
-//! The 3D view panel: orbit (left drag), pan (right or middle drag, or Shift + left),
-//! zoom (wheel), fit (F or double-click). Drawn by [`crate::render::Viewport3d`] on the
+//! The 3D view panel: orbit (left drag, kept above the horizon so the camera does not
+//! go under the grid), pan (right or middle drag, or Shift + left), zoom (wheel), fit
+//! (F or double-click), the standard views (front, top, side, isometric, home: see
+//! [`Standard`]) and an axis gizmo in the lower left corner. Drawn by [`crate::render::Viewport3d`] on the
 //! GPU, or, without a wgpu device (the glow renderer, UI tests), painted in software:
 //! flat-shaded triangles sorted back to front.
 
@@ -56,7 +58,44 @@ pub(crate) struct View3d {
     /// The drag preview shown, and when it was last changed: during a drag the 3D
     /// preview follows at most every [`PREVIEW_EVERY`], as each new one costs a render.
     overlay: (Scene, Option<std::time::Instant>),
+    /// The box a fit frames: the model's bounds, or the grid's when the model is empty.
+    frame: Option<(Vec3, Vec3)>,
 }
+
+/// The standard views of the 3D view (View menu and keys 1–4, Home).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Standard {
+    /// From the front (+Z), level: the direction the drawing is seen from.
+    Front,
+    /// From above.
+    Top,
+    /// From the right (+X), level.
+    Side,
+    /// Isometric: 45° around, 35.3° above.
+    Isometric,
+    /// The view the app starts with.
+    Home,
+}
+
+impl Standard {
+    /// Yaw and pitch of the view, radians.
+    fn angles(self) -> (f32, f32) {
+        let home = OrbitCamera::default();
+        match self {
+            Self::Front => (0.0, 0.0),
+            Self::Top => (0.0, MAX_PITCH),
+            Self::Side => (std::f32::consts::FRAC_PI_2, 0.0),
+            Self::Isometric => (std::f32::consts::FRAC_PI_4, (1.0 / 2f32.sqrt()).atan()),
+            Self::Home => (home.yaw, home.pitch),
+        }
+    }
+}
+
+/// The lowest the orbit goes: level with the target, so the eye stays above the grid
+/// (which lies under the model).
+const MIN_PITCH: f32 = 0.0;
+/// The highest: just short of straight down (the camera's up is +Y).
+const MAX_PITCH: f32 = 1.55;
 
 /// How often the 3D view takes a new drag preview.
 const PREVIEW_EVERY: std::time::Duration = std::time::Duration::from_millis(150);
@@ -66,6 +105,23 @@ impl View3d {
     pub(crate) fn request_fit(&mut self) {
         self.fitted = false;
         self.moved = false;
+    }
+
+    /// Turns the camera to a standard view and frames the model (or the grid, when the
+    /// model is empty) at the next draw.
+    pub(crate) fn standard(&mut self, view: Standard) {
+        let (yaw, pitch) = view.angles();
+        self.camera.yaw = yaw;
+        self.camera.pitch = pitch;
+        self.request_fit();
+    }
+
+    /// Frames the model now, or the grid when the model is empty.
+    fn fit_now(&mut self) {
+        if let Some((lo, hi)) = self.frame {
+            self.camera.fit(lo, hi);
+            self.fitted = true;
+        }
     }
 
     fn rebuild(&mut self, document: &Document, revision: u64, emphasis: &Emphasis) {
@@ -98,11 +154,12 @@ impl View3d {
             step,
             12,
         );
+        self.frame = Some(scene.bounds().unwrap_or_else(|| {
+            let half = Vec3::new(size, 0.0, size) / 2.0;
+            (center - half, center + half + Vec3::Y * size / 2.0)
+        }));
         if !self.fitted || !self.moved {
-            if let Some((lo, hi)) = scene.bounds() {
-                self.camera.fit(lo, hi);
-                self.fitted = true;
-            }
+            self.fit_now();
         }
         self.model = scene;
         self.model_key = Some(key);
@@ -121,21 +178,19 @@ impl View3d {
     ) {
         self.rebuild(document, revision, emphasis);
         if !self.fitted {
-            if let Some((lo, hi)) = self.model.bounds() {
-                self.camera.fit(lo, hi);
-                self.fitted = true;
-            }
+            self.fit_now();
         }
         let size = ui.available_size();
         let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
         let response = response.on_hover_text(
             "3D view: drag to orbit, right-drag or Shift+drag to pan, wheel to zoom, \
-             double-click to fit",
+             double-click to fit; keys 1–4 front, top, side, isometric; Home resets",
         );
         let shift = ui.input(|i| i.modifiers.shift);
         if response.dragged_by(egui::PointerButton::Primary) && !shift {
             let d = response.drag_delta();
             self.camera.orbit(d.x, d.y);
+            self.camera.pitch = self.camera.pitch.clamp(MIN_PITCH, MAX_PITCH);
             self.moved = true;
         } else if response.dragged_by(egui::PointerButton::Secondary)
             || response.dragged_by(egui::PointerButton::Middle)
@@ -204,6 +259,7 @@ impl View3d {
             ui.painter().rect_filled(rect, 0.0, background);
             paint_software(ui, rect, &self.camera, &[&self.model, overlay]);
         }
+        paint_gizmo(ui, rect, &self.camera);
         if document.is_empty() && preview.is_none() {
             ui.painter().text(
                 rect.center(),
@@ -213,6 +269,42 @@ impl View3d {
                 ui.visuals().weak_text_color(),
             );
         }
+    }
+}
+
+/// The axis gizmo in the lower left corner of `rect`: the model's X (red), Y (green,
+/// up) and Z (blue, towards the drawing's viewer) as the camera sees them.
+fn paint_gizmo(ui: &Ui, rect: Rect, camera: &OrbitCamera) {
+    let forward = (camera.target - camera.eye()).normalize_or_zero();
+    let right = forward.cross(Vec3::Y).normalize_or_zero();
+    let up = right.cross(forward);
+    let origin = rect.left_bottom() + egui::vec2(38.0, -38.0);
+    let length = 26.0;
+    let painter = ui.painter_at(rect);
+    painter.circle_filled(origin, length + 8.0, Color32::from_white_alpha(110));
+    let mut axes = [
+        (Vec3::X, "X", Color32::from_rgb(215, 50, 50)),
+        (Vec3::Y, "Y", Color32::from_rgb(40, 160, 60)),
+        (Vec3::Z, "Z", Color32::from_rgb(50, 90, 220)),
+    ];
+    // The axis pointing away from the viewer first, so the nearer ones lie on top.
+    axes.sort_by(|a, b| b.0.dot(forward).total_cmp(&a.0.dot(forward)));
+    for (axis, name, color) in axes {
+        let tip = origin + egui::vec2(axis.dot(right), -axis.dot(up)) * length;
+        painter.line_segment([origin, tip], egui::Stroke::new(2.0, color));
+        let out = tip - origin;
+        let label = if out.length() > 2.0 {
+            tip + out.normalized() * 7.0
+        } else {
+            tip + egui::vec2(7.0, -7.0)
+        };
+        painter.text(
+            label,
+            egui::Align2::CENTER_CENTER,
+            name,
+            egui::FontId::proportional(11.0),
+            color,
+        );
     }
 }
 

@@ -403,8 +403,9 @@ pub fn place(
         Ok(s) => s,
         Err(error) => {
             output.messages.push(format!(
-                "The {} did not snap: {error}. Drop it nearer its strokes.",
-                dragged.kind().name()
+                "The {} did not snap: {}. Drop it nearer its strokes.",
+                super::words::kind_noun(dragged.kind()),
+                super::words::snap_error(&error, false)
             ));
             return output;
         }
@@ -420,7 +421,7 @@ pub fn place(
     if confidence.verdict == Verdict::Refused {
         output.messages.push(format!(
             "The {} was not placed: {}. Drop it on the strokes of one part.",
-            dragged.kind().name(),
+            super::words::kind_noun(dragged.kind()),
             confidence
                 .reason
                 .as_deref()
@@ -447,10 +448,10 @@ pub fn place(
     }
     if let Some(placed) = document.get(id) {
         output.messages.push(format!(
-            "#{} snapped to {} strokes (RMS {:.2}).",
+            "#{} snapped to {} strokes, {} off on average.",
             id.0,
             placed.fit.strokes.len(),
-            placed.fit.rms
+            super::words::mm(placed.fit.rms)
         ));
         if let Some(reason) = &placed.fit.reason {
             output
