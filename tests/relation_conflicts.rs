@@ -102,3 +102,91 @@ fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
     assert!((radius(0) - radius(2)).abs() < 1e-3 * radius(0));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Solves the model `model` written into a fresh folder named `name`: (the output of
+/// `geosnap solve`, the input's bytes, the written model's bytes if any).
+fn solve(name: &str, model: &Value) -> (std::process::Output, Vec<u8>, Option<Vec<u8>>) {
+    let dir = std::env::temp_dir().join(format!("geosnap-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let input = dir.join("hand.model.json");
+    let output = dir.join("solved.model.json");
+    let bytes = serde_json::to_vec_pretty(model).expect("json");
+    std::fs::write(&input, &bytes).expect("written");
+    let run = Command::new(env!("CARGO_BIN_EXE_geosnap"))
+        .args(["solve"])
+        .arg(&input)
+        .arg("--out")
+        .arg(&output)
+        .output()
+        .expect("geosnap runs");
+    let written = std::fs::read(&output).ok();
+    std::fs::remove_dir_all(&dir).ok();
+    (run, bytes, written)
+}
+
+/// A model of rod 0 and `n` rods, each made both parallel and orthogonal to rod 0.
+fn parallel_and_orthogonal(n: u32) -> Value {
+    let mut primitives = vec![cylinder(0, 0.0, [0.0, 1.0, 0.0])];
+    let mut relations = Vec::new();
+    for i in 1..=n {
+        let a = f64::from(30 + 5 * i).to_radians();
+        primitives.push(cylinder(i, 50.0 * f64::from(i), [a.cos(), a.sin(), 0.0]));
+        for kind in ["parallel", "orthogonal"] {
+            relations.push(
+                json!({ "kind": kind, "members": [0, i], "features": ["top", "top"], "mode": "hard" }),
+            );
+        }
+    }
+    json!({ "format": "geosnap-model", "version": 1, "sketch": "none.svg",
+            "primitives": primitives, "relations": relations })
+}
+
+#[test]
+fn relations_that_hold_only_on_a_collapsed_axis_are_a_named_conflict() {
+    // Parallel and orthogonal both hold when the axes shrink to nothing: the solve must
+    // not take that as a result.
+    let (run, _, written) = solve("collapse", &parallel_and_orthogonal(3));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("conflict:") && l.contains("switched off")),
+        "{stdout}"
+    );
+    let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
+    let relations = solved["relations"].as_array().expect("relations");
+    // One of each pair is switched off, and the other holds on unit axes.
+    for pair in relations.chunks(2) {
+        let off = pair.iter().filter(|r| r["mode"] == "off").count();
+        assert_eq!(off, 1, "{pair:?}");
+    }
+    let axis = |i: usize| -> [f64; 3] {
+        let a = &solved["primitives"][i]["axis"];
+        [0, 1, 2].map(|k| a[k].as_f64().expect("a number"))
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    for (k, pair) in relations.chunks(2).enumerate() {
+        let (a, b) = (axis(0), axis(k + 1));
+        assert!((dot(b, b) - 1.0).abs() < 1e-6, "a unit axis: {b:?}");
+        let d = dot(a, b).abs();
+        if pair[0]["mode"] == "hard" {
+            assert!(d > 1.0 - 1e-5, "parallel holds: {d}");
+        } else {
+            assert!(d < 1e-3, "orthogonal holds: {d}");
+        }
+    }
+}
+
+#[test]
+fn a_refused_solve_writes_the_model_byte_for_byte_and_fails() {
+    // Nine such pairs: the solve gives up after its eighth conflict.
+    let (run, input, written) = solve("refused", &parallel_and_orthogonal(9));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "a refused solve fails: {stderr}");
+    assert!(
+        stderr.contains("refused") && stderr.contains("unchanged"),
+        "{stderr}"
+    );
+    assert_eq!(written.expect("written"), input, "byte for byte");
+}

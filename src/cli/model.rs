@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use geosnap::clock::MonotonicClock;
 use geosnap::core::model::{Companions, GlobalSettings};
 use geosnap::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
+use geosnap::io::input::read_input;
 use geosnap::io::model_file::{load_model, model_bytes};
 
 use super::outputs::{check_outputs, write_outputs, Output, GLTF_EXTENSIONS, MODEL_EXTENSIONS};
@@ -21,6 +22,7 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
         }],
         &[path],
     )?;
+    let original = read_input(path).with_context(|| format!("reading {}", path.display()))?;
     let mut loaded = load_model(path).context("reading the model")?;
     let clock = MonotonicClock::start();
     let outcome = loaded.document.solve(
@@ -34,9 +36,6 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
     for conflict in &outcome.conflicts {
         println!("conflict: {}", conflict.message);
     }
-    if outcome.reverted {
-        println!("the solve was refused: the model is written as it was");
-    }
     if let Some(report) = &outcome.report {
         println!(
             "solved {} part(s) with {} relation(s): {}, ‖ψ‖∞ {:.1e}, {} evaluations, {:.1} ms",
@@ -47,6 +46,18 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
             report.evaluations,
             report.elapsed.as_secs_f64() * 1e3
         );
+    }
+    if outcome.reverted {
+        // Refused: the file written is the input, byte for byte, and the command fails.
+        write_outputs(&[(out, original)])?;
+        eprintln!(
+            "geosnap: the solve of {} was refused ({} conflict(s) switched off before it gave \
+             up): {} is written unchanged, byte for byte",
+            path.display(),
+            outcome.conflicts.len(),
+            out.display()
+        );
+        return Ok(ExitCode::FAILURE);
     }
     let bytes = model_bytes(&loaded.document, &loaded.sketch)
         .with_context(|| format!("encoding {}", out.display()))?;

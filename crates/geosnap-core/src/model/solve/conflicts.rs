@@ -20,7 +20,7 @@ use super::{
     Conflict, GlobalSettings, PrimitiveId, Related, Relation, RelationKey, WORSENING_FLOOR,
 };
 use crate::primitive::Primitive;
-use crate::solve::SolveReport;
+use crate::solve::{SolveReport, Termination};
 
 /// A relation in words, named by its place in the document's list:
 /// `relation 3 (coaxial of #0 top, #2 bottom)`.
@@ -61,6 +61,12 @@ pub(super) fn blame(
             .map(|i| values.get(i).map_or(0.0, |v| v.abs()))
             .fold(0.0, f64::max)
     };
+    let pull = |range: &std::ops::Range<usize>| {
+        range
+            .clone()
+            .map(|i| report.multipliers.equality.get(i).map_or(0.0, |l| l.abs()))
+            .sum::<f64>()
+    };
     let worst = hard
         .iter()
         .map(|(index, range)| (*index, residual(range)))
@@ -76,6 +82,29 @@ pub(super) fn blame(
                 ),
             });
         }
+    }
+    // Infeasible, yet every relation holds: they hold only by breaking a part's own
+    // constraints (parallel and orthogonal both hold on an axis shrunk to nothing). The
+    // relation that pulls hardest is switched off.
+    if matches!(
+        report.termination,
+        Termination::Infeasible | Termination::Stalled
+    ) && report.max_violation > settings.violation_tol()
+    {
+        let (index, _) = hard
+            .iter()
+            .map(|(index, range)| (*index, pull(range)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        let r = relation(index)?;
+        return Some(Conflict {
+            relation: index,
+            message: format!(
+                "{} switched off: the hard relations hold together only by breaking a part's \
+                 own shape (a violation of {:.2e} stays), and it pulls hardest",
+                describe(r.position, r.relation),
+                report.max_violation
+            ),
+        });
     }
     // A fit got much worse: the strongest pull among the relations of those parts.
     let worse: Vec<(PrimitiveId, f64, f64)> = parts
@@ -96,12 +125,6 @@ pub(super) fn blame(
     if worse.is_empty() {
         return None;
     }
-    let pull = |range: &std::ops::Range<usize>| {
-        range
-            .clone()
-            .map(|i| report.multipliers.equality.get(i).map_or(0.0, |l| l.abs()))
-            .sum::<f64>()
-    };
     let (index, _) = hard
         .iter()
         .filter(|(index, _)| {
