@@ -43,10 +43,19 @@ pub(super) fn describe(index: usize, relation: &Relation) -> String {
     )
 }
 
-/// The relation responsible for a broken solve, or `None` when the solve is fine.
-pub(super) fn blame(
-    parts: &[Part<'_>],
-    solved: &[(PrimitiveId, Primitive, f64)],
+/// The summed |multiplier| of a hard relation's equalities `range`: how hard it pulls.
+fn pull(report: &SolveReport, range: &std::ops::Range<usize>) -> f64 {
+    range
+        .clone()
+        .map(|i| report.multipliers.equality.get(i).map_or(0.0, |l| l.abs()))
+        .sum()
+}
+
+/// The hard relation to switch off when the hard relations cannot all hold: the one with
+/// the largest residual; or, when they all hold only by breaking a part's own
+/// constraints (parallel and orthogonal both hold on an axis shrunk to nothing), the one
+/// that pulls hardest. `None` when the solve met its constraints.
+fn unholdable(
     hard: &[(RelationKey, std::ops::Range<usize>)],
     values: &[f64],
     report: &SolveReport,
@@ -54,18 +63,11 @@ pub(super) fn blame(
     settings: &GlobalSettings,
 ) -> Option<Conflict> {
     let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
-    // Infeasible: the hard relation with the largest residual.
     let residual = |range: &std::ops::Range<usize>| {
         range
             .clone()
             .map(|i| values.get(i).map_or(0.0, |v| v.abs()))
             .fold(0.0, f64::max)
-    };
-    let pull = |range: &std::ops::Range<usize>| {
-        range
-            .clone()
-            .map(|i| report.multipliers.equality.get(i).map_or(0.0, |l| l.abs()))
-            .sum::<f64>()
     };
     let worst = hard
         .iter()
@@ -83,29 +85,43 @@ pub(super) fn blame(
             });
         }
     }
-    // Infeasible, yet every relation holds: they hold only by breaking a part's own
-    // constraints (parallel and orthogonal both hold on an axis shrunk to nothing). The
-    // relation that pulls hardest is switched off.
-    if matches!(
+    let stuck = matches!(
         report.termination,
         Termination::Infeasible | Termination::Stalled
-    ) && report.max_violation > settings.violation_tol()
-    {
-        let (index, _) = hard
-            .iter()
-            .map(|(index, range)| (*index, pull(range)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        let r = relation(index)?;
-        return Some(Conflict {
-            relation: index,
-            message: format!(
-                "{} switched off: the hard relations hold together only by breaking a part's \
-                 own shape (a violation of {:.2e} stays), and it pulls hardest",
-                describe(r.position, r.relation),
-                report.max_violation
-            ),
-        });
+    );
+    if !(stuck && report.max_violation > settings.violation_tol()) {
+        return None;
     }
+    let (index, _) = hard
+        .iter()
+        .map(|(index, range)| (*index, pull(report, range)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let r = relation(index)?;
+    Some(Conflict {
+        relation: index,
+        message: format!(
+            "{} switched off: the hard relations hold together only by breaking a part's \
+             own shape (a violation of {:.2e} stays), and it pulls hardest",
+            describe(r.position, r.relation),
+            report.max_violation
+        ),
+    })
+}
+
+/// The relation responsible for a broken solve, or `None` when the solve is fine.
+pub(super) fn blame(
+    parts: &[Part<'_>],
+    solved: &[(PrimitiveId, Primitive, f64)],
+    hard: &[(RelationKey, std::ops::Range<usize>)],
+    values: &[f64],
+    report: &SolveReport,
+    relations: &[Related<'_>],
+    settings: &GlobalSettings,
+) -> Option<Conflict> {
+    if let Some(conflict) = unholdable(hard, values, report, relations, settings) {
+        return Some(conflict);
+    }
+    let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
     // A fit got much worse: the strongest pull among the relations of those parts.
     let worse: Vec<(PrimitiveId, f64, f64)> = parts
         .iter()
@@ -135,7 +151,7 @@ pub(super) fn blame(
                     .any(|m| worse.iter().any(|w| w.0 == *m))
             })
         })
-        .map(|(index, range)| (*index, pull(range)))
+        .map(|(index, range)| (*index, pull(report, range)))
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     let r = relation(index)?;
     let (id, own, rms) = worse[0];
