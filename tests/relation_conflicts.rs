@@ -190,3 +190,42 @@ fn a_refused_solve_writes_the_model_byte_for_byte_and_fails() {
     );
     assert_eq!(written.expect("written"), input, "byte for byte");
 }
+
+#[test]
+fn relations_that_would_collapse_a_part_are_a_named_conflict() {
+    // Top on top, bottom on bottom and top on bottom: only parts of no length satisfy all
+    // three (or parts blown up until the residuals, relative to their size, vanish).
+    let concentric = |a: &str, b: &str| json!({ "kind": "concentric", "members": [0, 1], "features": [a, b], "mode": "hard" });
+    let rod = |id: u32, x: f64, length: f64| {
+        let mut rod = cylinder(id, x, [0.0, 1.0, 0.0]);
+        rod["length"] = json!(length);
+        rod["radius"] = json!(10.0);
+        rod
+    };
+    let model = json!({
+        "format": "geosnap-model", "version": 1, "sketch": "none.svg",
+        "primitives": [rod(0, 0.0, 100.0), rod(1, 30.0, 300.0)],
+        "relations": [concentric("top", "top"), concentric("bottom", "bottom"),
+                      concentric("top", "bottom")]
+    });
+    let (run, _, written) = solve("collapse-length", &model);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("conflict:")
+                && (l.contains("collapses") || l.contains("runs away"))),
+        "{stdout}"
+    );
+    let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
+    for i in 0..2 {
+        let length = solved["primitives"][i]["length"].as_f64().expect("length");
+        let radius = solved["primitives"][i]["radius"].as_f64().expect("radius");
+        assert!(
+            (50.0..=300.0).contains(&length),
+            "part {i}: length {length}"
+        );
+        assert!((5.0..=20.0).contains(&radius), "part {i}: radius {radius}");
+    }
+}

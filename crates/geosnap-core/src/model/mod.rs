@@ -183,6 +183,14 @@ pub enum RelationError {
         /// The member's kind.
         primitive: PrimitiveKind,
     },
+    /// A primitive is named twice among the members: a part is not related to itself.
+    #[error("a {} relation names primitive {} twice: a part is not related to itself", .kind.name(), .member.0)]
+    RepeatedMember {
+        /// The relation's kind.
+        kind: RelationKind,
+        /// The member named twice.
+        member: PrimitiveId,
+    },
     /// The named features are not of the sort the relation relates.
     #[error("{reason}")]
     Unsuited {
@@ -413,6 +421,14 @@ impl Document {
             return Err(RelationError::FeatureCount {
                 features: relation.features.len(),
                 members: relation.members.len(),
+            });
+        }
+        if let Some(k) = (1..relation.members.len())
+            .find(|k| relation.members[..*k].contains(&relation.members[*k]))
+        {
+            return Err(RelationError::RepeatedMember {
+                kind: relation.kind,
+                member: relation.members[k],
             });
         }
         let mut relation = relation;
@@ -812,6 +828,15 @@ mod tests {
                 kind: PrimitiveKind::Sphere,
                 feature: Feature::Top,
             })
+        );
+        r.members[1] = a;
+        let error = doc.add_relation(r.clone()).expect_err("a part with itself");
+        assert_eq!(
+            error,
+            RelationError::RepeatedMember {
+                kind: RelationKind::Parallel,
+                member: a,
+            }
         );
         r.members[1] = PrimitiveId(9);
         assert_eq!(

@@ -108,6 +108,68 @@ fn unholdable(
     })
 }
 
+/// A part whose extent (a length, a radius, a box side) falls below this fraction of what
+/// it was before the solve has collapsed, and one that grows beyond its inverse has run
+/// away: no relation a designer means does that. (Residuals are relative to the parts'
+/// sizes, so relations that cannot hold may seem to by blowing a part up.)
+const COLLAPSED: f64 = 0.05;
+
+/// The extents of a primitive that a collapse shrinks: its lengths and largest radius,
+/// or a box's sides.
+fn extents(p: &Primitive) -> Vec<f64> {
+    let largest = |r: &[f64]| r.iter().copied().fold(0.0, f64::max);
+    match p {
+        Primitive::Cylinder(c) => vec![c.length, c.radius],
+        Primitive::Cone(c) => vec![c.length, c.radius_bottom.max(c.radius_top)],
+        Primitive::Sphere(s) => vec![s.radius],
+        Primitive::Cuboid(b) => b.size.to_array().to_vec(),
+        Primitive::Sgc(s) => vec![s.length, largest(&s.radii)],
+        Primitive::Bgc(b) => vec![b.spine_length(), largest(&b.radii)],
+    }
+}
+
+/// The hard relation to switch off when the solve collapsed a part or let it run away
+/// (see [`COLLAPSED`]):
+/// the one of that part's relations that pulls hardest. `None` when no part collapsed.
+fn collapsed(
+    parts: &[Part<'_>],
+    solved: &[(PrimitiveId, Primitive, f64)],
+    hard: &[(RelationKey, std::ops::Range<usize>)],
+    report: &SolveReport,
+    relations: &[Related<'_>],
+) -> Option<Conflict> {
+    let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
+    let (id, before, after) = parts
+        .iter()
+        .zip(solved)
+        .find_map(|(part, (id, after, _))| {
+            let (b, a) = (extents(part.primitive), extents(after));
+            b.iter()
+                .zip(&a)
+                .find(|(b, a)| !(**a >= COLLAPSED * **b && **a <= **b / COLLAPSED))
+                .map(|(b, a)| (*id, *b, *a))
+        })?;
+    let (index, _) = hard
+        .iter()
+        .filter(|(index, _)| relation(*index).is_some_and(|r| r.relation.members.contains(&id)))
+        .map(|(index, range)| (*index, pull(report, range)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let r = relation(index)?;
+    Some(Conflict {
+        relation: index,
+        message: format!(
+            "{} switched off: with it, part #{} {} (a size of {before:.3} becomes {after:.3})",
+            describe(r.position, r.relation),
+            id.0,
+            if after < before {
+                "collapses"
+            } else {
+                "runs away"
+            }
+        ),
+    })
+}
+
 /// The relation responsible for a broken solve, or `None` when the solve is fine.
 pub(super) fn blame(
     parts: &[Part<'_>],
@@ -118,7 +180,9 @@ pub(super) fn blame(
     relations: &[Related<'_>],
     settings: &GlobalSettings,
 ) -> Option<Conflict> {
-    if let Some(conflict) = unholdable(hard, values, report, relations, settings) {
+    if let Some(conflict) = unholdable(hard, values, report, relations, settings)
+        .or_else(|| collapsed(parts, solved, hard, report, relations))
+    {
         return Some(conflict);
     }
     let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
