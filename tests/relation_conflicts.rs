@@ -15,8 +15,6 @@ fn cylinder(id: u32, x: f64, axis: [f64; 3]) -> Value {
 
 #[test]
 fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
-    let dir = std::env::temp_dir().join(format!("geosnap-conflicts-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary folder");
     let model = json!({
         "format": "geosnap-model",
         "version": 1,
@@ -34,16 +32,7 @@ fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
             { "kind": "same_radius", "members": [0, 2], "features": ["top", "bottom"], "mode": "hard" }
         ]
     });
-    let input = dir.join("hand.model.json");
-    let output = dir.join("solved.model.json");
-    std::fs::write(&input, serde_json::to_vec_pretty(&model).expect("json")).expect("written");
-    let run = Command::new(env!("CARGO_BIN_EXE_geosnap"))
-        .args(["solve"])
-        .arg(&input)
-        .arg("--out")
-        .arg(&output)
-        .output()
-        .expect("geosnap runs");
+    let (run, _, written) = solve("conflicts", &model);
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(
         run.status.success(),
@@ -60,9 +49,8 @@ fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
         "the message names the relation: {}",
         conflicts[0]
     );
-    let solved: Value =
-        serde_json::from_slice(&std::fs::read(&output).expect("the output is written"))
-            .expect("the output is JSON");
+    let solved: Value = serde_json::from_slice(&written.expect("the output is written"))
+        .expect("the output is JSON");
     let relations = solved["relations"].as_array().expect("relations");
     let off: Vec<usize> = relations
         .iter()
@@ -100,7 +88,6 @@ fn an_impossible_set_of_hard_relations_ends_with_one_switched_off_and_named() {
     }
     let radius = |i: usize| solved["primitives"][i]["radius"].as_f64().expect("radius");
     assert!((radius(0) - radius(2)).abs() < 1e-3 * radius(0));
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Solves the model `model` written into a fresh folder named `name`: (the output of

@@ -51,6 +51,23 @@ fn pull(report: &SolveReport, range: &std::ops::Range<usize>) -> f64 {
         .sum()
 }
 
+/// The hard relation that pulls hardest among those `among` accepts, with its place in the
+/// document's list and the relation itself.
+fn strongest<'r>(
+    hard: &[(RelationKey, std::ops::Range<usize>)],
+    report: &SolveReport,
+    relations: &'r [Related<'r>],
+    among: impl Fn(&Relation) -> bool,
+) -> Option<(RelationKey, &'r Related<'r>)> {
+    hard.iter()
+        .filter_map(|(index, range)| {
+            let r = relations.iter().find(|r| r.id == *index)?;
+            among(r.relation).then(|| (*index, r, pull(report, range)))
+        })
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .map(|(index, r, _)| (index, r))
+}
+
 /// The hard relation to switch off when the hard relations cannot all hold: the one with
 /// the largest residual; or, when they all hold only by breaking a part's own
 /// constraints (parallel and orthogonal both hold on an axis shrunk to nothing), the one
@@ -92,11 +109,7 @@ fn unholdable(
     if !(stuck && report.max_violation > settings.violation_tol()) {
         return None;
     }
-    let (index, _) = hard
-        .iter()
-        .map(|(index, range)| (*index, pull(report, range)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let r = relation(index)?;
+    let (index, r) = strongest(hard, report, relations, |_| true)?;
     Some(Conflict {
         relation: index,
         message: format!(
@@ -138,7 +151,6 @@ fn collapsed(
     report: &SolveReport,
     relations: &[Related<'_>],
 ) -> Option<Conflict> {
-    let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
     let (id, before, after) = parts
         .iter()
         .zip(solved)
@@ -149,12 +161,7 @@ fn collapsed(
                 .find(|(b, a)| !(**a >= COLLAPSED * **b && **a <= **b / COLLAPSED))
                 .map(|(b, a)| (*id, *b, *a))
         })?;
-    let (index, _) = hard
-        .iter()
-        .filter(|(index, _)| relation(*index).is_some_and(|r| r.relation.members.contains(&id)))
-        .map(|(index, range)| (*index, pull(report, range)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let r = relation(index)?;
+    let (index, r) = strongest(hard, report, relations, |r| r.members.contains(&id))?;
     Some(Conflict {
         relation: index,
         message: format!(
@@ -185,7 +192,6 @@ pub(super) fn blame(
     {
         return Some(conflict);
     }
-    let relation = |id: RelationKey| relations.iter().find(|r| r.id == id);
     // A fit got much worse: the strongest pull among the relations of those parts.
     let worse: Vec<(PrimitiveId, f64, f64)> = parts
         .iter()
@@ -205,19 +211,9 @@ pub(super) fn blame(
     if worse.is_empty() {
         return None;
     }
-    let (index, _) = hard
-        .iter()
-        .filter(|(index, _)| {
-            relation(*index).is_some_and(|r| {
-                r.relation
-                    .members
-                    .iter()
-                    .any(|m| worse.iter().any(|w| w.0 == *m))
-            })
-        })
-        .map(|(index, range)| (*index, pull(report, range)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let r = relation(index)?;
+    let (index, r) = strongest(hard, report, relations, |r| {
+        r.members.iter().any(|m| worse.iter().any(|w| w.0 == *m))
+    })?;
     let (id, own, rms) = worse[0];
     Some(Conflict {
         relation: index,
