@@ -402,14 +402,17 @@ impl Document {
         self.primitives.remove(&id)
     }
 
-    /// Adds a relation between primitives of the document and returns its new id.
+    /// Adds a relation between primitives of the document and returns its new id. A
+    /// member that names no feature takes its [`default_feature`], and the relation is
+    /// stored with it named.
     ///
     /// # Errors
     ///
-    /// [`RelationError`] when a member is not in the document, the number of members or
-    /// features does not suit the kind, or a member lacks the feature named for it; the
-    /// document is then unchanged.
-    pub fn add_relation(&mut self, relation: Relation) -> Result<RelationId, RelationError> {
+    /// [`RelationError`] when a member is not in the document or named twice, the number
+    /// of members or features does not suit the kind, a member lacks the feature named for
+    /// it, names none where no default is clear, or names one of the wrong sort for the
+    /// kind (a box face for concentric); the document is then unchanged.
+    pub fn add_relation(&mut self, mut relation: Relation) -> Result<RelationId, RelationError> {
         if relation.members.len() != relation.kind.arity() {
             return Err(RelationError::Arity {
                 kind: relation.kind,
@@ -431,7 +434,6 @@ impl Document {
                 member: relation.members[k],
             });
         }
-        let mut relation = relation;
         let mut defaulted = Vec::with_capacity(relation.members.len());
         for (k, &member) in relation.members.iter().enumerate() {
             let placed = self
