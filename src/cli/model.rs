@@ -7,8 +7,7 @@ use anyhow::{Context, Result};
 use geosnap::clock::MonotonicClock;
 use geosnap::core::model::{Companions, GlobalSettings};
 use geosnap::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
-use geosnap::io::input::read_input;
-use geosnap::io::model_file::{load_model, model_bytes};
+use geosnap::io::model_file::{load_model, model_bytes, read_model};
 
 use super::outputs::{check_outputs, write_outputs, Output, GLTF_EXTENSIONS, MODEL_EXTENSIONS};
 
@@ -22,8 +21,7 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
         }],
         &[path],
     )?;
-    let original = read_input(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut loaded = load_model(path).context("reading the model")?;
+    let (original, mut loaded) = read_model(path).context("reading the model")?;
     let clock = MonotonicClock::start();
     let outcome = loaded.document.solve(
         None,

@@ -450,15 +450,25 @@ pub struct LoadedModel {
 /// [`read_input`]); else [`ModelError::File`] naming it, with the errors of
 /// [`parse_model`].
 pub fn load_model(path: impl AsRef<Path>) -> Result<LoadedModel, ModelError> {
-    let path = path.as_ref();
+    read_model(path.as_ref()).map(|(_, model)| model)
+}
+
+/// As [`load_model`], with the bytes read: a command that may have to write the model
+/// back unchanged keeps exactly what it parsed.
+///
+/// # Errors
+///
+/// As [`load_model`].
+pub fn read_model(path: &Path) -> Result<(Vec<u8>, LoadedModel), ModelError> {
     let data = read_input(path).map_err(|source| ModelError::Io {
         path: path.to_owned(),
         source,
     })?;
-    parse_model(&data).map_err(|source| ModelError::File {
+    let model = parse_model(&data).map_err(|source| ModelError::File {
         path: path.to_owned(),
         source: Box::new(source),
-    })
+    })?;
+    Ok((data, model))
 }
 
 fn get_f64(map: &Value, field: &'static str) -> Result<f64, PrimitiveReadError> {
