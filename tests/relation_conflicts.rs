@@ -165,10 +165,33 @@ fn relations_that_hold_only_on_a_collapsed_axis_are_a_named_conflict() {
     }
 }
 
+/// A model of `n` pairs of rods, each pair's tops made coplanar and the first's bottom
+/// concentric with the second's top: only a first rod of no length satisfies both (its
+/// bottom in the plane of its own top). No reading of the relations alone sees it: a
+/// plane and a point are different things.
+fn collapsing_pairs(n: u32) -> Value {
+    let mut primitives = Vec::new();
+    let mut relations = Vec::new();
+    for k in 0..n {
+        let (a, b) = (2 * k, 2 * k + 1);
+        for (id, x, length) in [(a, 0.0, 100.0), (b, 30.0, 300.0)] {
+            let mut rod = cylinder(id, x + 500.0 * f64::from(k), [0.0, 1.0, 0.0]);
+            rod["length"] = json!(length);
+            rod["radius"] = json!(10.0);
+            primitives.push(rod);
+        }
+        relations.push(json!({ "kind": "coplanar", "members": [a, b], "features": ["top", "top"], "mode": "hard" }));
+        relations.push(json!({ "kind": "concentric", "members": [a, b], "features": ["bottom", "top"], "mode": "hard" }));
+    }
+    json!({ "format": "geosnap-model", "version": 1, "sketch": "none.svg",
+            "primitives": primitives, "relations": relations })
+}
+
 #[test]
 fn a_refused_solve_writes_the_model_byte_for_byte_and_fails() {
-    // Nine such pairs: the solve gives up after its eighth conflict.
-    let (run, input, written) = solve("refused", &parallel_and_orthogonal(9));
+    // Nine collapsing pairs: the solve gives up before it has met them all (its budget
+    // of re-solves is spent).
+    let (run, input, written) = solve("refused", &collapsing_pairs(9));
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success(), "a refused solve fails: {stderr}");
     assert!(
@@ -178,23 +201,112 @@ fn a_refused_solve_writes_the_model_byte_for_byte_and_fails() {
     assert_eq!(written.expect("written"), input, "byte for byte");
 }
 
+/// `n` rods with every pair related, parallel or orthogonal in turn (pair by pair): an
+/// all-pairs model as a hostile user writes it.
+fn every_pair_related(n: u32) -> Value {
+    let primitives: Vec<Value> = (0..n)
+        .map(|i| {
+            let t = f64::from(i);
+            cylinder(
+                i,
+                60.0 * t,
+                [(0.7 * t).cos(), (1.3 * t).sin(), 0.5 + (0.4 * t).cos()],
+            )
+        })
+        .collect();
+    let mut relations = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            let kind = if (i + j) % 3 == 0 {
+                "orthogonal"
+            } else {
+                "parallel"
+            };
+            relations.push(
+                json!({ "kind": kind, "members": [i, j], "features": ["top", "top"], "mode": "hard" }),
+            );
+        }
+    }
+    json!({ "format": "geosnap-model", "version": 1, "sketch": "none.svg",
+            "primitives": primitives, "relations": relations })
+}
+
 #[test]
-fn relations_that_would_collapse_a_part_are_a_named_conflict() {
-    // Top on top, bottom on bottom and top on bottom: only parts of no length satisfy all
-    // three (or parts blown up until the residuals, relative to their size, vanish).
-    let concentric = |a: &str, b: &str| json!({ "kind": "concentric", "members": [0, 1], "features": [a, b], "mode": "hard" });
-    let rod = |id: u32, x: f64, length: f64| {
-        let mut rod = cylinder(id, x, [0.0, 1.0, 0.0]);
-        rod["length"] = json!(length);
-        rod["radius"] = json!(10.0);
-        rod
+fn every_pair_related_ends_with_the_contradictions_named_and_the_rest_held() {
+    let n = 30;
+    let (run, _, written) = solve("every-pair", &every_pair_related(n));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // A bounded report: the first conflicts in full, then a count; the implied ones said.
+    let lines = stdout
+        .lines()
+        .filter(|l| l.starts_with("conflict:"))
+        .count();
+    assert!(lines <= 20, "{stdout}");
+    assert!(stdout.contains("more conflict(s)"), "{stdout}");
+    assert!(stdout.contains("implied by the others"), "{stdout}");
+    let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
+    let axis = |i: u64| -> [f64; 3] {
+        let a = &solved["primitives"][usize::try_from(i).expect("small")]["axis"];
+        [0, 1, 2].map(|k| a[k].as_f64().expect("a number"))
     };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let relations = solved["relations"].as_array().expect("relations");
+    let hard = relations.iter().filter(|r| r["mode"] == "hard").count();
+    assert!(
+        hard >= usize::try_from(n - 1).expect("small"),
+        "{hard} hard"
+    );
+    for r in relations.iter().filter(|r| r["mode"] == "hard") {
+        let m = r["members"].as_array().expect("members");
+        let (a, b) = (
+            axis(m[0].as_u64().expect("id")),
+            axis(m[1].as_u64().expect("id")),
+        );
+        let d = dot(a, b).abs();
+        if r["kind"] == "parallel" {
+            assert!(d > 1.0 - 1e-4, "parallel holds: {d} {r}");
+        } else {
+            assert!(d < 1e-2, "orthogonal holds: {d} {r}");
+        }
+    }
+}
+
+#[test]
+fn relations_that_make_a_part_its_own_two_ends_are_named_before_any_solve() {
+    // Top on top, bottom on bottom and top on bottom: only parts of no length satisfy all
+    // three, and the relations alone say so.
+    let concentric = |a: &str, b: &str| json!({ "kind": "concentric", "members": [0, 1], "features": [a, b], "mode": "hard" });
     let model = json!({
         "format": "geosnap-model", "version": 1, "sketch": "none.svg",
-        "primitives": [rod(0, 0.0, 100.0), rod(1, 30.0, 300.0)],
+        "primitives": [cylinder(0, 0.0, [0.0, 1.0, 0.0]), cylinder(1, 30.0, [0.0, 1.0, 0.0])],
         "relations": [concentric("top", "top"), concentric("bottom", "bottom"),
                       concentric("top", "bottom")]
     });
+    let (run, _, written) = solve("own-ends", &model);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}");
+    let conflicts: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("conflict:"))
+        .collect();
+    assert_eq!(conflicts.len(), 1, "{stdout}");
+    assert!(
+        conflicts[0].contains("relation 2 (") && conflicts[0].contains("no size"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("1 solve(s)"), "no re-solve: {stdout}");
+    let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
+    assert_eq!(solved["relations"][2]["mode"], "off");
+}
+
+#[test]
+fn relations_that_would_collapse_a_part_are_a_named_conflict() {
+    let model = collapsing_pairs(1);
     let (run, _, written) = solve("collapse-length", &model);
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}");

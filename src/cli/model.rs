@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{Companions, GlobalSettings};
+use geosnap::core::model::{Companions, Conflict, GlobalSettings};
 use geosnap::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
 use geosnap::io::model_file::{load_model, model_bytes, read_model};
 
@@ -31,26 +31,34 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
             ..Companions::default()
         },
     );
-    for conflict in &outcome.conflicts {
-        println!("conflict: {}", conflict.message);
-    }
+    print_conflicts(&outcome.conflicts);
     if let Some(report) = &outcome.report {
         println!(
-            "solved {} part(s) with {} relation(s): {}, ‖ψ‖∞ {:.1e}, {} evaluations, {:.1} ms",
+            "solved {} part(s) with {} relation(s){}: {}, ‖ψ‖∞ {:.1e}, {} evaluations in the last \
+             solve, {:.1} ms; {} solve(s), {} evaluations in all",
             outcome.solved.len(),
             outcome.relations,
+            implied(outcome.implied),
             report.termination,
             report.max_violation,
             report.evaluations,
-            report.elapsed.as_secs_f64() * 1e3
+            report.elapsed.as_secs_f64() * 1e3,
+            outcome.solves,
+            outcome.evaluations
         );
     }
     if outcome.reverted {
         // Refused: the file written is the input, byte for byte, and the command fails.
         write_outputs(&[(out, original)])?;
+        let why = outcome.report.as_ref().map_or(String::new(), |r| {
+            format!(
+                "; the last solve {}, with a violation of {:.1e} left",
+                r.termination, r.max_violation
+            )
+        });
         eprintln!(
             "geosnap: the solve of {} was refused ({} conflict(s) switched off before it gave \
-             up): {} is written unchanged, byte for byte",
+             up{why}): {} is written unchanged, byte for byte",
             path.display(),
             outcome.conflicts.len(),
             out.display()
@@ -62,6 +70,33 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
     write_outputs(&[(out, bytes)])?;
     println!("wrote {}", out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// Conflict lines printed one by one; beyond them, a count.
+const CONFLICTS_SHOWN: usize = 20;
+
+/// Prints the conflicts, the first [`CONFLICTS_SHOWN`] in full and a count of the rest
+/// (every one is in the model file written, with mode `off`).
+#[expect(clippy::print_stdout, reason = "CLI output")]
+fn print_conflicts(conflicts: &[Conflict]) {
+    for conflict in conflicts.iter().take(CONFLICTS_SHOWN) {
+        println!("conflict: {}", conflict.message);
+    }
+    if conflicts.len() > CONFLICTS_SHOWN {
+        println!(
+            "… and {} more conflict(s), each with mode off in the model",
+            conflicts.len() - CONFLICTS_SHOWN
+        );
+    }
+}
+
+/// ` (N implied by the others, not solved again)`, or nothing when none is.
+fn implied(n: usize) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!(" ({n} implied by the others, not solved again)")
+    }
 }
 
 pub(super) fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> Result<ExitCode> {

@@ -362,6 +362,7 @@ pub(super) fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
                 snap,
                 confidence,
                 relations,
+                duplicate_of,
                 solve,
             } => {
                 println!(
@@ -387,6 +388,12 @@ pub(super) fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
                             100.0 * alt.distance
                         );
                     }
+                }
+                if let Some(first) = duplicate_of {
+                    println!(
+                        "    a copy of part #{} (same kind, size and place): no relations inferred for it",
+                        first.0
+                    );
                 }
                 if let Some(report) = &solve.report {
                     let ms = report.elapsed.as_secs_f64() * 1e3;

@@ -602,6 +602,9 @@ pub enum StepOutcome {
         confidence: Box<Confidence>,
         /// The relations inferred on its release.
         relations: Vec<RelationId>,
+        /// The earlier part it coincides with, when it is a copy of one
+        /// ([`Document::duplicate_of`]): no relations were inferred for it.
+        duplicate_of: Option<PrimitiveId>,
         /// The global solve that followed.
         solve: Box<GlobalOutcome>,
     },
@@ -707,6 +710,7 @@ pub fn run_steps_with(
                     snap: Box::new(result),
                     confidence: Box::new(confidence),
                     relations,
+                    duplicate_of: document.duplicate_of(id),
                     solve: Box::new(solve),
                 }
             }

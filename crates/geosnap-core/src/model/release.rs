@@ -26,7 +26,7 @@ use super::reading::DrawnEnds;
 use super::{
     Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
 };
-use crate::primitive::{FeatureCurve, Primitive, PrimitiveKind};
+use crate::primitive::{FeatureCurve, FeatureGeometry, Primitive, PrimitiveKind};
 use crate::relation::contact::{ContactGraph, Outline};
 use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal};
 use crate::relation::{residuals, InferenceSettings, Member, Mode};
@@ -45,6 +45,33 @@ const DEPTH_STEPS: i32 = 40;
 /// from quadratic to logarithmic.
 const DEPTH_SCALE: f64 = 0.05;
 
+/// Two parts closer than this fraction of their size in every feature, and in size,
+/// coincide ([`Document::duplicate_of`]): far below what a drawing tells apart (a part
+/// snaps to its strokes within a per cent or two), far above round-off.
+pub(super) const COINCIDENT: f64 = 0.01;
+
+/// Whether `a` (with its feature curves `features`) and `b` coincide (see
+/// [`COINCIDENT`]).
+fn coincide(a: &Primitive, features: &[FeatureCurve<f64>], b: &Primitive) -> bool {
+    let size = a.size().max(b.size());
+    let near = |p: DVec3, q: DVec3| p.distance(q) <= COINCIDENT * size;
+    if a.kind() != b.kind()
+        || (a.size() - b.size()).abs() > COINCIDENT * size
+        || !near(a.center(), b.center())
+    {
+        return false;
+    }
+    let theirs = b.current_shape().features;
+    let centre = |f: &FeatureCurve<f64>| match &f.geometry {
+        FeatureGeometry::Circle { center, .. } | FeatureGeometry::Rectangle { center, .. } => {
+            center.to_dvec3()
+        }
+    };
+    features
+        .iter()
+        .all(|f| theirs.iter().any(|g| near(centre(f), centre(g))))
+}
+
 impl Document {
     /// Infers the relations between part `id` and the other parts
     /// ([`crate::relation::infer`]), adds them (hard or suggested, with their confidence
@@ -57,23 +84,29 @@ impl Document {
         id: PrimitiveId,
         settings: &InferenceSettings,
     ) -> Vec<RelationId> {
-        let ids: Vec<PrimitiveId> = self.primitives.keys().copied().collect();
+        if self.duplicate_of(id).is_some() {
+            // A second copy of a part relates to nothing: every relation would tie it to
+            // the first or repeat the first's.
+            return Vec::new();
+        }
+        // Copies of earlier parts are left out: the new part relates to the first copy.
+        let ids: Vec<PrimitiveId> = self
+            .primitives
+            .keys()
+            .copied()
+            .filter(|other| *other == id || self.duplicate_of(*other).is_none())
+            .collect();
         let Some(new) = ids.iter().position(|i| *i == id) else {
             return Vec::new();
         };
-        let mut features: Vec<Vec<FeatureCurve<f64>>> = self
-            .primitives
-            .values()
+        let placed: Vec<&super::Placed> = ids.iter().map(|i| &self.primitives[i]).collect();
+        let mut features: Vec<Vec<FeatureCurve<f64>>> = placed
+            .iter()
             .map(|p| p.primitive.current_shape().features)
             .collect();
-        let outlines: Vec<Outline> = self
-            .primitives
-            .values()
-            .map(|p| Outline::of(&p.primitive))
-            .collect();
-        let sizes: Vec<(PrimitiveKind, f64, f64)> = self
-            .primitives
-            .values()
+        let outlines: Vec<Outline> = placed.iter().map(|p| Outline::of(&p.primitive)).collect();
+        let sizes: Vec<(PrimitiveKind, f64, f64)> = placed
+            .iter()
             .map(|p| {
                 let size = p.primitive.size();
                 let noise = if size > 0.0 { p.fit.rms / size } else { 0.0 };
@@ -130,6 +163,21 @@ impl Document {
             placed.primitive = chosen;
         }
         self.add_inferred(&ids, found)
+    }
+
+    /// The earliest other part that part `id` coincides with: the same kind, size and
+    /// place, every feature curve where one of the other's is (to 1 % of the size), as
+    /// when one drop is made twice. Inference relates such a copy to nothing, and
+    /// relates later parts to the first copy only. `None` when there is
+    /// none, or no part `id`.
+    pub fn duplicate_of(&self, id: PrimitiveId) -> Option<PrimitiveId> {
+        let part = &self.primitives.get(&id)?.primitive;
+        let features = part.current_shape().features;
+        self.primitives
+            .iter()
+            .filter(|(other, _)| **other < id)
+            .find(|(_, p)| coincide(part, &features, &p.primitive))
+            .map(|(other, _)| *other)
     }
 
     /// The relations of the model that are not off, as proposals over the parts'
@@ -546,6 +594,31 @@ mod tests {
             .all(|r| !(r.kind == RelationKind::Parallel
                 && r.members.contains(&a)
                 && r.members.contains(&b))));
+    }
+
+    #[test]
+    fn a_copy_of_a_part_relates_to_nothing_and_later_parts_relate_to_the_first() {
+        let axis = DVec3::new(0.0, 0.9, 0.44);
+        let mut doc = Document::new();
+        let first = doc.add(leg(0.0, axis));
+        let copy = doc.add(leg(0.0, axis));
+        assert_eq!(doc.duplicate_of(copy), Some(first));
+        assert_eq!(doc.duplicate_of(first), None, "the first is no copy");
+        assert!(doc
+            .infer_relations(copy, &InferenceSettings::default())
+            .is_empty());
+        // A leg beside them is parallel to the first only.
+        let beside = doc.add(leg(2.0, axis));
+        assert_eq!(doc.duplicate_of(beside), None);
+        let added = doc.infer_relations(beside, &InferenceSettings::default());
+        assert!(!added.is_empty());
+        for r in added {
+            let members = &doc.relation(r).expect("added").members;
+            assert!(!members.contains(&copy), "{members:?}");
+        }
+        // Moved by a few per cent of its size, a part is no copy.
+        let near = doc.add(leg(0.3, axis));
+        assert_eq!(doc.duplicate_of(near), None);
     }
 
     #[test]

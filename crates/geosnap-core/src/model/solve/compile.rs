@@ -169,7 +169,7 @@ pub(super) fn to_common<'g>(
             radius,
         } => FeatureGeometry::Circle {
             center: point(*center),
-            normal: *normal,
+            normal: normal.normalize(),
             radius: *radius * scale,
         },
         FeatureGeometry::Rectangle {
@@ -178,7 +178,7 @@ pub(super) fn to_common<'g>(
             half_extents,
         } => FeatureGeometry::Rectangle {
             center: point(*center),
-            normal: *normal,
+            normal: normal.normalize(),
             half_extents: half_extents.map(|(axis, h)| (axis, h * scale)),
         },
     };

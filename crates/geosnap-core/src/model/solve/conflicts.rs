@@ -297,6 +297,28 @@ pub(super) fn contradictions(
     found
 }
 
+/// The relations [`contradictions`] found, as conflicts named by their place among
+/// `relations`.
+pub(super) fn contradicting_conflicts(
+    found: Vec<(RelationKey, f64)>,
+    relations: &[Related<'_>],
+) -> Vec<Conflict> {
+    found
+        .into_iter()
+        .filter_map(|(id, left)| {
+            let r = relations.iter().find(|r| r.id == id)?;
+            Some(Conflict {
+                relation: id,
+                message: format!(
+                    "{} switched off: it contradicts the relations before it (a residual of \
+                     {left:.2e} that no move they allow can meet)",
+                    describe(r.position, r.relation)
+                ),
+            })
+        })
+        .collect()
+}
+
 /// The least share of the largest unmet residual for which a contradicting relation is
 /// named in the same pass.
 const CULPRIT_SHARE: f64 = 0.5;

@@ -120,7 +120,8 @@ impl GlobalSettings {
         Ok(self)
     }
 
-    /// The most relations switched off per solve (0: a broken solve is put back at once).
+    /// The most rounds of switching a relation off and solving again (0: a broken solve is
+    /// put back at once). Contradictions found before solving cost no round.
     #[must_use]
     pub fn with_max_conflicts(mut self, n: usize) -> Self {
         self.max_conflicts = n;
@@ -158,7 +159,7 @@ impl GlobalSettings {
         self.max_worsening
     }
 
-    /// Most relations switched off per solve (default 8).
+    /// The most rounds of switching relations off and solving again (default 8).
     pub fn max_conflicts(&self) -> usize {
         self.max_conflicts
     }
