@@ -9,6 +9,8 @@
 //!   validator (when installed, as in tests/gltf_export.rs);
 //! - bad files (a corrupt session, an image that is not one, an SVG without strokes) give
 //!   a message and leave the work untouched;
+//! - unsaved work is autosaved on a timer of its own, frames or not, offered back after a
+//!   crash with its file and time, and removed when the user does not save it;
 //! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
@@ -193,6 +195,44 @@ fn stand(dir: &Path) -> Harness<'static, GeosnapApp> {
     harness
 }
 
+/// The relations panel names parts in words ("Cylinder 1's top is concentric with …"),
+/// not "#2 top · #1 bottom".
+fn relations_read_as_sentences(harness: &Harness<'static, GeosnapApp>) {
+    assert!(
+        harness.query_by_label_contains(" · #").is_none(),
+        "no relation is listed by part numbers"
+    );
+    for (id, placed) in harness.state().editor().document().primitives() {
+        assert!(
+            harness
+                .query_by_label_contains(&format!("#{}", id.0))
+                .is_none()
+                || harness
+                    .query_by_label_contains(&format!(
+                        "{} {}",
+                        words_title(placed.primitive.kind()),
+                        id.0
+                    ))
+                    .is_some(),
+            "part {} is named in words",
+            id.0
+        );
+    }
+}
+
+/// Scrolls the right column until the label containing `text` is above the messages.
+fn scroll_column_to(harness: &mut Harness<'static, GeosnapApp>, text: &str) {
+    for _ in 0..10 {
+        let messages = harness.get_by_label("Messages").rect();
+        let node = harness.get_by_label_contains(text);
+        if node.rect().bottom() < messages.top() {
+            return;
+        }
+        node.scroll_down();
+        harness.run_steps(2);
+    }
+}
+
 #[test]
 fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model() {
     let dir = scratch("relations");
@@ -201,6 +241,9 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     assert!(!relations.is_empty(), "relations are inferred on release");
     assert_eq!(relations[0].mode, Mode::Hard);
 
+    // Nothing selected: the relations are at the top of the column.
+    harness.state_mut().select(None);
+    harness.run_steps(2);
     // Open relation 0's combo box and pick "soft".
     harness
         .get_all_by_role(Role::ComboBox)
@@ -239,8 +282,12 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
         "{:#?}",
         harness.state().editor().document().relations()
     );
+    relations_read_as_sentences(&harness);
     // Hovering it tells why it was inferred.
-    harness.get_by_label("same radius").hover();
+    scroll_column_to(&mut harness, "has the same radius as");
+    harness
+        .get_by_label_contains("has the same radius as")
+        .hover();
     harness.run_steps(30);
     assert!(
         harness
@@ -287,6 +334,77 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     harness.state_mut().export_to(&glb);
     assert!(glb.is_file(), "{:?}", harness.state().messages());
     validate(&glb);
+}
+
+/// The palette's name of a kind.
+fn words_title(kind: geosnap::core::primitive::PrimitiveKind) -> &'static str {
+    use geosnap::core::primitive::PrimitiveKind;
+    match kind {
+        PrimitiveKind::Cylinder => "Cylinder",
+        PrimitiveKind::Cone => "Cone",
+        PrimitiveKind::Sphere => "Sphere",
+        PrimitiveKind::Cuboid => "Box",
+        PrimitiveKind::Sgc => "Profile",
+        PrimitiveKind::Bgc => "Bent tube",
+    }
+}
+
+#[test]
+fn messages_stay_in_the_window_and_a_failed_drop_says_why_where_it_happened() {
+    let dir = scratch("column");
+    let mut harness = stand(&dir);
+    // A short window: properties and relations scroll, the messages keep their band.
+    harness.set_size(egui::vec2(1100.0, 560.0));
+    harness.run_steps(4);
+    let window = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1100.0, 560.0));
+    let heading = harness.get_by_label("Messages").rect();
+    assert!(window.contains_rect(heading), "Messages at {heading:?}");
+    let newest = harness
+        .state()
+        .messages()
+        .last()
+        .expect("messages")
+        .text
+        .clone();
+    let shown = harness.get_by_label_contains(&newest).rect();
+    assert!(
+        window.contains(shown.left_top()),
+        "the newest message is in the window: {shown:?}"
+    );
+    // The relations' sentences name the parts; the list scrolls above the messages.
+    let relations = harness.state().editor().document().relations().len();
+    assert!(relations >= 2, "{relations} relations");
+
+    // A cylinder dropped on empty paper: the reason shows where it was dropped.
+    let canvas = harness.state().canvas_view().rect();
+    let to = canvas.right_top() + egui::vec2(-60.0, 60.0);
+    let from = harness.get_by_label("Cylinder").rect().center();
+    harness.hover_at(from);
+    harness.step();
+    harness.drag_at(from);
+    harness.step();
+    for k in 1..=10 {
+        harness.hover_at(from + (to - from) * (k as f32 / 10.0));
+        harness.step();
+    }
+    harness.drop_at(to);
+    harness.step();
+    step_until(&mut harness, "the drop's job", |app| app.job().is_none());
+    harness.run_steps(2);
+    let note = harness
+        .state()
+        .drop_note()
+        .expect("a note at the drop")
+        .to_owned();
+    assert!(note.contains("did not snap"), "{note}");
+    let shown: Vec<egui::Rect> = harness
+        .get_all_by_label_contains("did not snap")
+        .map(|n| n.rect())
+        .collect();
+    assert!(
+        shown.iter().any(|r| r.distance_to_pos(to) < 40.0),
+        "a note {shown:?} at the drop point {to:?}"
+    );
 }
 
 fn validate(file: &Path) {
@@ -503,22 +621,111 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
     }
 }
 
-#[test]
-fn unsaved_work_is_autosaved_and_offered_back_after_a_crash() {
-    let dir = scratch("autosave");
-    let mut harness = app(&dir, None);
+/// Draws a gentle arc with the pen in the empty paper right of the drawing: a change.
+fn draw_a_stroke(harness: &mut Harness<'static, GeosnapApp>) {
     let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
-    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
+    press(harness, Modifiers::NONE, Key::B);
+    let view = harness.state().canvas_view().clone();
+    let at = |t: f64| {
+        let x = hi.x + 10.0 + 60.0 * t;
+        let y = f64::midpoint(lo.y, hi.y) + 20.0 * (std::f64::consts::PI * t).sin();
+        view.to_screen(DVec2::new(x, y))
+    };
+    harness.hover_at(at(0.0));
+    harness.step();
+    harness.drag_at(at(0.0));
+    harness.step();
+    for k in 1..=12 {
+        harness.hover_at(at(f64::from(k) / 12.0));
+        harness.step();
+    }
+    harness.drop_at(at(1.0));
+    harness.step();
+    press(harness, Modifiers::NONE, Key::V);
+}
+
+#[test]
+fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_time() {
+    let dir = scratch("autosave");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/stand.svg")));
+    let strokes = harness.state().editor().sketch().strokes.len();
+    draw_a_stroke(&mut harness);
+    assert_eq!(harness.state().editor().sketch().strokes.len(), strokes + 1);
     harness.state_mut().autosave_now();
-    let parts = harness.state().editor().document().len();
     // A crash: the app is dropped without its clean exit.
     drop(harness);
     let mut next = app(&dir, None);
-    assert!(next.state().editor().document().is_empty());
+    assert_eq!(
+        next.state().editor().sketch().strokes.len(),
+        geosnap::io::svg::import_svg(
+            geosnap::samples::VASE_SVG.as_bytes(),
+            &geosnap::io::svg::SvgOptions::default()
+        )
+        .expect("the sample")
+        .sketch
+        .strokes
+        .len(),
+        "the sample is open until the work is recovered"
+    );
+    // The prompt names the drawing and when the work was autosaved.
+    next.get_by_label_contains("Unsaved work on stand.svg from ");
+    next.get_by_label_contains("(just now)");
     next.get_by_label("Recover").click();
     next.step();
     next.step();
-    assert_eq!(next.state().editor().document().len(), parts, "recovered");
+    assert_eq!(
+        next.state().editor().sketch().strokes.len(),
+        strokes + 1,
+        "recovered"
+    );
+    assert!(
+        next.state().editor().is_dirty(),
+        "recovered work is unsaved until saved"
+    );
+}
+
+#[test]
+fn autosave_runs_on_its_timer_without_frames_and_is_removed_on_dont_save() {
+    let dir = scratch("autosave-timer");
+    let delay = Duration::from_millis(1500);
+    let mut harness = app(&dir, None);
+    harness.state_mut().set_autosave_delay(delay);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    draw_a_stroke(&mut harness);
+    let changed = Instant::now();
+    assert!(harness.state().editor().is_dirty(), "a stroke was drawn");
+    if changed.elapsed() < delay / 2 {
+        assert_eq!(harness.state().pending_autosave(), None, "not before time");
+    }
+    // No frame runs from here on: the autosave is written on its own timer.
+    let file = loop {
+        if let Some(file) = harness.state().pending_autosave() {
+            break file;
+        }
+        assert!(
+            changed.elapsed() < Duration::from_secs(30),
+            "no autosave without frames"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(changed.elapsed() >= delay, "written after its delay");
+    // New (Ctrl+N) → Don't save: the discarded work's autosave goes.
+    press(&mut harness, Modifiers::COMMAND, Key::N);
+    harness.get_by_label("Don't save").click();
+    harness.run_steps(2);
+    assert!(!file.exists(), "the discarded work's autosave is removed");
+    assert!(
+        harness.state().editor().sketch().strokes.is_empty(),
+        "new work"
+    );
+    drop(harness);
+    let next = app(&dir, None);
+    assert!(
+        next.query_by_label("Recover").is_none(),
+        "a later start offers no discarded work"
+    );
 }
 
 #[test]

@@ -4,6 +4,7 @@
 //! wheel, F fits the drawing.
 
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke as Pen, Ui, Vec2};
 use glam::DVec2;
@@ -42,7 +43,25 @@ pub(crate) struct Canvas {
     image: ReferenceImage,
     /// The strokes' automatic classes, with the strokes' revision they were found for.
     classes: Option<(u64, Vec<(StrokeId, StrokeClass)>)>,
+    /// Where the last drop was released (sketch space), until its job ends.
+    dropped_at: Option<DVec2>,
+    /// Why the last drop placed nothing, shown where it was released for a while.
+    drop_note: Option<DropNote>,
 }
+
+/// A short message on the canvas at the point where a drop failed.
+#[derive(Clone, Debug)]
+pub(crate) struct DropNote {
+    /// The drop point (sketch space).
+    at: DVec2,
+    /// What went wrong.
+    text: String,
+    /// When it goes away.
+    until: Instant,
+}
+
+/// How long a failed drop's note stays on the canvas.
+const DROP_NOTE_FOR: Duration = Duration::from_secs(6);
 
 impl Default for Canvas {
     fn default() -> Self {
@@ -52,6 +71,8 @@ impl Default for Canvas {
             drawing: None,
             image: ReferenceImage::default(),
             classes: None,
+            dropped_at: None,
+            drop_note: None,
         }
     }
 }
@@ -75,6 +96,33 @@ impl Canvas {
     /// Drops the stroke being drawn; whether there was one.
     pub(crate) fn cancel_stroke(&mut self) -> bool {
         self.drawing.take().is_some()
+    }
+
+    /// Remembers where a drop was released, for a note if it fails.
+    pub(crate) fn dropped(&mut self, at: DVec2) {
+        self.dropped_at = Some(at);
+        self.drop_note = None;
+    }
+
+    /// The drop's job ended: when it placed nothing, `failure` says why, shown at the
+    /// drop point for a few seconds.
+    pub(crate) fn drop_ended(&mut self, failure: Option<String>) {
+        let Some(at) = self.dropped_at.take() else {
+            return;
+        };
+        self.drop_note = failure.map(|text| DropNote {
+            at,
+            text,
+            until: Instant::now() + DROP_NOTE_FOR,
+        });
+    }
+
+    /// The note of a failed drop on the canvas, while it is shown.
+    pub(crate) fn drop_note(&self) -> Option<&str> {
+        self.drop_note
+            .as_ref()
+            .filter(|n| n.until > Instant::now())
+            .map(|n| n.text.as_str())
     }
 
     /// The reference image.
@@ -498,7 +546,47 @@ impl GeosnapApp {
             Color32::from_gray(90),
         );
         self.paint_drag_legend(&painter, rect);
+        self.show_drop_note(ui, rect);
         self.first_run_hint(ui, rect);
+    }
+
+    /// The note of a failed drop, at the drop point, until it times out.
+    fn show_drop_note(&mut self, ui: &Ui, rect: Rect) {
+        let Some(note) = &self.canvas.drop_note else {
+            return;
+        };
+        let left = note.until.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            self.canvas.drop_note = None;
+            return;
+        }
+        ui.ctx().request_repaint_after(left);
+        let at = self.canvas.view.to_screen(note.at);
+        let width = 300.0;
+        // Beside the drop point, on the side with room for it.
+        let (pivot, pos) = if at.x + 12.0 + width <= rect.right() {
+            (egui::Align2::LEFT_TOP, at + Vec2::new(12.0, 12.0))
+        } else {
+            (egui::Align2::RIGHT_TOP, at + Vec2::new(-12.0, 12.0))
+        };
+        let text = note.text.clone();
+        egui::Area::new(egui::Id::unique("drop_note"))
+            .order(egui::Order::Foreground)
+            .pivot(pivot)
+            .fixed_pos(pos)
+            .constrain_to(rect)
+            .interactable(false)
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.set_max_width(width);
+                    ui.label(
+                        egui::RichText::new(text)
+                            .color(Color32::from_rgb(190, 70, 10))
+                            .strong(),
+                    );
+                });
+            });
+        painter_mark(ui, at);
     }
 
     /// The hint in the canvas's upper left corner: what the drag in progress does, or
@@ -834,6 +922,18 @@ impl GeosnapApp {
             }
         }
     }
+}
+
+/// A small cross at a failed drop's point.
+fn painter_mark(ui: &Ui, at: Pos2) {
+    let painter = ui.ctx().layer_painter(egui::LayerId::new(
+        egui::Order::Foreground,
+        egui::Id::unique("drop_mark"),
+    ));
+    let pen = Pen::new(2.0, Color32::from_rgb(190, 70, 10));
+    let d = 5.0;
+    painter.line_segment([at + Vec2::new(-d, -d), at + Vec2::new(d, d)], pen);
+    painter.line_segment([at + Vec2::new(-d, d), at + Vec2::new(d, -d)], pen);
 }
 
 /// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.

@@ -286,6 +286,7 @@ impl GeosnapApp {
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let replacing = drag.replacing;
+        self.canvas.dropped(drag.placement.at);
         let label = match replacing {
             Some(id) => format!("Move #{}", id.0),
             None => format!("Place {}", super::words::kind_noun(drag.kind)),

@@ -10,15 +10,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context as _};
 
+use super::autosave::{Autosave, Recovery, Work};
 use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings};
-use crate::io::session::{load_session, parse_session, save_session, session_bytes, Session};
+use crate::io::session::{load_session, parse_session, save_session, Session};
 use crate::io::sketch_file::load_sketch;
-
-/// How often unsaved work is written to the autosave file.
-const AUTOSAVE_EVERY: Duration = Duration::from_secs(30);
 
 /// The most recent files remembered.
 const MAX_RECENT: usize = 10;
@@ -29,7 +27,7 @@ pub(crate) enum Prompt {
     /// Unsaved changes before `then`.
     Unsaved(After),
     /// An autosave from a crashed run can be recovered.
-    Recover(PathBuf),
+    Recover(Recovery),
     /// A file path to type (no native dialog, or by choice).
     Path(PathAction, String),
     /// An error to acknowledge.
@@ -64,10 +62,15 @@ pub(crate) struct Files {
 }
 
 impl Files {
-    /// The recent files (newest first) and the autosave folder (the platform's data
-    /// folder when `None`); asks to recover an autosave left by a crash.
-    pub(crate) fn new(recent: Vec<PathBuf>, autosave_dir: Option<PathBuf>) -> Self {
-        let autosave = Autosave::new(autosave_dir);
+    /// The recent files (newest first), the autosave folder (the platform's data
+    /// folder when `None`) and how long unsaved work waits to be autosaved; asks to
+    /// recover an autosave left by a crash.
+    pub(crate) fn new(
+        recent: Vec<PathBuf>,
+        autosave_dir: Option<PathBuf>,
+        autosave_every: Duration,
+    ) -> Self {
+        let autosave = Autosave::new(autosave_dir, autosave_every);
         Self {
             prompt: autosave.pending().map(Prompt::Recover),
             recent,
@@ -81,9 +84,15 @@ impl Files {
         &self.recent
     }
 
-    /// Removes the autosave (a clean exit).
-    pub(crate) fn clear_autosave(&mut self) {
-        self.autosave.clear();
+    /// Sets how long unsaved work waits before it is autosaved.
+    pub(crate) fn set_autosave_delay(&mut self, delay: Duration) {
+        self.autosave.set_delay(delay);
+    }
+
+    /// A clean exit: removes this run's autosave (one left by a crash and not yet
+    /// recovered or discarded stays, to be offered again).
+    pub(crate) fn exit(&mut self) {
+        self.autosave.exit();
     }
 
     /// Closes the window without asking about unsaved changes.
@@ -97,39 +106,6 @@ impl Files {
         self.recent.retain(|p| *p != path);
         self.recent.insert(0, path);
         self.recent.truncate(MAX_RECENT);
-    }
-}
-
-/// The autosave file: written while there are unsaved changes, removed on a clean exit,
-/// so finding it at start means the last run did not end well.
-#[derive(Debug)]
-pub(crate) struct Autosave {
-    path: Option<PathBuf>,
-    last: Instant,
-    written: Option<u64>,
-}
-
-impl Autosave {
-    pub(crate) fn new(dir: Option<PathBuf>) -> Self {
-        let dir = dir.or_else(|| eframe::storage_dir("geosnap"));
-        Self {
-            path: dir.map(|d| d.join("autosave.geosnap.json")),
-            last: Instant::now(),
-            written: None,
-        }
-    }
-
-    /// An autosave left by a run that did not exit cleanly.
-    pub(crate) fn pending(&self) -> Option<PathBuf> {
-        self.path.clone().filter(|p| p.is_file())
-    }
-
-    /// Removes the autosave (a clean exit, or the user discarded it).
-    pub(crate) fn clear(&mut self) {
-        if let Some(path) = &self.path {
-            let _ = std::fs::remove_file(path);
-        }
-        self.written = None;
     }
 }
 
@@ -256,6 +232,7 @@ impl GeosnapApp {
                 let warnings = loaded.warnings.clone();
                 self.editor
                     .replace(loaded.sketch, loaded.image, Document::default());
+                self.editor.set_origin(path.to_owned());
                 self.after_replace(ctx);
                 for w in warnings {
                     self.warn(w);
@@ -301,6 +278,10 @@ impl GeosnapApp {
             Ok(session) => {
                 self.editor
                     .replace(session.sketch, session.image, session.document);
+                if let Some(origin) = self.files.autosave.pending().and_then(|r| r.work) {
+                    self.editor.set_origin(origin);
+                }
+                self.editor.mark_unsaved();
                 self.after_replace(ctx);
                 self.say("The autosaved work was recovered; save it to keep it.");
             }
@@ -453,39 +434,35 @@ impl GeosnapApp {
         }
     }
 
+    /// Hands unsaved work to the autosave thread, which writes it on its own timer
+    /// (frames or not); removes this run's autosave once nothing is unsaved.
     pub(crate) fn autosave_tick(&mut self) {
-        let due = self.files.autosave.last.elapsed() >= AUTOSAVE_EVERY;
-        if !due
-            || !self.editor.is_dirty()
-            || self.files.autosave.written == Some(self.editor.revision())
-        {
-            return;
+        let (revision, dirty) = (self.editor.revision(), self.editor.is_dirty());
+        if self.files.autosave.wants(revision, dirty) {
+            let work = self.autosave_work();
+            self.files.autosave.hand(revision, work);
         }
-        self.files.autosave.last = Instant::now();
-        let Some(path) = self.files.autosave.path.clone() else {
-            return;
-        };
-        let result = session_bytes(&self.session())
-            .map_err(anyhow::Error::from)
-            .and_then(|bytes: Vec<u8>| {
-                if let Some(dir) = path.parent() {
-                    std::fs::create_dir_all(dir)?;
-                }
-                crate::io::write_atomic(&path, &bytes).map_err(anyhow::Error::from)
-            });
-        match result {
-            Ok(()) => self.files.autosave.written = Some(self.editor.revision()),
-            Err(error) => log::warn!("autosave to {} failed: {error:#}", path.display()),
+    }
+
+    fn autosave_work(&self) -> Work {
+        Work {
+            session: self.session(),
+            origin: self.editor.origin().cloned(),
         }
     }
 
     /// Writes the work to the autosave file now (tests, and before risky steps).
     pub fn autosave_now(&mut self) {
-        self.files.autosave.last = Instant::now()
-            .checked_sub(AUTOSAVE_EVERY)
-            .unwrap_or_else(Instant::now);
-        self.files.autosave.written = None;
-        self.autosave_tick();
+        let work = self.autosave_work();
+        if let Err(error) = self.files.autosave.write_now(self.editor.revision(), &work) {
+            log::warn!("autosave failed: {error:#}");
+        }
+    }
+
+    /// The autosave left by a run that did not end well, if any: the recovery prompt
+    /// offers it at start.
+    pub fn pending_autosave(&self) -> Option<PathBuf> {
+        self.files.autosave.pending().map(|r| r.path)
     }
 
     /// The modal window of the question being asked, if any.
@@ -508,6 +485,8 @@ impl GeosnapApp {
                         }
                         if ui.button("Don't save").clicked() {
                             self.files.prompt = None;
+                            // The user discarded the work: no later start offers it back.
+                            self.files.autosave.clear();
                             self.proceed(ctx, after.clone());
                         }
                         if ui.button("Cancel").clicked() {
@@ -515,13 +494,18 @@ impl GeosnapApp {
                         }
                     });
                 }
-                Prompt::Recover(path) => {
+                Prompt::Recover(recovery) => {
                     ui.heading("Recover unsaved work?");
-                    ui.label("geosnap did not close properly last time. An autosave of the work is available.");
+                    let zone = jiff::tz::TimeZone::try_system().unwrap_or(jiff::tz::TimeZone::UTC);
+                    ui.label(format!(
+                        "{}.",
+                        recovery.describe(std::time::SystemTime::now(), &zone)
+                    ));
+                    ui.label("geosnap did not close properly last time; this work was autosaved.");
                     ui.horizontal(|ui| {
                         if ui.button("Recover").clicked() {
                             self.files.prompt = None;
-                            self.recover(ctx, &path);
+                            self.recover(ctx, &recovery.path);
                         }
                         if ui.button("Discard").clicked() {
                             self.files.prompt = None;
@@ -535,7 +519,11 @@ impl GeosnapApp {
                         PathAction::SaveAs => "Save the session as",
                         PathAction::Export => "Export glTF (.glb or .gltf) as",
                     });
-                    let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(420.0).hint_text("/path/to/file"));
+                    let edit = ui.add(
+                        egui::TextEdit::singleline(&mut text)
+                            .desired_width(420.0)
+                            .hint_text("/path/to/file"),
+                    );
                     let edit = edit.on_hover_text("File path");
                     let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                     self.files.prompt = Some(Prompt::Path(action, text.clone()));

@@ -18,6 +18,7 @@
 //! ```
 
 mod automation;
+mod autosave;
 mod canvas;
 mod drag;
 pub mod editor;
@@ -179,7 +180,11 @@ impl GeosnapApp {
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
-            files: Files::new(recent, options.autosave_dir.clone()),
+            files: Files::new(
+                recent,
+                options.autosave_dir.clone(),
+                autosave::AUTOSAVE_EVERY,
+            ),
             status: Status::new(messages),
             automation: Automation::new(&options),
             help: help::Help {
@@ -239,6 +244,18 @@ impl GeosnapApp {
     /// Selects a part (or nothing).
     pub fn select(&mut self, id: Option<PrimitiveId>) {
         self.selection = id;
+    }
+
+    /// Sets how long unsaved work waits before it is autosaved (30 s unless set; tests
+    /// shorten it).
+    pub fn set_autosave_delay(&mut self, delay: Duration) {
+        self.files.set_autosave_delay(delay);
+    }
+
+    /// Why the last drop placed nothing, while its note is shown on the canvas at the
+    /// drop point.
+    pub fn drop_note(&self) -> Option<&str> {
+        self.canvas.drop_note()
     }
 
     /// The canvas's pan and zoom.
@@ -308,6 +325,12 @@ impl GeosnapApp {
 
     fn finish_job(&mut self, job: &Job, output: JobOutput) {
         self.status.solved(&output);
+        // A drop that placed nothing says why where it was released.
+        let failure = (output.document.is_none() && !output.cancelled)
+            .then(|| output.messages.first())
+            .flatten()
+            .map(|text| words::split_figures(text).0);
+        self.canvas.drop_ended(failure);
         if output.cancelled {
             self.say(format!("{}: cancelled; nothing changed.", job.label));
             return;
@@ -445,10 +468,14 @@ impl GeosnapApp {
     }
 
     fn window_title(&self) -> String {
-        let name = self.editor.path().and_then(|p| p.file_name()).map_or_else(
-            || "untitled".to_owned(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        let name = self
+            .editor
+            .origin()
+            .and_then(|p| p.file_name())
+            .map_or_else(
+                || "untitled".to_owned(),
+                |n| n.to_string_lossy().into_owned(),
+            );
         format!(
             "{}{name} — geosnap",
             if self.editor.is_dirty() { "• " } else { "" }
@@ -552,6 +579,6 @@ impl eframe::App for GeosnapApp {
     }
 
     fn on_exit(&mut self) {
-        self.files.clear_autosave();
+        self.files.exit();
     }
 }

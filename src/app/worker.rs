@@ -447,19 +447,21 @@ pub fn place(
         return output;
     }
     if let Some(placed) = document.get(id) {
+        let name = super::words::part_name(&document, id);
         output.messages.push(format!(
-            "#{} snapped to {} strokes, {} off on average.",
-            id.0,
+            "{name} snapped to {} strokes, {} off on average.",
             placed.fit.strokes.len(),
             super::words::mm(placed.fit.rms)
         ));
         if let Some(reason) = &placed.fit.reason {
             output
                 .messages
-                .push(format!("#{} is doubtful: {reason}.", id.0));
+                .push(format!("{name} is doubtful: {reason}."));
         }
     }
-    output.messages.extend(describe(&outcome, relations.len()));
+    output
+        .messages
+        .extend(describe(&document, &outcome, relations.len()));
     output.placed = Some(id);
     output.outcome = Some(outcome);
     output.document = Some(document);
@@ -489,7 +491,7 @@ pub fn resolve(
     );
     let cancelled = cancel.is_cancelled();
     JobOutput {
-        messages: describe(&outcome, 0),
+        messages: describe(&document, &outcome, 0),
         document: (!cancelled).then_some(document),
         placed: None,
         outcome: Some(outcome),
@@ -498,12 +500,12 @@ pub fn resolve(
     }
 }
 
-/// The messages of a solve for the user.
-fn describe(outcome: &GlobalOutcome, inferred: usize) -> Vec<String> {
+/// The messages of a solve for the user, in words (the relations and parts by name).
+fn describe(document: &Document, outcome: &GlobalOutcome, inferred: usize) -> Vec<String> {
     let mut messages: Vec<String> = outcome
         .conflicts
         .iter()
-        .map(|c| c.message.clone())
+        .map(|c| super::words::conflict(document, document.relation(c.relation), &c.message))
         .collect();
     if outcome.reverted {
         messages.push(
