@@ -11,6 +11,8 @@
 //!   a message and leave the work untouched;
 //! - unsaved work is autosaved on a timer of its own, frames or not, offered back after a
 //!   crash with its file and time, and removed when the user does not save it;
+//! - an image opened on a drawing asks whether it goes under it or starts a new one;
+//!   Fit frames the strokes; typed-path prompts take the keyboard at once;
 //! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
@@ -725,6 +727,89 @@ fn autosave_runs_on_its_timer_without_frames_and_is_removed_on_dont_save() {
     assert!(
         next.query_by_label("Recover").is_none(),
         "a later start offers no discarded work"
+    );
+}
+
+/// A file dropped on the window, as a file manager drops it.
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+fn drop_file(harness: &mut Harness<'static, GeosnapApp>, path: &Path) {
+    harness
+        .input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(path.to_owned())));
+    harness.run_steps(2);
+}
+
+#[test]
+fn an_image_on_a_drawing_asks_fit_frames_the_strokes_and_typed_paths_take_the_keys() {
+    let dir = scratch("image");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/stand.svg")));
+    // Fit frames the drawing's strokes, not its page.
+    let view = harness.state().canvas_view().clone();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let drawn = egui::Rect::from_two_pos(view.to_screen(lo), view.to_screen(hi));
+    assert!(
+        view.rect().contains_rect(drawn),
+        "{drawn:?} in {:?}",
+        view.rect()
+    );
+    assert!(
+        drawn.width() > 0.8 * view.rect().width() || drawn.height() > 0.8 * view.rect().height(),
+        "the strokes {drawn:?} fill the canvas {:?}",
+        view.rect()
+    );
+
+    // An image dropped on the drawing asks: under it ...
+    let png = dir.join("reference.png");
+    image::RgbaImage::new(64, 48).save(&png).expect("a PNG");
+    let strokes = harness.state().editor().sketch().strokes.len();
+    drop_file(&mut harness, &png);
+    assert!(
+        harness.state().editor().image().is_none(),
+        "not before asking"
+    );
+    harness.get_by_label("Reference under this drawing").click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor().sketch().strokes.len(), strokes);
+    assert_eq!(
+        harness.state().editor().image(),
+        Some(&png),
+        "under the drawing"
+    );
+    // ... or a new drawing from it (the unsaved drawing is asked about first).
+    drop_file(&mut harness, &png);
+    harness.get_by_label("New drawing from it").click();
+    harness.run_steps(2);
+    harness.get_by_label("Don't save").click_accesskit();
+    harness.run_steps(2);
+    assert!(
+        harness.state().editor().sketch().strokes.is_empty(),
+        "new: {:?}",
+        harness.state().messages()
+    );
+    assert_eq!(harness.state().editor().image(), Some(&png), "on the image");
+
+    // File → Open path…: the path field has the keyboard at once.
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Open path…").click();
+    harness.run_steps(2);
+    assert!(
+        harness.get_by_role(Role::TextInput).is_focused(),
+        "typing goes to the path without a click"
     );
 }
 

@@ -472,19 +472,15 @@ impl GeosnapApp {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         self.canvas.view.rect = rect;
         if self.canvas.view.fit_pending {
-            let bounds = self
-                .editor
-                .sketch()
-                .view_box
-                .map(|(o, s)| (o, o + s))
-                .or_else(|| {
-                    self.canvas
-                        .image
-                        .shown
-                        .as_ref()
-                        .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
-                });
-            let bounds = bounds.or_else(|| self.editor.sketch().bounds());
+            // The drawing's strokes; without strokes the image, else the page.
+            let bounds = self.editor.sketch().bounds().or_else(|| {
+                self.canvas
+                    .image
+                    .shown
+                    .as_ref()
+                    .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
+                    .or_else(|| self.editor.sketch().view_box.map(|(o, s)| (o, o + s)))
+            });
             match bounds {
                 Some((lo, hi)) => self.canvas.view.fit(lo, hi),
                 None => self.canvas.view.fit(DVec2::ZERO, DVec2::new(1000.0, 800.0)),

@@ -30,6 +30,8 @@ pub(crate) enum Prompt {
     Recover(Recovery),
     /// A file path to type (no native dialog, or by choice).
     Path(PathAction, String),
+    /// An image opened while a drawing is open: under it, or a new drawing from it.
+    Image(PathBuf),
     /// An error to acknowledge.
     Error(String),
 }
@@ -39,6 +41,8 @@ pub(crate) enum Prompt {
 pub(crate) enum After {
     New,
     Open(Option<PathBuf>),
+    /// New work with this image as its reference.
+    NewFromImage(PathBuf),
     Quit,
 }
 
@@ -59,6 +63,8 @@ pub(crate) struct Files {
     recent: Vec<PathBuf>,
     autosave: Autosave,
     allow_quit: bool,
+    /// The typed-path prompt takes the keyboard at its next frame.
+    focus_path: bool,
 }
 
 impl Files {
@@ -76,6 +82,7 @@ impl Files {
             recent,
             autosave,
             allow_quit: false,
+            focus_path: false,
         }
     }
 
@@ -161,7 +168,11 @@ impl GeosnapApp {
                 self.canvas.request_fit();
                 self.say("New work: draw strokes (B) or open a drawing.");
             }
-            After::Open(Some(path)) => self.open_path(ctx, &path),
+            After::Open(Some(path)) => self.open_or_ask(ctx, &path),
+            After::NewFromImage(path) => {
+                self.proceed(ctx, After::New);
+                self.open_path(ctx, &path);
+            }
             After::Open(None) => {
                 let asked = Instant::now();
                 let picked = rfd::FileDialog::new()
@@ -171,7 +182,7 @@ impl GeosnapApp {
                     .add_filter("Reference images", &["png", "jpg", "jpeg"])
                     .pick_file();
                 match picked {
-                    Some(path) => self.open_path(ctx, &path),
+                    Some(path) => self.open_or_ask(ctx, &path),
                     None if no_dialog(asked) => {
                         self.ask_path(PathAction::Open);
                     }
@@ -181,6 +192,16 @@ impl GeosnapApp {
             After::Quit => {
                 self.files.quit(ctx);
             }
+        }
+    }
+
+    /// Opens `path`; an image while a drawing is open asks first whether it goes under
+    /// the drawing or starts a new one.
+    fn open_or_ask(&mut self, ctx: &egui::Context, path: &Path) {
+        if is_image(path) && !self.editor.sketch().strokes.is_empty() {
+            self.files.prompt = Some(Prompt::Image(path.to_owned()));
+        } else {
+            self.open_path(ctx, path);
         }
     }
 
@@ -388,6 +409,7 @@ impl GeosnapApp {
             PathAction::Export => self.suggested_path("glb"),
         };
         self.files.prompt = Some(Prompt::Path(action, suggested));
+        self.files.focus_path = true;
     }
 
     fn suggested_path(&self, extension: &str) -> String {
@@ -525,6 +547,10 @@ impl GeosnapApp {
                             .hint_text("/path/to/file"),
                     );
                     let edit = edit.on_hover_text("File path");
+                    if std::mem::take(&mut self.files.focus_path) {
+                        // Typing goes to the path at once, without a click.
+                        edit.request_focus();
+                    }
                     let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                     self.files.prompt = Some(Prompt::Path(action, text.clone()));
                     ui.horizontal(|ui| {
@@ -544,6 +570,7 @@ impl GeosnapApp {
                         }
                     });
                 }
+                Prompt::Image(path) => self.image_prompt(ui, &path),
                 Prompt::Error(text) => {
                     ui.heading("Problem");
                     ui.label(text);
@@ -554,10 +581,39 @@ impl GeosnapApp {
             }
         });
         if modal.should_close()
-            && matches!(self.files.prompt, Some(Prompt::Error(_) | Prompt::Path(..)))
+            && matches!(
+                self.files.prompt,
+                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_))
+            )
         {
             self.files.prompt = None;
         }
+    }
+}
+
+impl GeosnapApp {
+    /// The question of an image opened while a drawing is open.
+    fn image_prompt(&mut self, ui: &mut egui::Ui, path: &Path) {
+        let ctx = ui.ctx().clone();
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        ui.heading(format!("Open the image {name}"));
+        ui.label("A drawing is open. Use the image as the reference under this drawing, or start a new drawing on it?");
+        ui.horizontal(|ui| {
+            if ui.button("Reference under this drawing").clicked() {
+                self.files.prompt = None;
+                self.open_path(&ctx, path);
+            }
+            if ui.button("New drawing from it").clicked() {
+                self.files.prompt = None;
+                self.request(&ctx, After::NewFromImage(path.to_owned()));
+            }
+            if ui.button("Cancel").clicked() {
+                self.files.prompt = None;
+            }
+        });
     }
 }
 
