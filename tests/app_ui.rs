@@ -409,6 +409,36 @@ fn messages_stay_in_the_window_and_a_failed_drop_says_why_where_it_happened() {
     );
 }
 
+#[test]
+fn canvas_labels_do_not_overlap_each_other_or_the_part_ids() {
+    let dir = scratch("labels");
+    let mut harness = stand(&dir);
+    let parts: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    let mut relation_labels = 0;
+    for id in parts.iter().copied().map(Some).chain([None]) {
+        harness.state_mut().select(id);
+        harness.run_steps(2);
+        let labels = harness.state().canvas_labels().to_vec();
+        assert!(labels.len() >= parts.len(), "every part's id: {labels:?}");
+        relation_labels = relation_labels.max(labels.len() - parts.len());
+        for (i, a) in labels.iter().enumerate() {
+            for b in &labels[i + 1..] {
+                assert!(!a.intersects(*b), "labels {a:?} and {b:?} overlap");
+            }
+        }
+    }
+    assert!(
+        relation_labels >= 3,
+        "the post's relations are labelled ({relation_labels})"
+    );
+}
+
 fn validate(file: &Path) {
     let validator = std::env::var_os("GEOSNAP_GLTF_VALIDATOR")
         .map(PathBuf::from)

@@ -47,6 +47,9 @@ pub(crate) struct Canvas {
     dropped_at: Option<DVec2>,
     /// Why the last drop placed nothing, shown where it was released for a while.
     drop_note: Option<DropNote>,
+    /// The screen rectangles of the labels painted in the last frame: part ids (with
+    /// their badges) and relation labels.
+    labels: Vec<Rect>,
 }
 
 /// A short message on the canvas at the point where a drop failed.
@@ -73,6 +76,7 @@ impl Default for Canvas {
             classes: None,
             dropped_at: None,
             drop_note: None,
+            labels: Vec::new(),
         }
     }
 }
@@ -115,6 +119,12 @@ impl Canvas {
             text,
             until: Instant::now() + DROP_NOTE_FOR,
         });
+    }
+
+    /// The screen rectangles of the labels painted in the last frame (part ids with
+    /// their badges, then relation labels).
+    pub(crate) fn labels(&self) -> &[Rect] {
+        &self.labels
     }
 
     /// The note of a failed drop on the canvas, while it is shown.
@@ -515,6 +525,7 @@ impl GeosnapApp {
         self.paint_image(&painter);
         self.paint_parts(&painter);
         self.paint_strokes(&painter);
+        self.paint_part_ids(&painter);
         self.paint_relations(&painter);
         self.canvas_drag(ui, over);
         if !space {
@@ -682,33 +693,55 @@ impl GeosnapApp {
                 };
                 painter.add(egui::Shape::line(line, pen));
             }
+        }
+    }
+
+    /// The parts' ids at their centres, over the strokes, each with a halo of paper so
+    /// it reads over a stroke of its own colour, and the snap's verdict as a badge;
+    /// their rectangles are taken for the relation labels to avoid.
+    fn paint_part_ids(&mut self, painter: &egui::Painter) {
+        self.canvas.labels.clear();
+        let related = self.emphasis().related;
+        for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+                continue;
+            }
+            let selected = self.selection == Some(id);
+            let color = if related.contains(&id) {
+                Color32::from_rgb(200, 140, 0)
+            } else {
+                part_color(index)
+            };
+            // Darker than the part's outline, so the id stands out on it.
+            let [r, g, b, _] = color.to_array();
+            let color = Color32::from_rgb(r / 10 * 6, g / 10 * 6, b / 10 * 6);
             let c = placed.primitive.center();
             let at = self.canvas.view.to_screen(DVec2::new(c.x, -c.y));
-            let label = painter.text(
-                at,
-                egui::Align2::CENTER_CENTER,
-                format!("#{}", id.0),
-                egui::FontId::proportional(if selected { 14.0 } else { 11.0 }),
-                color,
-            );
+            let font = egui::FontId::proportional(if selected { 16.0 } else { 14.0 });
+            let galley = painter.layout_no_wrap(format!("#{}", id.0), font, color);
+            let rect = egui::Align2::CENTER_CENTER.anchor_size(at, galley.size());
+            halo_text(painter, rect.min, &galley, color);
             // The snap's verdict as a badge before the id: green good, amber doubtful.
+            let mut taken = rect;
             if let Some(verdict) = placed.fit.verdict {
-                let centre = Pos2::new(label.left() - 6.0, label.center().y);
+                let centre = Pos2::new(rect.left() - 7.0, rect.center().y);
                 painter.circle(
                     centre,
-                    4.0,
+                    4.5,
                     verdict_color(verdict),
-                    Pen::new(1.0, Color32::from_black_alpha(120)),
+                    Pen::new(1.5, PAPER_HALO),
                 );
+                taken = taken.union(Rect::from_center_size(centre, Vec2::splat(9.0)));
             }
+            self.canvas.labels.push(taken);
         }
     }
 
     /// The relations of the selected part (or the hovered one): a dashed link between
     /// the members' centres, labelled with the kind.
-    fn paint_relations(&self, painter: &egui::Painter) {
+    fn paint_relations(&mut self, painter: &egui::Painter) {
         let document = self.editor.document();
-        for (index, (id, relation)) in document.relations_with_ids().enumerate() {
+        for (id, relation) in document.relations_with_ids() {
             let shown = self.hovered_relation == Some(id)
                 || self
                     .selection
@@ -744,15 +777,16 @@ impl GeosnapApp {
             }
             let n = centres.len() as f32;
             let mid = centres.iter().fold(Vec2::ZERO, |acc, p| acc + p.to_vec2()) / n;
-            // Relations between the same parts would share a spot: stack their labels.
-            let offset = Vec2::new(0.0, 14.0 * (index % 4) as f32 - 14.0);
-            painter.text(
-                mid.to_pos2() + offset,
-                egui::Align2::CENTER_CENTER,
-                relation.kind.name().replace('_', " "),
-                egui::FontId::proportional(11.0),
+            let galley = painter.layout_no_wrap(
+                words::relation_kind_name(relation.kind),
+                egui::FontId::proportional(13.0),
                 color,
             );
+            // The first free spot around the link's middle: off the part ids and the
+            // labels placed before it.
+            let rect = free_spot(mid.to_pos2(), galley.size(), &self.canvas.labels);
+            halo_text(painter, rect.min, &galley, color);
+            self.canvas.labels.push(rect);
         }
     }
 
@@ -807,7 +841,7 @@ impl GeosnapApp {
             at,
             egui::Align2::LEFT_TOP,
             label,
-            egui::FontId::proportional(12.0),
+            egui::FontId::proportional(13.0),
             Color32::from_gray(60),
         );
     }
@@ -920,6 +954,58 @@ impl GeosnapApp {
     }
 }
 
+/// The paper-coloured halo around canvas text.
+const PAPER_HALO: Color32 = Color32::from_rgb(250, 250, 249);
+
+/// Text with a halo of paper around it, so it reads over strokes of any colour.
+fn halo_text(
+    painter: &egui::Painter,
+    at: Pos2,
+    galley: &std::sync::Arc<egui::Galley>,
+    color: Color32,
+) {
+    for (dx, dy) in [
+        (-1.5, 0.0),
+        (1.5, 0.0),
+        (0.0, -1.5),
+        (0.0, 1.5),
+        (-1.0, -1.0),
+        (1.0, -1.0),
+        (-1.0, 1.0),
+        (1.0, 1.0),
+    ] {
+        painter.galley_with_override_text_color(at + Vec2::new(dx, dy), galley.clone(), PAPER_HALO);
+    }
+    painter.galley(at, galley.clone(), color);
+}
+
+/// Where a label of `size` goes near `anchor`: the first of a ring of spots around it
+/// (centred, then above and below, then beside, then further out) whose rectangle,
+/// with a little margin, meets none of `taken`; the anchor itself when all are taken.
+pub(crate) fn free_spot(anchor: Pos2, size: Vec2, taken: &[Rect]) -> Rect {
+    let (w, h) = (size.x + 6.0, size.y + 2.0);
+    let mut offsets = vec![Vec2::ZERO];
+    for ring in 1..=4 {
+        let r = ring as f32;
+        offsets.extend([
+            Vec2::new(0.0, -h * r),
+            Vec2::new(0.0, h * r),
+            Vec2::new(w * r * 0.75, 0.0),
+            Vec2::new(-w * r * 0.75, 0.0),
+            Vec2::new(w * r * 0.75, -h * r),
+            Vec2::new(-w * r * 0.75, -h * r),
+            Vec2::new(w * r * 0.75, h * r),
+            Vec2::new(-w * r * 0.75, h * r),
+        ]);
+    }
+    let at = |offset: Vec2| egui::Align2::CENTER_CENTER.anchor_size(anchor + offset, size);
+    offsets
+        .into_iter()
+        .map(at)
+        .find(|rect| !taken.iter().any(|t| t.expand(1.0).intersects(*rect)))
+        .unwrap_or_else(|| at(Vec2::ZERO))
+}
+
 /// A small cross at a failed drop's point.
 fn painter_mark(ui: &Ui, at: Pos2) {
     let painter = ui.ctx().layer_painter(egui::LayerId::new(
@@ -978,6 +1064,28 @@ mod tests {
         assert_eq!(simplify_polyline(&straight, 0.25).len(), 2);
         assert_eq!(simplify_polyline(&straight[..2], 0.25).len(), 2);
         assert!(simplify_polyline(&[], 0.25).is_empty());
+    }
+
+    #[test]
+    fn labels_take_the_first_free_spot_around_their_anchor() {
+        use egui::{pos2, vec2, Rect};
+
+        use super::free_spot;
+
+        let size = vec2(60.0, 14.0);
+        let anchor = pos2(100.0, 100.0);
+        let free = free_spot(anchor, size, &[]);
+        assert_eq!(free.center(), anchor, "centred when nothing is in the way");
+        let mut taken = vec![Rect::from_center_size(anchor, vec2(20.0, 14.0))];
+        for _ in 0..6 {
+            let rect = free_spot(anchor, size, &taken);
+            assert!(
+                !taken.iter().any(|t| t.intersects(rect)),
+                "{rect:?} meets {taken:?}"
+            );
+            assert!(rect.center().distance(anchor) < 200.0, "near its anchor");
+            taken.push(rect);
+        }
     }
 
     #[test]

@@ -258,6 +258,12 @@ impl GeosnapApp {
         self.canvas.drop_note()
     }
 
+    /// The screen rectangles of the canvas's labels in the last frame: part ids with
+    /// their badges, then the relation labels (placed so that none overlaps another).
+    pub fn canvas_labels(&self) -> &[egui::Rect] {
+        self.canvas.labels()
+    }
+
     /// The canvas's pan and zoom.
     pub fn canvas_view(&self) -> &CanvasView {
         self.canvas.view()

@@ -200,7 +200,7 @@ impl GeosnapApp {
             .show(ui, |ui| {
                 ui.add_space(4.0);
                 ui.heading("Primitives");
-                ui.label(RichText::new("Drag onto the drawing").small().weak());
+                ui.label(RichText::new("Drag onto the drawing").weak());
                 for kind in PrimitiveKind::ALL {
                     let tip = words::kind_long(kind);
                     let tip = format!("{}{}", tip[..1].to_uppercase(), &tip[1..]);
@@ -281,7 +281,7 @@ impl GeosnapApp {
                 ui.horizontal(|ui| {
                     ui.strong("Messages");
                     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        if ui.small_button("Clear").clicked() {
+                        if ui.button("Clear").clicked() {
                             self.status.clear();
                         }
                     });
@@ -336,7 +336,7 @@ impl GeosnapApp {
                     .color(SUGGESTED),
                 );
                 accept_all = ui
-                    .add_enabled(!self.busy(), egui::Button::new("Accept all").small())
+                    .add_enabled(!self.busy(), egui::Button::new("Accept all"))
                     .on_hover_text("Make every suggested relation hard and solve the model")
                     .clicked();
             });
@@ -357,13 +357,13 @@ impl GeosnapApp {
                 ui.add_space(12.0);
                 if relation.mode == Mode::Suggested {
                     let accept = ui
-                        .add_enabled(!busy, egui::Button::new("Accept").small())
+                        .add_enabled(!busy, egui::Button::new("Accept"))
                         .on_hover_text(format!("Make relation {index} hard and solve\n{why}"));
                     if accept.clicked() {
                         change = Some((id, Mode::Hard));
                     }
                     let reject = ui
-                        .add_enabled(!busy, egui::Button::new("Reject").small())
+                        .add_enabled(!busy, egui::Button::new("Reject"))
                         .on_hover_text(format!("Remove suggested relation {index}"));
                     if reject.clicked() {
                         delete = Some(id);
@@ -384,7 +384,7 @@ impl GeosnapApp {
                     if mode != relation.mode {
                         change = Some((id, mode));
                     }
-                    let r4 = ui.add_enabled(!busy, egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
+                    let r4 = ui.add_enabled(!busy, egui::Button::new("Delete")).on_hover_text(format!("Delete relation {index}"));
                     if r4.clicked() {
                         delete = Some(id);
                     }
@@ -495,7 +495,7 @@ impl GeosnapApp {
                     ui.label(words::UNIT);
                     if is_fixed.is_some()
                         && ui
-                            .small_button("free")
+                            .button("free")
                             .on_hover_text(format!("Free the {}", words::quantity_name(*quantity)))
                             .clicked()
                     {
