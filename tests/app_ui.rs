@@ -352,7 +352,7 @@ fn words_title(kind: geosnap::core::primitive::PrimitiveKind) -> &'static str {
 }
 
 #[test]
-fn messages_stay_in_the_window_and_a_failed_drop_says_why_where_it_happened() {
+fn messages_stay_in_the_window_and_a_drop_off_the_strokes_is_placed_freely_and_says_so() {
     let dir = scratch("column");
     let mut harness = stand(&dir);
     // A short window: properties and relations scroll, the messages keep their band.
@@ -377,7 +377,9 @@ fn messages_stay_in_the_window_and_a_failed_drop_says_why_where_it_happened() {
     let relations = harness.state().editor().document().relations().len();
     assert!(relations >= 2, "{relations} relations");
 
-    // A cylinder dropped on empty paper: the reason shows where it was dropped.
+    // A cylinder dropped on empty paper is placed freely, and says so where it was
+    // dropped; it is one undo step and saved with the session.
+    let parts = harness.state().editor().document().len();
     let canvas = harness.state().canvas_view().rect();
     let to = canvas.right_top() + egui::vec2(-60.0, 60.0);
     let from = harness.get_by_label("Cylinder").rect().center();
@@ -398,15 +400,72 @@ fn messages_stay_in_the_window_and_a_failed_drop_says_why_where_it_happened() {
         .drop_note()
         .expect("a note at the drop")
         .to_owned();
-    assert!(note.contains("did not snap"), "{note}");
+    assert!(note.contains("placed freely"), "{note}");
     let shown: Vec<egui::Rect> = harness
-        .get_all_by_label_contains("did not snap")
+        .get_all_by_label_contains("placed freely, where it was dropped")
         .map(|n| n.rect())
         .collect();
     assert!(
         shown.iter().any(|r| r.distance_to_pos(to) < 40.0),
         "a note {shown:?} at the drop point {to:?}"
     );
+    let free = harness
+        .state()
+        .selection()
+        .expect("the new part is selected");
+    let document = harness.state().editor().document().clone();
+    assert_eq!(document.len(), parts + 1, "placed");
+    let placed = document.get(free).expect("placed");
+    assert!(placed.fit.strokes.is_empty(), "unsnapped");
+    let c = placed.primitive.center();
+    let at = harness
+        .state()
+        .canvas_view()
+        .to_screen(DVec2::new(c.x, -c.y));
+    assert!(at.distance(to) < 2.0, "where it was dropped: {at:?}");
+    assert!(
+        harness
+            .query_by_label("Placed freely: not snapped to any strokes")
+            .is_some(),
+        "the properties say so"
+    );
+    let session = dir.join("free.geosnap.json");
+    let ctx = harness.ctx.clone();
+    assert!(harness.state_mut().save_to(&ctx, &session));
+    let reopened = app(&dir, Some(session));
+    let kept = reopened
+        .state()
+        .editor()
+        .document()
+        .get(free)
+        .expect("saved");
+    assert_eq!(kept.primitive, placed.primitive, "saved as placed");
+    assert!(kept.fit.strokes.is_empty(), "and still marked free");
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    assert_eq!(harness.state().editor().document().len(), parts, "undone");
+}
+
+#[test]
+fn alt_drop_places_a_part_as_dragged_without_snapping() {
+    let dir = scratch("alt");
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let to = drag_over(&mut harness, "Profile", (lo + hi) / 2.0);
+    harness.event(egui::Event::ModifiersChanged(Modifiers::ALT));
+    harness.drop_at(to);
+    harness.step();
+    harness.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    step_until(&mut harness, "the drop", |app| app.job().is_none());
+    let app = harness.state();
+    assert_eq!(app.editor().document().len(), 1, "{:?}", app.messages());
+    let (_, placed) = app.editor().document().primitives().next().expect("one");
+    assert!(placed.fit.strokes.is_empty(), "not snapped to the vase");
+    let c = placed.primitive.center();
+    let at = app.canvas_view().to_screen(DVec2::new(c.x, -c.y));
+    assert!(at.distance(to) < 2.0, "as dragged: {at:?} against {to:?}");
+    assert_eq!(app.editor().undo_label(), Some("Place profile freely"));
 }
 
 #[test]
@@ -725,6 +784,7 @@ fn autosave_runs_on_its_timer_without_frames_and_is_removed_on_dont_save() {
     harness.state_mut().set_autosave_delay(delay);
     harness.get_by_label("Got it").click();
     harness.step();
+    let before = Instant::now();
     draw_a_stroke(&mut harness);
     let changed = Instant::now();
     assert!(harness.state().editor().is_dirty(), "a stroke was drawn");
@@ -742,7 +802,7 @@ fn autosave_runs_on_its_timer_without_frames_and_is_removed_on_dont_save() {
         );
         std::thread::sleep(Duration::from_millis(50));
     };
-    assert!(changed.elapsed() >= delay, "written after its delay");
+    assert!(before.elapsed() >= delay, "written after its delay");
     // New (Ctrl+N) → Don't save: the discarded work's autosave goes.
     press(&mut harness, Modifiers::COMMAND, Key::N);
     harness.get_by_label("Don't save").click();
@@ -913,7 +973,7 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
     let gestures: Vec<&str> = legend.iter().map(|(g, _)| g.as_str()).collect();
     assert_eq!(
         gestures,
-        ["Wheel", "Shift + wheel", "Release", "Esc"],
+        ["Wheel", "Shift + wheel", "Release", "Alt + release", "Esc"],
         "{legend:?}"
     );
     assert!(legend.iter().any(|(_, what)| what == "Turn the axis"));

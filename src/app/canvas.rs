@@ -593,7 +593,9 @@ impl GeosnapApp {
                     );
                 });
             });
-        painter_mark(ui, at);
+        if rect.contains(at) {
+            painter_mark(ui, at, rect);
+        }
     }
 
     /// The hint in the canvas's upper left corner: what the drag in progress does, or
@@ -733,6 +735,18 @@ impl GeosnapApp {
                 );
                 taken = taken.union(Rect::from_center_size(centre, Vec2::splat(9.0)));
             }
+            if placed.fit.strokes.is_empty() {
+                // Not snapped: placed freely (a drop off the strokes, Alt + drop, a copy).
+                let note = painter.layout_no_wrap(
+                    "placed freely".to_owned(),
+                    egui::FontId::proportional(12.5),
+                    Color32::from_gray(90),
+                );
+                let below = egui::Align2::CENTER_TOP
+                    .anchor_size(Pos2::new(rect.center().x, rect.bottom() + 1.0), note.size());
+                halo_text(painter, below.min, &note, Color32::from_gray(90));
+                taken = taken.union(below);
+            }
             self.canvas.labels.push(taken);
         }
     }
@@ -852,12 +866,13 @@ impl GeosnapApp {
         if self.drag.is_none() {
             return;
         }
-        let (pointer, released, scroll, shift) = ui.input(|i| {
+        let (pointer, released, scroll, shift, alt) = ui.input(|i| {
             (
                 i.pointer.latest_pos(),
                 i.pointer.any_released(),
                 i.smooth_scroll_delta.y + i.smooth_scroll_delta.x,
                 i.modifiers.shift,
+                i.modifiers.alt,
             )
         });
         if let Some(p) = pointer {
@@ -871,7 +886,9 @@ impl GeosnapApp {
                 self.adjust_drag((f64::from(scroll) * 0.002).exp(), 0.0);
             }
         }
-        if released {
+        if released && alt {
+            self.end_drag_freely();
+        } else if released {
             self.end_drag();
         }
     }
@@ -1007,11 +1024,14 @@ pub(crate) fn free_spot(anchor: Pos2, size: Vec2, taken: &[Rect]) -> Rect {
 }
 
 /// A small cross at a failed drop's point.
-fn painter_mark(ui: &Ui, at: Pos2) {
-    let painter = ui.ctx().layer_painter(egui::LayerId::new(
-        egui::Order::Foreground,
-        egui::Id::unique("drop_mark"),
-    ));
+fn painter_mark(ui: &Ui, at: Pos2, canvas: Rect) {
+    let painter = ui
+        .ctx()
+        .layer_painter(egui::LayerId::new(
+            egui::Order::Foreground,
+            egui::Id::unique("drop_mark"),
+        ))
+        .with_clip_rect(canvas);
     let pen = Pen::new(2.0, Color32::from_rgb(190, 70, 10));
     let d = 5.0;
     painter.line_segment([at + Vec2::new(-d, -d), at + Vec2::new(d, d)], pen);

@@ -268,6 +268,16 @@ impl GeosnapApp {
     /// Ends the drag: over the canvas it snaps, infers and solves in the background;
     /// elsewhere it is dropped.
     pub fn end_drag(&mut self) {
+        self.finish_drag(false);
+    }
+
+    /// Ends the drag without snapping (Alt + drop): over the canvas the part is placed
+    /// as dragged, unsnapped, as one undo step; elsewhere it is dropped.
+    pub fn end_drag_freely(&mut self) {
+        self.finish_drag(true);
+    }
+
+    fn finish_drag(&mut self, freely: bool) {
         self.workers.clear_preview();
         let Some(dragged) = self.dragged_primitive() else {
             return;
@@ -276,6 +286,21 @@ impl GeosnapApp {
             return;
         };
         if !drag.over_canvas {
+            return;
+        }
+        if freely {
+            let label = match drag.replacing {
+                Some(id) => format!("Move #{} freely", id.0),
+                None => format!("Place {} freely", super::words::kind_noun(drag.kind)),
+            };
+            self.canvas.dropped(drag.placement.at);
+            let output = worker::place_freely(
+                self.editor.document().clone(),
+                &dragged,
+                drag.replacing,
+                "Alt was held",
+            );
+            self.finish_job(&label, self.editor.revision(), output);
             return;
         }
         let start = drag

@@ -325,26 +325,27 @@ impl GeosnapApp {
     fn poll_workers(&mut self) {
         self.poll_preview();
         if let Some((job, output)) = self.workers.finished() {
-            self.finish_job(&job, output);
+            self.finish_job(&job.label, job.revision, output);
         }
     }
 
-    fn finish_job(&mut self, job: &Job, output: JobOutput) {
+    /// Takes in the output of a job labelled `label`, started at editor revision
+    /// `revision`.
+    fn finish_job(&mut self, label: &str, revision: u64, output: JobOutput) {
         self.status.solved(&output);
-        // A drop that placed nothing says why where it was released.
-        let failure = (output.document.is_none() && !output.cancelled)
+        // A drop that placed nothing, or placed it freely, says so where it was released.
+        let note = (output.placed_freely || (output.document.is_none() && !output.cancelled))
             .then(|| output.messages.first())
             .flatten()
             .map(|text| words::split_figures(text).0);
-        self.canvas.drop_ended(failure);
+        self.canvas.drop_ended(note);
         if output.cancelled {
-            self.say(format!("{}: cancelled; nothing changed.", job.label));
+            self.say(format!("{label}: cancelled; nothing changed."));
             return;
         }
-        if job.revision != self.editor.revision() {
+        if revision != self.editor.revision() {
             self.warn(format!(
-                "{}: the work changed while it was solving; the result was dropped.",
-                job.label
+                "{label}: the work changed while it was solving; the result was dropped."
             ));
             return;
         }
@@ -355,15 +356,15 @@ impl GeosnapApp {
         for text in &output.messages {
             let (text, detail) = words::split_figures(text);
             self.status
-                .push_detailed(format!("{}: {text}", job.label), detail, warning);
+                .push_detailed(format!("{label}: {text}"), detail, warning);
         }
         if let Some(document) = output.document {
-            self.editor.apply_document(&job.label, document);
+            self.editor.apply_document(label, document);
             if let Some(id) = output.placed {
                 self.selection = Some(id);
             }
         } else if output.messages.is_empty() {
-            self.warn(format!("{}: nothing changed.", job.label));
+            self.warn(format!("{label}: nothing changed."));
         }
     }
 

@@ -428,12 +428,17 @@ impl GeosnapApp {
             c.z,
             words::UNIT
         ));
-        ui.label(format!(
-            "Fits its {} strokes to {} on average",
-            placed.fit.strokes.len(),
-            words::mm(placed.fit.rms)
-        ))
-        .on_hover_text("The root mean square distance from the strokes to the part's outlines");
+        if placed.fit.strokes.is_empty() {
+            ui.label("Placed freely: not snapped to any strokes")
+                .on_hover_text("Drag it onto its strokes to snap it");
+        } else {
+            ui.label(format!(
+                "Fits its {} strokes to {} on average",
+                placed.fit.strokes.len(),
+                words::mm(placed.fit.rms)
+            ))
+            .on_hover_text("The root mean square distance from the strokes to the part's outlines");
+        }
         if let Some(verdict) = placed.fit.verdict {
             let confidence = placed.fit.confidence.map_or(String::new(), |c| {
                 format!(" (confidence {:.0} %)", 100.0 * c)
