@@ -9,6 +9,10 @@
 //!   validator (when installed, as in tests/gltf_export.rs);
 //! - bad files (a corrupt session, an image that is not one, an SVG without strokes) give
 //!   a message and leave the work untouched;
+//! - unsaved work is autosaved on a timer of its own, frames or not, offered back after a
+//!   crash with its file and time, and removed when the user does not save it;
+//! - an image opened on a drawing asks whether it goes under it or starts a new one;
+//!   Fit frames the strokes; typed-path prompts take the keyboard at once;
 //! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
@@ -193,6 +197,44 @@ fn stand(dir: &Path) -> Harness<'static, GeosnapApp> {
     harness
 }
 
+/// The relations panel names parts in words ("Cylinder 1's top is concentric with …"),
+/// not "#2 top · #1 bottom".
+fn relations_read_as_sentences(harness: &Harness<'static, GeosnapApp>) {
+    assert!(
+        harness.query_by_label_contains(" · #").is_none(),
+        "no relation is listed by part numbers"
+    );
+    for (id, placed) in harness.state().editor().document().primitives() {
+        assert!(
+            harness
+                .query_by_label_contains(&format!("#{}", id.0))
+                .is_none()
+                || harness
+                    .query_by_label_contains(&format!(
+                        "{} {}",
+                        words_title(placed.primitive.kind()),
+                        id.0
+                    ))
+                    .is_some(),
+            "part {} is named in words",
+            id.0
+        );
+    }
+}
+
+/// Scrolls the right column until the label containing `text` is above the messages.
+fn scroll_column_to(harness: &mut Harness<'static, GeosnapApp>, text: &str) {
+    for _ in 0..10 {
+        let messages = harness.get_by_label("Messages").rect();
+        let node = harness.get_by_label_contains(text);
+        if node.rect().bottom() < messages.top() {
+            return;
+        }
+        node.scroll_down();
+        harness.run_steps(2);
+    }
+}
+
 #[test]
 fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model() {
     let dir = scratch("relations");
@@ -201,6 +243,9 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     assert!(!relations.is_empty(), "relations are inferred on release");
     assert_eq!(relations[0].mode, Mode::Hard);
 
+    // Nothing selected: the relations are at the top of the column.
+    harness.state_mut().select(None);
+    harness.run_steps(2);
     // Open relation 0's combo box and pick "soft".
     harness
         .get_all_by_role(Role::ComboBox)
@@ -239,8 +284,12 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
         "{:#?}",
         harness.state().editor().document().relations()
     );
+    relations_read_as_sentences(&harness);
     // Hovering it tells why it was inferred.
-    harness.get_by_label("same radius").hover();
+    scroll_column_to(&mut harness, "has the same radius as");
+    harness
+        .get_by_label_contains("has the same radius as")
+        .hover();
     harness.run_steps(30);
     assert!(
         harness
@@ -287,6 +336,166 @@ fn a_relation_mode_is_switched_in_its_panel_and_sessions_reopen_the_same_model()
     harness.state_mut().export_to(&glb);
     assert!(glb.is_file(), "{:?}", harness.state().messages());
     validate(&glb);
+}
+
+/// The palette's name of a kind.
+fn words_title(kind: geosnap::core::primitive::PrimitiveKind) -> &'static str {
+    use geosnap::core::primitive::PrimitiveKind;
+    match kind {
+        PrimitiveKind::Cylinder => "Cylinder",
+        PrimitiveKind::Cone => "Cone",
+        PrimitiveKind::Sphere => "Sphere",
+        PrimitiveKind::Cuboid => "Box",
+        PrimitiveKind::Sgc => "Profile",
+        PrimitiveKind::Bgc => "Bent tube",
+    }
+}
+
+#[test]
+fn messages_stay_in_the_window_and_a_drop_off_the_strokes_is_placed_freely_and_says_so() {
+    let dir = scratch("column");
+    let mut harness = stand(&dir);
+    // A short window: properties and relations scroll, the messages keep their band.
+    harness.set_size(egui::vec2(1100.0, 560.0));
+    harness.run_steps(4);
+    let window = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1100.0, 560.0));
+    let heading = harness.get_by_label("Messages").rect();
+    assert!(window.contains_rect(heading), "Messages at {heading:?}");
+    let newest = harness
+        .state()
+        .messages()
+        .last()
+        .expect("messages")
+        .text
+        .clone();
+    let shown = harness.get_by_label_contains(&newest).rect();
+    assert!(
+        window.contains(shown.left_top()),
+        "the newest message is in the window: {shown:?}"
+    );
+    // The relations' sentences name the parts; the list scrolls above the messages.
+    let relations = harness.state().editor().document().relations().len();
+    assert!(relations >= 2, "{relations} relations");
+
+    // A cylinder dropped on empty paper is placed freely, and says so where it was
+    // dropped; it is one undo step and saved with the session.
+    let parts = harness.state().editor().document().len();
+    let canvas = harness.state().canvas_view().rect();
+    let to = canvas.right_top() + egui::vec2(-60.0, 60.0);
+    let from = harness.get_by_label("Cylinder").rect().center();
+    harness.hover_at(from);
+    harness.step();
+    harness.drag_at(from);
+    harness.step();
+    for k in 1..=10 {
+        harness.hover_at(from + (to - from) * (k as f32 / 10.0));
+        harness.step();
+    }
+    harness.drop_at(to);
+    harness.step();
+    step_until(&mut harness, "the drop's job", |app| app.job().is_none());
+    harness.run_steps(2);
+    let note = harness
+        .state()
+        .drop_note()
+        .expect("a note at the drop")
+        .to_owned();
+    assert!(note.contains("placed freely"), "{note}");
+    let shown: Vec<egui::Rect> = harness
+        .get_all_by_label_contains("placed freely, where it was dropped")
+        .map(|n| n.rect())
+        .collect();
+    assert!(
+        shown.iter().any(|r| r.distance_to_pos(to) < 40.0),
+        "a note {shown:?} at the drop point {to:?}"
+    );
+    let free = harness
+        .state()
+        .selection()
+        .expect("the new part is selected");
+    let document = harness.state().editor().document().clone();
+    assert_eq!(document.len(), parts + 1, "placed");
+    let placed = document.get(free).expect("placed");
+    assert!(placed.fit.strokes.is_empty(), "unsnapped");
+    let c = placed.primitive.center();
+    let at = harness
+        .state()
+        .canvas_view()
+        .to_screen(DVec2::new(c.x, -c.y));
+    assert!(at.distance(to) < 2.0, "where it was dropped: {at:?}");
+    assert!(
+        harness
+            .query_by_label("Placed freely: not snapped to any strokes")
+            .is_some(),
+        "the properties say so"
+    );
+    let session = dir.join("free.geosnap.json");
+    let ctx = harness.ctx.clone();
+    assert!(harness.state_mut().save_to(&ctx, &session));
+    let reopened = app(&dir, Some(session));
+    let kept = reopened
+        .state()
+        .editor()
+        .document()
+        .get(free)
+        .expect("saved");
+    assert_eq!(kept.primitive, placed.primitive, "saved as placed");
+    assert!(kept.fit.strokes.is_empty(), "and still marked free");
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    assert_eq!(harness.state().editor().document().len(), parts, "undone");
+}
+
+#[test]
+fn alt_drop_places_a_part_as_dragged_without_snapping() {
+    let dir = scratch("alt");
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let to = drag_over(&mut harness, "Profile", (lo + hi) / 2.0);
+    harness.event(egui::Event::ModifiersChanged(Modifiers::ALT));
+    harness.drop_at(to);
+    harness.step();
+    harness.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    step_until(&mut harness, "the drop", |app| app.job().is_none());
+    let app = harness.state();
+    assert_eq!(app.editor().document().len(), 1, "{:?}", app.messages());
+    let (_, placed) = app.editor().document().primitives().next().expect("one");
+    assert!(placed.fit.strokes.is_empty(), "not snapped to the vase");
+    let c = placed.primitive.center();
+    let at = app.canvas_view().to_screen(DVec2::new(c.x, -c.y));
+    assert!(at.distance(to) < 2.0, "as dragged: {at:?} against {to:?}");
+    assert_eq!(app.editor().undo_label(), Some("Place profile freely"));
+}
+
+#[test]
+fn canvas_labels_do_not_overlap_each_other_or_the_part_ids() {
+    let dir = scratch("labels");
+    let mut harness = stand(&dir);
+    let parts: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    let mut relation_labels = 0;
+    for id in parts.iter().copied().map(Some).chain([None]) {
+        harness.state_mut().select(id);
+        harness.run_steps(2);
+        let labels = harness.state().canvas_labels().to_vec();
+        assert!(labels.len() >= parts.len(), "every part's id: {labels:?}");
+        relation_labels = relation_labels.max(labels.len() - parts.len());
+        for (i, a) in labels.iter().enumerate() {
+            for b in &labels[i + 1..] {
+                assert!(!a.intersects(*b), "labels {a:?} and {b:?} overlap");
+            }
+        }
+    }
+    assert!(
+        relation_labels >= 3,
+        "the post's relations are labelled ({relation_labels})"
+    );
 }
 
 fn validate(file: &Path) {
@@ -503,22 +712,195 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
     }
 }
 
-#[test]
-fn unsaved_work_is_autosaved_and_offered_back_after_a_crash() {
-    let dir = scratch("autosave");
-    let mut harness = app(&dir, None);
+/// Draws a gentle arc with the pen in the empty paper right of the drawing: a change.
+fn draw_a_stroke(harness: &mut Harness<'static, GeosnapApp>) {
     let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
-    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
+    press(harness, Modifiers::NONE, Key::B);
+    let view = harness.state().canvas_view().clone();
+    let at = |t: f64| {
+        let x = hi.x + 10.0 + 60.0 * t;
+        let y = f64::midpoint(lo.y, hi.y) + 20.0 * (std::f64::consts::PI * t).sin();
+        view.to_screen(DVec2::new(x, y))
+    };
+    harness.hover_at(at(0.0));
+    harness.step();
+    harness.drag_at(at(0.0));
+    harness.step();
+    for k in 1..=12 {
+        harness.hover_at(at(f64::from(k) / 12.0));
+        harness.step();
+    }
+    harness.drop_at(at(1.0));
+    harness.step();
+    press(harness, Modifiers::NONE, Key::V);
+}
+
+#[test]
+fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_time() {
+    let dir = scratch("autosave");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/stand.svg")));
+    let strokes = harness.state().editor().sketch().strokes.len();
+    draw_a_stroke(&mut harness);
+    assert_eq!(harness.state().editor().sketch().strokes.len(), strokes + 1);
     harness.state_mut().autosave_now();
-    let parts = harness.state().editor().document().len();
     // A crash: the app is dropped without its clean exit.
     drop(harness);
     let mut next = app(&dir, None);
-    assert!(next.state().editor().document().is_empty());
+    assert_eq!(
+        next.state().editor().sketch().strokes.len(),
+        geosnap::io::svg::import_svg(
+            geosnap::samples::VASE_SVG.as_bytes(),
+            &geosnap::io::svg::SvgOptions::default()
+        )
+        .expect("the sample")
+        .sketch
+        .strokes
+        .len(),
+        "the sample is open until the work is recovered"
+    );
+    // The prompt names the drawing and when the work was autosaved.
+    next.get_by_label_contains("Unsaved work on stand.svg from ");
+    next.get_by_label_contains("(just now)");
     next.get_by_label("Recover").click();
     next.step();
     next.step();
-    assert_eq!(next.state().editor().document().len(), parts, "recovered");
+    assert_eq!(
+        next.state().editor().sketch().strokes.len(),
+        strokes + 1,
+        "recovered"
+    );
+    assert!(
+        next.state().editor().is_dirty(),
+        "recovered work is unsaved until saved"
+    );
+}
+
+#[test]
+fn autosave_runs_on_its_timer_without_frames_and_is_removed_on_dont_save() {
+    let dir = scratch("autosave-timer");
+    let delay = Duration::from_millis(1500);
+    let mut harness = app(&dir, None);
+    harness.state_mut().set_autosave_delay(delay);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let before = Instant::now();
+    draw_a_stroke(&mut harness);
+    let changed = Instant::now();
+    assert!(harness.state().editor().is_dirty(), "a stroke was drawn");
+    if changed.elapsed() < delay / 2 {
+        assert_eq!(harness.state().pending_autosave(), None, "not before time");
+    }
+    // No frame runs from here on: the autosave is written on its own timer.
+    let file = loop {
+        if let Some(file) = harness.state().pending_autosave() {
+            break file;
+        }
+        assert!(
+            changed.elapsed() < Duration::from_secs(30),
+            "no autosave without frames"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(before.elapsed() >= delay, "written after its delay");
+    // New (Ctrl+N) → Don't save: the discarded work's autosave goes.
+    press(&mut harness, Modifiers::COMMAND, Key::N);
+    harness.get_by_label("Don't save").click();
+    harness.run_steps(2);
+    assert!(!file.exists(), "the discarded work's autosave is removed");
+    assert!(
+        harness.state().editor().sketch().strokes.is_empty(),
+        "new work"
+    );
+    drop(harness);
+    let next = app(&dir, None);
+    assert!(
+        next.query_by_label("Recover").is_none(),
+        "a later start offers no discarded work"
+    );
+}
+
+/// A file dropped on the window, as a file manager drops it.
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+fn drop_file(harness: &mut Harness<'static, GeosnapApp>, path: &Path) {
+    harness
+        .input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(path.to_owned())));
+    harness.run_steps(2);
+}
+
+#[test]
+fn an_image_on_a_drawing_asks_fit_frames_the_strokes_and_typed_paths_take_the_keys() {
+    let dir = scratch("image");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/stand.svg")));
+    // Fit frames the drawing's strokes, not its page.
+    let view = harness.state().canvas_view().clone();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let drawn = egui::Rect::from_two_pos(view.to_screen(lo), view.to_screen(hi));
+    assert!(
+        view.rect().contains_rect(drawn),
+        "{drawn:?} in {:?}",
+        view.rect()
+    );
+    assert!(
+        drawn.width() > 0.8 * view.rect().width() || drawn.height() > 0.8 * view.rect().height(),
+        "the strokes {drawn:?} fill the canvas {:?}",
+        view.rect()
+    );
+
+    // An image dropped on the drawing asks: under it ...
+    let png = dir.join("reference.png");
+    image::RgbaImage::new(64, 48).save(&png).expect("a PNG");
+    let strokes = harness.state().editor().sketch().strokes.len();
+    drop_file(&mut harness, &png);
+    assert!(
+        harness.state().editor().image().is_none(),
+        "not before asking"
+    );
+    harness.get_by_label("Reference under this drawing").click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor().sketch().strokes.len(), strokes);
+    assert_eq!(
+        harness.state().editor().image(),
+        Some(&png),
+        "under the drawing"
+    );
+    // ... or a new drawing from it (the unsaved drawing is asked about first).
+    drop_file(&mut harness, &png);
+    harness.get_by_label("New drawing from it").click();
+    harness.run_steps(2);
+    harness.get_by_label("Don't save").click_accesskit();
+    harness.run_steps(2);
+    assert!(
+        harness.state().editor().sketch().strokes.is_empty(),
+        "new: {:?}",
+        harness.state().messages()
+    );
+    assert_eq!(harness.state().editor().image(), Some(&png), "on the image");
+
+    // File → Open path…: the path field has the keyboard at once.
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Open path…").click();
+    harness.run_steps(2);
+    assert!(
+        harness.get_by_role(Role::TextInput).is_focused(),
+        "typing goes to the path without a click"
+    );
 }
 
 #[test]
@@ -591,7 +973,7 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
     let gestures: Vec<&str> = legend.iter().map(|(g, _)| g.as_str()).collect();
     assert_eq!(
         gestures,
-        ["Wheel", "Shift + wheel", "Release", "Esc"],
+        ["Wheel", "Shift + wheel", "Release", "Alt + release", "Esc"],
         "{legend:?}"
     );
     assert!(legend.iter().any(|(_, what)| what == "Turn the axis"));

@@ -4,6 +4,7 @@
 //! wheel, F fits the drawing.
 
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke as Pen, Ui, Vec2};
 use glam::DVec2;
@@ -42,7 +43,28 @@ pub(crate) struct Canvas {
     image: ReferenceImage,
     /// The strokes' automatic classes, with the strokes' revision they were found for.
     classes: Option<(u64, Vec<(StrokeId, StrokeClass)>)>,
+    /// Where the last drop was released (sketch space), until its job ends.
+    dropped_at: Option<DVec2>,
+    /// Why the last drop placed nothing, shown where it was released for a while.
+    drop_note: Option<DropNote>,
+    /// The screen rectangles of the labels painted in the last frame: part ids (with
+    /// their badges) and relation labels.
+    labels: Vec<Rect>,
 }
+
+/// A short message on the canvas at the point where a drop failed.
+#[derive(Clone, Debug)]
+pub(crate) struct DropNote {
+    /// The drop point (sketch space).
+    at: DVec2,
+    /// What went wrong.
+    text: String,
+    /// When it goes away.
+    until: Instant,
+}
+
+/// How long a failed drop's note stays on the canvas.
+const DROP_NOTE_FOR: Duration = Duration::from_secs(6);
 
 impl Default for Canvas {
     fn default() -> Self {
@@ -52,6 +74,9 @@ impl Default for Canvas {
             drawing: None,
             image: ReferenceImage::default(),
             classes: None,
+            dropped_at: None,
+            drop_note: None,
+            labels: Vec::new(),
         }
     }
 }
@@ -75,6 +100,39 @@ impl Canvas {
     /// Drops the stroke being drawn; whether there was one.
     pub(crate) fn cancel_stroke(&mut self) -> bool {
         self.drawing.take().is_some()
+    }
+
+    /// Remembers where a drop was released, for a note if it fails.
+    pub(crate) fn dropped(&mut self, at: DVec2) {
+        self.dropped_at = Some(at);
+        self.drop_note = None;
+    }
+
+    /// The drop's job ended: when it placed nothing, `failure` says why, shown at the
+    /// drop point for a few seconds.
+    pub(crate) fn drop_ended(&mut self, failure: Option<String>) {
+        let Some(at) = self.dropped_at.take() else {
+            return;
+        };
+        self.drop_note = failure.map(|text| DropNote {
+            at,
+            text,
+            until: Instant::now() + DROP_NOTE_FOR,
+        });
+    }
+
+    /// The screen rectangles of the labels painted in the last frame (part ids with
+    /// their badges, then relation labels).
+    pub(crate) fn labels(&self) -> &[Rect] {
+        &self.labels
+    }
+
+    /// The note of a failed drop on the canvas, while it is shown.
+    pub(crate) fn drop_note(&self) -> Option<&str> {
+        self.drop_note
+            .as_ref()
+            .filter(|n| n.until > Instant::now())
+            .map(|n| n.text.as_str())
     }
 
     /// The reference image.
@@ -424,19 +482,15 @@ impl GeosnapApp {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         self.canvas.view.rect = rect;
         if self.canvas.view.fit_pending {
-            let bounds = self
-                .editor
-                .sketch()
-                .view_box
-                .map(|(o, s)| (o, o + s))
-                .or_else(|| {
-                    self.canvas
-                        .image
-                        .shown
-                        .as_ref()
-                        .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
-                });
-            let bounds = bounds.or_else(|| self.editor.sketch().bounds());
+            // The drawing's strokes; without strokes the image, else the page.
+            let bounds = self.editor.sketch().bounds().or_else(|| {
+                self.canvas
+                    .image
+                    .shown
+                    .as_ref()
+                    .map(|(_, _, [w, h])| (DVec2::ZERO, DVec2::new(*w as f64, *h as f64)))
+                    .or_else(|| self.editor.sketch().view_box.map(|(o, s)| (o, o + s)))
+            });
             match bounds {
                 Some((lo, hi)) => self.canvas.view.fit(lo, hi),
                 None => self.canvas.view.fit(DVec2::ZERO, DVec2::new(1000.0, 800.0)),
@@ -471,6 +525,7 @@ impl GeosnapApp {
         self.paint_image(&painter);
         self.paint_parts(&painter);
         self.paint_strokes(&painter);
+        self.paint_part_ids(&painter);
         self.paint_relations(&painter);
         self.canvas_drag(ui, over);
         if !space {
@@ -498,7 +553,49 @@ impl GeosnapApp {
             Color32::from_gray(90),
         );
         self.paint_drag_legend(&painter, rect);
+        self.show_drop_note(ui, rect);
         self.first_run_hint(ui, rect);
+    }
+
+    /// The note of a failed drop, at the drop point, until it times out.
+    fn show_drop_note(&mut self, ui: &Ui, rect: Rect) {
+        let Some(note) = &self.canvas.drop_note else {
+            return;
+        };
+        let left = note.until.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            self.canvas.drop_note = None;
+            return;
+        }
+        ui.ctx().request_repaint_after(left);
+        let at = self.canvas.view.to_screen(note.at);
+        let width = 300.0;
+        // Beside the drop point, on the side with room for it.
+        let (pivot, pos) = if at.x + 12.0 + width <= rect.right() {
+            (egui::Align2::LEFT_TOP, at + Vec2::new(12.0, 12.0))
+        } else {
+            (egui::Align2::RIGHT_TOP, at + Vec2::new(-12.0, 12.0))
+        };
+        let text = note.text.clone();
+        egui::Area::new(egui::Id::unique("drop_note"))
+            .order(egui::Order::Foreground)
+            .pivot(pivot)
+            .fixed_pos(pos)
+            .constrain_to(rect)
+            .interactable(false)
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.set_max_width(width);
+                    ui.label(
+                        egui::RichText::new(text)
+                            .color(Color32::from_rgb(190, 70, 10))
+                            .strong(),
+                    );
+                });
+            });
+        if rect.contains(at) {
+            painter_mark(ui, at, rect);
+        }
     }
 
     /// The hint in the canvas's upper left corner: what the drag in progress does, or
@@ -598,33 +695,67 @@ impl GeosnapApp {
                 };
                 painter.add(egui::Shape::line(line, pen));
             }
+        }
+    }
+
+    /// The parts' ids at their centres, over the strokes, each with a halo of paper so
+    /// it reads over a stroke of its own colour, and the snap's verdict as a badge;
+    /// their rectangles are taken for the relation labels to avoid.
+    fn paint_part_ids(&mut self, painter: &egui::Painter) {
+        self.canvas.labels.clear();
+        let related = self.emphasis().related;
+        for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+                continue;
+            }
+            let selected = self.selection == Some(id);
+            let color = if related.contains(&id) {
+                Color32::from_rgb(200, 140, 0)
+            } else {
+                part_color(index)
+            };
+            // Darker than the part's outline, so the id stands out on it.
+            let [r, g, b, _] = color.to_array();
+            let color = Color32::from_rgb(r / 10 * 6, g / 10 * 6, b / 10 * 6);
             let c = placed.primitive.center();
             let at = self.canvas.view.to_screen(DVec2::new(c.x, -c.y));
-            let label = painter.text(
-                at,
-                egui::Align2::CENTER_CENTER,
-                format!("#{}", id.0),
-                egui::FontId::proportional(if selected { 14.0 } else { 11.0 }),
-                color,
-            );
+            let font = egui::FontId::proportional(if selected { 16.0 } else { 14.0 });
+            let galley = painter.layout_no_wrap(format!("#{}", id.0), font, color);
+            let rect = egui::Align2::CENTER_CENTER.anchor_size(at, galley.size());
+            halo_text(painter, rect.min, &galley, color);
             // The snap's verdict as a badge before the id: green good, amber doubtful.
+            let mut taken = rect;
             if let Some(verdict) = placed.fit.verdict {
-                let centre = Pos2::new(label.left() - 6.0, label.center().y);
+                let centre = Pos2::new(rect.left() - 7.0, rect.center().y);
                 painter.circle(
                     centre,
-                    4.0,
+                    4.5,
                     verdict_color(verdict),
-                    Pen::new(1.0, Color32::from_black_alpha(120)),
+                    Pen::new(1.5, PAPER_HALO),
                 );
+                taken = taken.union(Rect::from_center_size(centre, Vec2::splat(9.0)));
             }
+            if placed.fit.strokes.is_empty() {
+                // Not snapped: placed freely (a drop off the strokes, Alt + drop, a copy).
+                let note = painter.layout_no_wrap(
+                    "placed freely".to_owned(),
+                    egui::FontId::proportional(12.5),
+                    Color32::from_gray(90),
+                );
+                let below = egui::Align2::CENTER_TOP
+                    .anchor_size(Pos2::new(rect.center().x, rect.bottom() + 1.0), note.size());
+                halo_text(painter, below.min, &note, Color32::from_gray(90));
+                taken = taken.union(below);
+            }
+            self.canvas.labels.push(taken);
         }
     }
 
     /// The relations of the selected part (or the hovered one): a dashed link between
     /// the members' centres, labelled with the kind.
-    fn paint_relations(&self, painter: &egui::Painter) {
+    fn paint_relations(&mut self, painter: &egui::Painter) {
         let document = self.editor.document();
-        for (index, (id, relation)) in document.relations_with_ids().enumerate() {
+        for (id, relation) in document.relations_with_ids() {
             let shown = self.hovered_relation == Some(id)
                 || self
                     .selection
@@ -660,15 +791,16 @@ impl GeosnapApp {
             }
             let n = centres.len() as f32;
             let mid = centres.iter().fold(Vec2::ZERO, |acc, p| acc + p.to_vec2()) / n;
-            // Relations between the same parts would share a spot: stack their labels.
-            let offset = Vec2::new(0.0, 14.0 * (index % 4) as f32 - 14.0);
-            painter.text(
-                mid.to_pos2() + offset,
-                egui::Align2::CENTER_CENTER,
-                relation.kind.name().replace('_', " "),
-                egui::FontId::proportional(11.0),
+            let galley = painter.layout_no_wrap(
+                words::relation_kind_name(relation.kind),
+                egui::FontId::proportional(13.0),
                 color,
             );
+            // The first free spot around the link's middle: off the part ids and the
+            // labels placed before it.
+            let rect = free_spot(mid.to_pos2(), galley.size(), &self.canvas.labels);
+            halo_text(painter, rect.min, &galley, color);
+            self.canvas.labels.push(rect);
         }
     }
 
@@ -723,7 +855,7 @@ impl GeosnapApp {
             at,
             egui::Align2::LEFT_TOP,
             label,
-            egui::FontId::proportional(12.0),
+            egui::FontId::proportional(13.0),
             Color32::from_gray(60),
         );
     }
@@ -734,12 +866,13 @@ impl GeosnapApp {
         if self.drag.is_none() {
             return;
         }
-        let (pointer, released, scroll, shift) = ui.input(|i| {
+        let (pointer, released, scroll, shift, alt) = ui.input(|i| {
             (
                 i.pointer.latest_pos(),
                 i.pointer.any_released(),
                 i.smooth_scroll_delta.y + i.smooth_scroll_delta.x,
                 i.modifiers.shift,
+                i.modifiers.alt,
             )
         });
         if let Some(p) = pointer {
@@ -753,7 +886,9 @@ impl GeosnapApp {
                 self.adjust_drag((f64::from(scroll) * 0.002).exp(), 0.0);
             }
         }
-        if released {
+        if released && alt {
+            self.end_drag_freely();
+        } else if released {
             self.end_drag();
         }
     }
@@ -836,6 +971,73 @@ impl GeosnapApp {
     }
 }
 
+/// The paper-coloured halo around canvas text.
+const PAPER_HALO: Color32 = Color32::from_rgb(250, 250, 249);
+
+/// Text with a halo of paper around it, so it reads over strokes of any colour.
+fn halo_text(
+    painter: &egui::Painter,
+    at: Pos2,
+    galley: &std::sync::Arc<egui::Galley>,
+    color: Color32,
+) {
+    for (dx, dy) in [
+        (-1.5, 0.0),
+        (1.5, 0.0),
+        (0.0, -1.5),
+        (0.0, 1.5),
+        (-1.0, -1.0),
+        (1.0, -1.0),
+        (-1.0, 1.0),
+        (1.0, 1.0),
+    ] {
+        painter.galley_with_override_text_color(at + Vec2::new(dx, dy), galley.clone(), PAPER_HALO);
+    }
+    painter.galley(at, galley.clone(), color);
+}
+
+/// Where a label of `size` goes near `anchor`: the first of a ring of spots around it
+/// (centred, then above and below, then beside, then further out) whose rectangle,
+/// with a little margin, meets none of `taken`; the anchor itself when all are taken.
+pub(crate) fn free_spot(anchor: Pos2, size: Vec2, taken: &[Rect]) -> Rect {
+    let (w, h) = (size.x + 6.0, size.y + 2.0);
+    let mut offsets = vec![Vec2::ZERO];
+    for ring in 1..=4 {
+        let r = ring as f32;
+        offsets.extend([
+            Vec2::new(0.0, -h * r),
+            Vec2::new(0.0, h * r),
+            Vec2::new(w * r * 0.75, 0.0),
+            Vec2::new(-w * r * 0.75, 0.0),
+            Vec2::new(w * r * 0.75, -h * r),
+            Vec2::new(-w * r * 0.75, -h * r),
+            Vec2::new(w * r * 0.75, h * r),
+            Vec2::new(-w * r * 0.75, h * r),
+        ]);
+    }
+    let at = |offset: Vec2| egui::Align2::CENTER_CENTER.anchor_size(anchor + offset, size);
+    offsets
+        .into_iter()
+        .map(at)
+        .find(|rect| !taken.iter().any(|t| t.expand(1.0).intersects(*rect)))
+        .unwrap_or_else(|| at(Vec2::ZERO))
+}
+
+/// A small cross at a failed drop's point.
+fn painter_mark(ui: &Ui, at: Pos2, canvas: Rect) {
+    let painter = ui
+        .ctx()
+        .layer_painter(egui::LayerId::new(
+            egui::Order::Foreground,
+            egui::Id::unique("drop_mark"),
+        ))
+        .with_clip_rect(canvas);
+    let pen = Pen::new(2.0, Color32::from_rgb(190, 70, 10));
+    let d = 5.0;
+    painter.line_segment([at + Vec2::new(-d, -d), at + Vec2::new(d, d)], pen);
+    painter.line_segment([at + Vec2::new(-d, d), at + Vec2::new(d, -d)], pen);
+}
+
 /// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.
 pub(crate) fn verdict_color(verdict: Verdict) -> Color32 {
     match verdict {
@@ -882,6 +1084,28 @@ mod tests {
         assert_eq!(simplify_polyline(&straight, 0.25).len(), 2);
         assert_eq!(simplify_polyline(&straight[..2], 0.25).len(), 2);
         assert!(simplify_polyline(&[], 0.25).is_empty());
+    }
+
+    #[test]
+    fn labels_take_the_first_free_spot_around_their_anchor() {
+        use egui::{pos2, vec2, Rect};
+
+        use super::free_spot;
+
+        let size = vec2(60.0, 14.0);
+        let anchor = pos2(100.0, 100.0);
+        let free = free_spot(anchor, size, &[]);
+        assert_eq!(free.center(), anchor, "centred when nothing is in the way");
+        let mut taken = vec![Rect::from_center_size(anchor, vec2(20.0, 14.0))];
+        for _ in 0..6 {
+            let rect = free_spot(anchor, size, &taken);
+            assert!(
+                !taken.iter().any(|t| t.intersects(rect)),
+                "{rect:?} meets {taken:?}"
+            );
+            assert!(rect.center().distance(anchor) < 200.0, "near its anchor");
+            taken.push(rect);
+        }
     }
 
     #[test]

@@ -268,6 +268,16 @@ impl GeosnapApp {
     /// Ends the drag: over the canvas it snaps, infers and solves in the background;
     /// elsewhere it is dropped.
     pub fn end_drag(&mut self) {
+        self.finish_drag(false);
+    }
+
+    /// Ends the drag without snapping (Alt + drop): over the canvas the part is placed
+    /// as dragged, unsnapped, as one undo step; elsewhere it is dropped.
+    pub fn end_drag_freely(&mut self) {
+        self.finish_drag(true);
+    }
+
+    fn finish_drag(&mut self, freely: bool) {
         self.workers.clear_preview();
         let Some(dragged) = self.dragged_primitive() else {
             return;
@@ -278,6 +288,21 @@ impl GeosnapApp {
         if !drag.over_canvas {
             return;
         }
+        if freely {
+            let label = match drag.replacing {
+                Some(id) => format!("Move #{} freely", id.0),
+                None => format!("Place {} freely", super::words::kind_noun(drag.kind)),
+            };
+            self.canvas.dropped(drag.placement.at);
+            let output = worker::place_freely(
+                self.editor.document().clone(),
+                &dragged,
+                drag.replacing,
+                "Alt was held",
+            );
+            self.finish_job(&label, self.editor.revision(), output);
+            return;
+        }
         let start = drag
             .preview
             .as_ref()
@@ -286,6 +311,7 @@ impl GeosnapApp {
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let replacing = drag.replacing;
+        self.canvas.dropped(drag.placement.at);
         let label = match replacing {
             Some(id) => format!("Move #{}", id.0),
             None => format!("Place {}", super::words::kind_noun(drag.kind)),

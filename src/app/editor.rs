@@ -40,11 +40,16 @@ pub struct Editor {
     settings: SessionSettings,
     /// Where the session was last saved or opened from.
     path: Option<PathBuf>,
+    /// The drawing the work was opened from (a sketch or SVG file), when it is not a
+    /// session.
+    origin: Option<PathBuf>,
     undo: Vec<Snapshot>,
     redo: Vec<Snapshot>,
     /// Bumped by every change; the saved revision tells whether there are unsaved changes.
     revision: u64,
     saved: u64,
+    /// Whether the work is unsaved whatever its revision (recovered from an autosave).
+    unsaved: bool,
     /// Bumped when the strokes change, so snapping contexts can be rebuilt.
     strokes_revision: u64,
 }
@@ -89,6 +94,17 @@ impl Editor {
         self.path.as_ref()
     }
 
+    /// The file the work came from: the session's path, or else the drawing it was
+    /// opened from.
+    pub fn origin(&self) -> Option<&PathBuf> {
+        self.path.as_ref().or(self.origin.as_ref())
+    }
+
+    /// Records the drawing the work was opened from (it is not where it is saved).
+    pub fn set_origin(&mut self, drawing: PathBuf) {
+        self.origin = Some(drawing);
+    }
+
     /// The change counter (every action increments it; undo restores older values).
     pub fn revision(&self) -> u64 {
         self.revision
@@ -101,13 +117,20 @@ impl Editor {
 
     /// Whether there are changes since the last save (or since opening).
     pub fn is_dirty(&self) -> bool {
-        self.revision != self.saved
+        self.unsaved || self.revision != self.saved
     }
 
     /// Records that the current state was saved to `path`.
     pub fn mark_saved(&mut self, path: PathBuf) {
         self.path = Some(path);
         self.saved = self.revision;
+        self.unsaved = false;
+    }
+
+    /// Records that the work is not saved anywhere (recovered from an autosave), so
+    /// closing or opening asks first, until it is saved.
+    pub fn mark_unsaved(&mut self) {
+        self.unsaved = true;
     }
 
     /// The label of the step [`Self::undo`] would take back.

@@ -10,15 +10,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context as _};
 
+use super::autosave::{Autosave, Recovery, Work};
 use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings};
-use crate::io::session::{load_session, parse_session, save_session, session_bytes, Session};
+use crate::io::session::{load_session, parse_session, save_session, Session};
 use crate::io::sketch_file::load_sketch;
-
-/// How often unsaved work is written to the autosave file.
-const AUTOSAVE_EVERY: Duration = Duration::from_secs(30);
 
 /// The most recent files remembered.
 const MAX_RECENT: usize = 10;
@@ -29,9 +27,11 @@ pub(crate) enum Prompt {
     /// Unsaved changes before `then`.
     Unsaved(After),
     /// An autosave from a crashed run can be recovered.
-    Recover(PathBuf),
+    Recover(Recovery),
     /// A file path to type (no native dialog, or by choice).
     Path(PathAction, String),
+    /// An image opened while a drawing is open: under it, or a new drawing from it.
+    Image(PathBuf),
     /// An error to acknowledge.
     Error(String),
 }
@@ -41,6 +41,8 @@ pub(crate) enum Prompt {
 pub(crate) enum After {
     New,
     Open(Option<PathBuf>),
+    /// New work with this image as its reference.
+    NewFromImage(PathBuf),
     Quit,
 }
 
@@ -61,18 +63,26 @@ pub(crate) struct Files {
     recent: Vec<PathBuf>,
     autosave: Autosave,
     allow_quit: bool,
+    /// The typed-path prompt takes the keyboard at its next frame.
+    focus_path: bool,
 }
 
 impl Files {
-    /// The recent files (newest first) and the autosave folder (the platform's data
-    /// folder when `None`); asks to recover an autosave left by a crash.
-    pub(crate) fn new(recent: Vec<PathBuf>, autosave_dir: Option<PathBuf>) -> Self {
-        let autosave = Autosave::new(autosave_dir);
+    /// The recent files (newest first), the autosave folder (the platform's data
+    /// folder when `None`) and how long unsaved work waits to be autosaved; asks to
+    /// recover an autosave left by a crash.
+    pub(crate) fn new(
+        recent: Vec<PathBuf>,
+        autosave_dir: Option<PathBuf>,
+        autosave_every: Duration,
+    ) -> Self {
+        let autosave = Autosave::new(autosave_dir, autosave_every);
         Self {
             prompt: autosave.pending().map(Prompt::Recover),
             recent,
             autosave,
             allow_quit: false,
+            focus_path: false,
         }
     }
 
@@ -81,9 +91,15 @@ impl Files {
         &self.recent
     }
 
-    /// Removes the autosave (a clean exit).
-    pub(crate) fn clear_autosave(&mut self) {
-        self.autosave.clear();
+    /// Sets how long unsaved work waits before it is autosaved.
+    pub(crate) fn set_autosave_delay(&mut self, delay: Duration) {
+        self.autosave.set_delay(delay);
+    }
+
+    /// A clean exit: removes this run's autosave (one left by a crash and not yet
+    /// recovered or discarded stays, to be offered again).
+    pub(crate) fn exit(&mut self) {
+        self.autosave.exit();
     }
 
     /// Closes the window without asking about unsaved changes.
@@ -97,39 +113,6 @@ impl Files {
         self.recent.retain(|p| *p != path);
         self.recent.insert(0, path);
         self.recent.truncate(MAX_RECENT);
-    }
-}
-
-/// The autosave file: written while there are unsaved changes, removed on a clean exit,
-/// so finding it at start means the last run did not end well.
-#[derive(Debug)]
-pub(crate) struct Autosave {
-    path: Option<PathBuf>,
-    last: Instant,
-    written: Option<u64>,
-}
-
-impl Autosave {
-    pub(crate) fn new(dir: Option<PathBuf>) -> Self {
-        let dir = dir.or_else(|| eframe::storage_dir("geosnap"));
-        Self {
-            path: dir.map(|d| d.join("autosave.geosnap.json")),
-            last: Instant::now(),
-            written: None,
-        }
-    }
-
-    /// An autosave left by a run that did not exit cleanly.
-    pub(crate) fn pending(&self) -> Option<PathBuf> {
-        self.path.clone().filter(|p| p.is_file())
-    }
-
-    /// Removes the autosave (a clean exit, or the user discarded it).
-    pub(crate) fn clear(&mut self) {
-        if let Some(path) = &self.path {
-            let _ = std::fs::remove_file(path);
-        }
-        self.written = None;
     }
 }
 
@@ -185,7 +168,11 @@ impl GeosnapApp {
                 self.canvas.request_fit();
                 self.say("New work: draw strokes (B) or open a drawing.");
             }
-            After::Open(Some(path)) => self.open_path(ctx, &path),
+            After::Open(Some(path)) => self.open_or_ask(ctx, &path),
+            After::NewFromImage(path) => {
+                self.proceed(ctx, After::New);
+                self.open_path(ctx, &path);
+            }
             After::Open(None) => {
                 let asked = Instant::now();
                 let picked = rfd::FileDialog::new()
@@ -195,7 +182,7 @@ impl GeosnapApp {
                     .add_filter("Reference images", &["png", "jpg", "jpeg"])
                     .pick_file();
                 match picked {
-                    Some(path) => self.open_path(ctx, &path),
+                    Some(path) => self.open_or_ask(ctx, &path),
                     None if no_dialog(asked) => {
                         self.ask_path(PathAction::Open);
                     }
@@ -205,6 +192,16 @@ impl GeosnapApp {
             After::Quit => {
                 self.files.quit(ctx);
             }
+        }
+    }
+
+    /// Opens `path`; an image while a drawing is open asks first whether it goes under
+    /// the drawing or starts a new one.
+    fn open_or_ask(&mut self, ctx: &egui::Context, path: &Path) {
+        if is_image(path) && !self.editor.sketch().strokes.is_empty() {
+            self.files.prompt = Some(Prompt::Image(path.to_owned()));
+        } else {
+            self.open_path(ctx, path);
         }
     }
 
@@ -256,6 +253,7 @@ impl GeosnapApp {
                 let warnings = loaded.warnings.clone();
                 self.editor
                     .replace(loaded.sketch, loaded.image, Document::default());
+                self.editor.set_origin(path.to_owned());
                 self.after_replace(ctx);
                 for w in warnings {
                     self.warn(w);
@@ -301,6 +299,10 @@ impl GeosnapApp {
             Ok(session) => {
                 self.editor
                     .replace(session.sketch, session.image, session.document);
+                if let Some(origin) = self.files.autosave.pending().and_then(|r| r.work) {
+                    self.editor.set_origin(origin);
+                }
+                self.editor.mark_unsaved();
                 self.after_replace(ctx);
                 self.say("The autosaved work was recovered; save it to keep it.");
             }
@@ -407,6 +409,7 @@ impl GeosnapApp {
             PathAction::Export => self.suggested_path("glb"),
         };
         self.files.prompt = Some(Prompt::Path(action, suggested));
+        self.files.focus_path = true;
     }
 
     fn suggested_path(&self, extension: &str) -> String {
@@ -453,39 +456,35 @@ impl GeosnapApp {
         }
     }
 
+    /// Hands unsaved work to the autosave thread, which writes it on its own timer
+    /// (frames or not); removes this run's autosave once nothing is unsaved.
     pub(crate) fn autosave_tick(&mut self) {
-        let due = self.files.autosave.last.elapsed() >= AUTOSAVE_EVERY;
-        if !due
-            || !self.editor.is_dirty()
-            || self.files.autosave.written == Some(self.editor.revision())
-        {
-            return;
+        let (revision, dirty) = (self.editor.revision(), self.editor.is_dirty());
+        if self.files.autosave.wants(revision, dirty) {
+            let work = self.autosave_work();
+            self.files.autosave.hand(revision, work);
         }
-        self.files.autosave.last = Instant::now();
-        let Some(path) = self.files.autosave.path.clone() else {
-            return;
-        };
-        let result = session_bytes(&self.session())
-            .map_err(anyhow::Error::from)
-            .and_then(|bytes: Vec<u8>| {
-                if let Some(dir) = path.parent() {
-                    std::fs::create_dir_all(dir)?;
-                }
-                crate::io::write_atomic(&path, &bytes).map_err(anyhow::Error::from)
-            });
-        match result {
-            Ok(()) => self.files.autosave.written = Some(self.editor.revision()),
-            Err(error) => log::warn!("autosave to {} failed: {error:#}", path.display()),
+    }
+
+    fn autosave_work(&self) -> Work {
+        Work {
+            session: self.session(),
+            origin: self.editor.origin().cloned(),
         }
     }
 
     /// Writes the work to the autosave file now (tests, and before risky steps).
     pub fn autosave_now(&mut self) {
-        self.files.autosave.last = Instant::now()
-            .checked_sub(AUTOSAVE_EVERY)
-            .unwrap_or_else(Instant::now);
-        self.files.autosave.written = None;
-        self.autosave_tick();
+        let work = self.autosave_work();
+        if let Err(error) = self.files.autosave.write_now(self.editor.revision(), &work) {
+            log::warn!("autosave failed: {error:#}");
+        }
+    }
+
+    /// The autosave left by a run that did not end well, if any: the recovery prompt
+    /// offers it at start.
+    pub fn pending_autosave(&self) -> Option<PathBuf> {
+        self.files.autosave.pending().map(|r| r.path)
     }
 
     /// The modal window of the question being asked, if any.
@@ -508,6 +507,8 @@ impl GeosnapApp {
                         }
                         if ui.button("Don't save").clicked() {
                             self.files.prompt = None;
+                            // The user discarded the work: no later start offers it back.
+                            self.files.autosave.clear();
                             self.proceed(ctx, after.clone());
                         }
                         if ui.button("Cancel").clicked() {
@@ -515,13 +516,18 @@ impl GeosnapApp {
                         }
                     });
                 }
-                Prompt::Recover(path) => {
+                Prompt::Recover(recovery) => {
                     ui.heading("Recover unsaved work?");
-                    ui.label("geosnap did not close properly last time. An autosave of the work is available.");
+                    let zone = jiff::tz::TimeZone::try_system().unwrap_or(jiff::tz::TimeZone::UTC);
+                    ui.label(format!(
+                        "{}.",
+                        recovery.describe(std::time::SystemTime::now(), &zone)
+                    ));
+                    ui.label("geosnap did not close properly last time; this work was autosaved.");
                     ui.horizontal(|ui| {
                         if ui.button("Recover").clicked() {
                             self.files.prompt = None;
-                            self.recover(ctx, &path);
+                            self.recover(ctx, &recovery.path);
                         }
                         if ui.button("Discard").clicked() {
                             self.files.prompt = None;
@@ -535,8 +541,16 @@ impl GeosnapApp {
                         PathAction::SaveAs => "Save the session as",
                         PathAction::Export => "Export glTF (.glb or .gltf) as",
                     });
-                    let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(420.0).hint_text("/path/to/file"));
+                    let edit = ui.add(
+                        egui::TextEdit::singleline(&mut text)
+                            .desired_width(420.0)
+                            .hint_text("/path/to/file"),
+                    );
                     let edit = edit.on_hover_text("File path");
+                    if std::mem::take(&mut self.files.focus_path) {
+                        // Typing goes to the path at once, without a click.
+                        edit.request_focus();
+                    }
                     let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                     self.files.prompt = Some(Prompt::Path(action, text.clone()));
                     ui.horizontal(|ui| {
@@ -556,6 +570,7 @@ impl GeosnapApp {
                         }
                     });
                 }
+                Prompt::Image(path) => self.image_prompt(ui, &path),
                 Prompt::Error(text) => {
                     ui.heading("Problem");
                     ui.label(text);
@@ -566,10 +581,39 @@ impl GeosnapApp {
             }
         });
         if modal.should_close()
-            && matches!(self.files.prompt, Some(Prompt::Error(_) | Prompt::Path(..)))
+            && matches!(
+                self.files.prompt,
+                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_))
+            )
         {
             self.files.prompt = None;
         }
+    }
+}
+
+impl GeosnapApp {
+    /// The question of an image opened while a drawing is open.
+    fn image_prompt(&mut self, ui: &mut egui::Ui, path: &Path) {
+        let ctx = ui.ctx().clone();
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        ui.heading(format!("Open the image {name}"));
+        ui.label("A drawing is open. Use the image as the reference under this drawing, or start a new drawing on it?");
+        ui.horizontal(|ui| {
+            if ui.button("Reference under this drawing").clicked() {
+                self.files.prompt = None;
+                self.open_path(&ctx, path);
+            }
+            if ui.button("New drawing from it").clicked() {
+                self.files.prompt = None;
+                self.request(&ctx, After::NewFromImage(path.to_owned()));
+            }
+            if ui.button("Cancel").clicked() {
+                self.files.prompt = None;
+            }
+        });
     }
 }
 

@@ -214,7 +214,12 @@ pub(crate) const MOUSE: &[MouseControl] = &[
     mouse(
         Place::Drag,
         "Release",
-        "Place it (off the drawing: drop nothing)",
+        "Place it: snapped, or as dragged where no strokes are (off the drawing: nothing)",
+    ),
+    mouse(
+        Place::Drag,
+        "Alt + release",
+        "Place it as dragged, without snapping",
     ),
     mouse(
         Place::Canvas,

@@ -18,6 +18,7 @@
 //! ```
 
 mod automation;
+mod autosave;
 mod canvas;
 mod drag;
 pub mod editor;
@@ -179,7 +180,11 @@ impl GeosnapApp {
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
-            files: Files::new(recent, options.autosave_dir.clone()),
+            files: Files::new(
+                recent,
+                options.autosave_dir.clone(),
+                autosave::AUTOSAVE_EVERY,
+            ),
             status: Status::new(messages),
             automation: Automation::new(&options),
             help: help::Help {
@@ -239,6 +244,24 @@ impl GeosnapApp {
     /// Selects a part (or nothing).
     pub fn select(&mut self, id: Option<PrimitiveId>) {
         self.selection = id;
+    }
+
+    /// Sets how long unsaved work waits before it is autosaved (30 s unless set; tests
+    /// shorten it).
+    pub fn set_autosave_delay(&mut self, delay: Duration) {
+        self.files.set_autosave_delay(delay);
+    }
+
+    /// Why the last drop placed nothing, while its note is shown on the canvas at the
+    /// drop point.
+    pub fn drop_note(&self) -> Option<&str> {
+        self.canvas.drop_note()
+    }
+
+    /// The screen rectangles of the canvas's labels in the last frame: part ids with
+    /// their badges, then the relation labels (placed so that none overlaps another).
+    pub fn canvas_labels(&self) -> &[egui::Rect] {
+        self.canvas.labels()
     }
 
     /// The canvas's pan and zoom.
@@ -302,20 +325,27 @@ impl GeosnapApp {
     fn poll_workers(&mut self) {
         self.poll_preview();
         if let Some((job, output)) = self.workers.finished() {
-            self.finish_job(&job, output);
+            self.finish_job(&job.label, job.revision, output);
         }
     }
 
-    fn finish_job(&mut self, job: &Job, output: JobOutput) {
+    /// Takes in the output of a job labelled `label`, started at editor revision
+    /// `revision`.
+    fn finish_job(&mut self, label: &str, revision: u64, output: JobOutput) {
         self.status.solved(&output);
+        // A drop that placed nothing, or placed it freely, says so where it was released.
+        let note = (output.placed_freely || (output.document.is_none() && !output.cancelled))
+            .then(|| output.messages.first())
+            .flatten()
+            .map(|text| words::split_figures(text).0);
+        self.canvas.drop_ended(note);
         if output.cancelled {
-            self.say(format!("{}: cancelled; nothing changed.", job.label));
+            self.say(format!("{label}: cancelled; nothing changed."));
             return;
         }
-        if job.revision != self.editor.revision() {
+        if revision != self.editor.revision() {
             self.warn(format!(
-                "{}: the work changed while it was solving; the result was dropped.",
-                job.label
+                "{label}: the work changed while it was solving; the result was dropped."
             ));
             return;
         }
@@ -326,15 +356,15 @@ impl GeosnapApp {
         for text in &output.messages {
             let (text, detail) = words::split_figures(text);
             self.status
-                .push_detailed(format!("{}: {text}", job.label), detail, warning);
+                .push_detailed(format!("{label}: {text}"), detail, warning);
         }
         if let Some(document) = output.document {
-            self.editor.apply_document(&job.label, document);
+            self.editor.apply_document(label, document);
             if let Some(id) = output.placed {
                 self.selection = Some(id);
             }
         } else if output.messages.is_empty() {
-            self.warn(format!("{}: nothing changed.", job.label));
+            self.warn(format!("{label}: nothing changed."));
         }
     }
 
@@ -445,10 +475,14 @@ impl GeosnapApp {
     }
 
     fn window_title(&self) -> String {
-        let name = self.editor.path().and_then(|p| p.file_name()).map_or_else(
-            || "untitled".to_owned(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        let name = self
+            .editor
+            .origin()
+            .and_then(|p| p.file_name())
+            .map_or_else(
+                || "untitled".to_owned(),
+                |n| n.to_string_lossy().into_owned(),
+            );
         format!(
             "{}{name} — geosnap",
             if self.editor.is_dirty() { "• " } else { "" }
@@ -552,6 +586,6 @@ impl eframe::App for GeosnapApp {
     }
 
     fn on_exit(&mut self) {
-        self.files.clear_autosave();
+        self.files.exit();
     }
 }

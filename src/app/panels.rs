@@ -200,7 +200,7 @@ impl GeosnapApp {
             .show(ui, |ui| {
                 ui.add_space(4.0);
                 ui.heading("Primitives");
-                ui.label(RichText::new("Drag onto the drawing").small().weak());
+                ui.label(RichText::new("Drag onto the drawing").weak());
                 for kind in PrimitiveKind::ALL {
                     let tip = words::kind_long(kind);
                     let tip = format!("{}{}", tip[..1].to_uppercase(), &tip[1..]);
@@ -266,22 +266,48 @@ impl GeosnapApp {
             });
     }
 
+    /// Properties and relations above, scrolling together however many relations there
+    /// are; the messages below in a band of their own (newest first, with their own
+    /// scroll bar), so they are never pushed out of the window.
     pub(crate) fn side_panels(&mut self, ui: &mut Ui) {
-        egui::ScrollArea::vertical()
-            .auto_shrink([false, false])
+        let height = ui.available_height();
+        egui::Panel::bottom("messages")
+            .frame(super::unfilled(2.0))
+            .resizable(true)
+            .default_size(height * 0.3)
+            .min_size(80.0)
+            .max_size(height * 0.8)
             .show(ui, |ui| {
-                egui::CollapsingHeader::new("Properties")
-                    .default_open(true)
-                    .show(ui, |ui| self.properties(ui));
-                egui::CollapsingHeader::new(format!(
-                    "Relations ({})",
-                    self.editor.document().relations().len()
-                ))
-                .default_open(true)
-                .show(ui, |ui| self.relations(ui));
-                egui::CollapsingHeader::new("Messages")
-                    .default_open(true)
+                ui.horizontal(|ui| {
+                    ui.strong("Messages");
+                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                        if ui.button("Clear").clicked() {
+                            self.status.clear();
+                        }
+                    });
+                });
+                egui::ScrollArea::vertical()
+                    .id_salt("messages_scroll")
+                    .auto_shrink([false, false])
                     .show(ui, |ui| self.status.messages_ui(ui));
+            });
+        egui::CentralPanel::default()
+            .frame(super::unfilled(0.0))
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .id_salt("inspector_scroll")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        egui::CollapsingHeader::new("Properties")
+                            .default_open(true)
+                            .show(ui, |ui| self.properties(ui));
+                        egui::CollapsingHeader::new(format!(
+                            "Relations ({})",
+                            self.editor.document().relations().len()
+                        ))
+                        .default_open(true)
+                        .show(ui, |ui| self.relations(ui));
+                    });
             });
     }
 
@@ -310,40 +336,34 @@ impl GeosnapApp {
                     .color(SUGGESTED),
                 );
                 accept_all = ui
-                    .add_enabled(!self.busy(), egui::Button::new("Accept all").small())
+                    .add_enabled(!self.busy(), egui::Button::new("Accept all"))
                     .on_hover_text("Make every suggested relation hard and solve the model")
                     .clicked();
             });
         }
-        egui::Grid::new("relations").striped(true).num_columns(4).show(ui, |ui| {
-            for (index, (id, relation)) in self.editor.document().relations_with_ids().enumerate() {
-                let members: Vec<String> = relation
-                    .members
-                    .iter()
-                    .zip(relation.features.iter().map(Some).chain(std::iter::repeat(None)))
-                    .map(|(id, f)| match f.copied().flatten() {
-                        Some(f) => format!("#{} {f}", id.0),
-                        None => format!("#{}", id.0),
-                    })
-                    .collect();
-                let text = RichText::new(relation.kind.name().replace('_', " "));
-                let text = match relation.mode {
-                    Mode::Off => text.strikethrough().weak(),
-                    Mode::Suggested => text.italics().color(SUGGESTED),
-                    Mode::Hard | Mode::Soft => text,
-                };
-                let why = why_inferred(relation);
-                let r1 = ui.label(text).on_hover_text(&why);
-                let r2 = ui.label(RichText::new(members.join(" · ")).small()).on_hover_text(&why);
-                let (r3, r4) = if relation.mode == Mode::Suggested {
+        let busy = self.busy();
+        let mut hovered = None;
+        let document = self.editor.document();
+        for (index, (id, relation)) in document.relations_with_ids().enumerate() {
+            let text = RichText::new(words::relation_sentence(document, relation));
+            let text = match relation.mode {
+                Mode::Off => text.strikethrough().weak(),
+                Mode::Suggested => text.italics().color(SUGGESTED),
+                Mode::Hard | Mode::Soft => text,
+            };
+            let why = why_inferred(relation);
+            let r1 = ui.add(egui::Label::new(text).wrap()).on_hover_text(&why);
+            let (r3, r4) = ui.horizontal(|ui| {
+                ui.add_space(12.0);
+                if relation.mode == Mode::Suggested {
                     let accept = ui
-                        .add_enabled(!self.busy(), egui::Button::new("Accept").small())
+                        .add_enabled(!busy, egui::Button::new("Accept"))
                         .on_hover_text(format!("Make relation {index} hard and solve\n{why}"));
                     if accept.clicked() {
                         change = Some((id, Mode::Hard));
                     }
                     let reject = ui
-                        .add_enabled(!self.busy(), egui::Button::new("Reject").small())
+                        .add_enabled(!busy, egui::Button::new("Reject"))
                         .on_hover_text(format!("Remove suggested relation {index}"));
                     if reject.clicked() {
                         delete = Some(id);
@@ -364,18 +384,19 @@ impl GeosnapApp {
                     if mode != relation.mode {
                         change = Some((id, mode));
                     }
-                    let r4 = ui.add_enabled(!self.busy(), egui::Button::new("Delete").small()).on_hover_text(format!("Delete relation {index}"));
+                    let r4 = ui.add_enabled(!busy, egui::Button::new("Delete")).on_hover_text(format!("Delete relation {index}"));
                     if r4.clicked() {
                         delete = Some(id);
                     }
                     (r3, r4)
-                };
-                if r1.hovered() || r2.hovered() || r3.hovered() || r4.hovered() {
-                    self.hovered_relation = Some(id);
                 }
-                ui.end_row();
+                }).inner;
+            if r1.hovered() || r3.hovered() || r4.hovered() {
+                hovered = Some(id);
             }
-        });
+            ui.separator();
+        }
+        self.hovered_relation = hovered;
         if accept_all {
             self.accept_all_suggestions();
         }
@@ -407,12 +428,17 @@ impl GeosnapApp {
             c.z,
             words::UNIT
         ));
-        ui.label(format!(
-            "Fits its {} strokes to {} on average",
-            placed.fit.strokes.len(),
-            words::mm(placed.fit.rms)
-        ))
-        .on_hover_text("The root mean square distance from the strokes to the part's outlines");
+        if placed.fit.strokes.is_empty() {
+            ui.label("Placed freely: not snapped to any strokes")
+                .on_hover_text("Drag it onto its strokes to snap it");
+        } else {
+            ui.label(format!(
+                "Fits its {} strokes to {} on average",
+                placed.fit.strokes.len(),
+                words::mm(placed.fit.rms)
+            ))
+            .on_hover_text("The root mean square distance from the strokes to the part's outlines");
+        }
         if let Some(verdict) = placed.fit.verdict {
             let confidence = placed.fit.confidence.map_or(String::new(), |c| {
                 format!(" (confidence {:.0} %)", 100.0 * c)
@@ -474,7 +500,7 @@ impl GeosnapApp {
                     ui.label(words::UNIT);
                     if is_fixed.is_some()
                         && ui
-                            .small_button("free")
+                            .button("free")
                             .on_hover_text(format!("Free the {}", words::quantity_name(*quantity)))
                             .clicked()
                     {

@@ -99,19 +99,20 @@ impl Status {
         self.timer.tick(cpu);
     }
 
-    /// The message log, newest first, with a button that clears it.
-    pub(crate) fn messages_ui(&mut self, ui: &mut Ui) {
-        if ui.small_button("Clear").clicked() {
-            self.messages.clear();
-        }
+    /// Empties the log.
+    pub(crate) fn clear(&mut self) {
+        self.messages.clear();
+    }
+
+    /// The message log, newest first; problems in their colour.
+    pub(crate) fn messages_ui(&self, ui: &mut Ui) {
         for message in self.messages.iter().rev().take(30) {
             let text = match (&message.detail, self.developer) {
                 (Some(detail), true) => format!("{} ({detail})", message.text),
                 _ => message.text.clone(),
             };
-            let text = RichText::new(text);
             if message.warning {
-                ui.colored_label(Color32::from_rgb(200, 90, 20), text);
+                ui.colored_label(Color32::from_rgb(190, 70, 10), text);
             } else {
                 ui.label(text);
             }

@@ -6,8 +6,9 @@
 //! `io::gltf::DEFAULT_METRES_PER_UNIT` = 0.001 m per unit unless told otherwise, so every
 //! length the app shows is in millimetres ([`mm`]).
 
-use crate::core::model::Quantity;
-use crate::core::primitive::PrimitiveKind;
+use crate::core::model::{Document, PrimitiveId, Quantity, Relation};
+use crate::core::primitive::{Feature, PrimitiveKind};
+use crate::core::relation::RelationKind;
 use crate::core::snap::SnapError;
 use crate::core::solve::Termination;
 
@@ -127,6 +128,114 @@ pub(crate) fn snap_error(error: &SnapError, developer: bool) -> String {
     }
 }
 
+/// A part as a designer names it: its kind and its id ("Cylinder 2"); "part 2" when it
+/// is not in the model.
+pub(crate) fn part_name(document: &Document, id: PrimitiveId) -> String {
+    document.get(id).map_or_else(
+        || format!("part {}", id.0),
+        |placed| format!("{} {}", kind_title(placed.primitive.kind()), id.0),
+    )
+}
+
+/// A feature of a part in words: "Cylinder 2's bottom", "Box 1's top face", "Sphere
+/// 3" (its outline is the sphere itself).
+fn member(document: &Document, id: PrimitiveId, feature: Option<Feature>) -> String {
+    let name = part_name(document, id);
+    match feature {
+        None | Some(Feature::Outline) => name,
+        Some(f @ Feature::Face { .. }) => format!("{name}'s {} face", f.name()),
+        Some(f) => format!("{name}'s {}", f.name()),
+    }
+}
+
+/// A relation as a sentence: "Cylinder 2's bottom is concentric with Cylinder 1's top",
+/// "The centres of Sphere 1, Cylinder 2 and Cone 3 lie on one line".
+pub(crate) fn relation_sentence(document: &Document, relation: &Relation) -> String {
+    let members: Vec<String> = relation
+        .members
+        .iter()
+        .enumerate()
+        .map(|(k, id)| member(document, *id, relation.features.get(k).copied().flatten()))
+        .collect();
+    let verb = match relation.kind {
+        RelationKind::Parallel => "is parallel to",
+        RelationKind::Orthogonal => "is perpendicular to",
+        RelationKind::Coaxial => "shares its axis with",
+        RelationKind::Concentric => "is concentric with",
+        RelationKind::Coplanar => "lies in one plane with",
+        RelationKind::SameRadius => "has the same radius as",
+        RelationKind::EqualLength => "is as long as",
+        RelationKind::OnSphere => "sits on",
+        RelationKind::CollinearCenters => {
+            let centres = relation
+                .members
+                .iter()
+                .map(|id| part_name(document, *id))
+                .collect::<Vec<_>>();
+            return format!("The centres of {} lie on one line", list(&centres));
+        }
+    };
+    match members.as_slice() {
+        [a, b] => format!("{a} {verb} {b}"),
+        _ => format!("{}: {}", relation_kind_name(relation.kind), list(&members)),
+    }
+}
+
+/// A relation kind's name in words ("same radius").
+pub(crate) fn relation_kind_name(kind: RelationKind) -> String {
+    match kind {
+        RelationKind::CollinearCenters => "centres in line".to_owned(),
+        RelationKind::OnSphere => "on a sphere".to_owned(),
+        RelationKind::Orthogonal => "perpendicular".to_owned(),
+        _ => kind.name().replace('_', " "),
+    }
+}
+
+/// "a", "a and b", "a, b and c".
+fn list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
+/// A conflict message of the solver ("relation 2 (concentric of #2 bottom, #1 top)
+/// switched off: …, part #2 collapses …") in words: the relation as a sentence, the
+/// parts by name ("“Cylinder 2's bottom is concentric with Cylinder 1's top” was
+/// switched off: …, Cylinder 2 collapses …").
+pub(crate) fn conflict(document: &Document, relation: Option<&Relation>, message: &str) -> String {
+    let (subject, reason) = match (relation, message.split_once(" switched off")) {
+        (Some(relation), Some((_, reason))) => {
+            (relation_sentence(document, relation), reason.to_owned())
+        }
+        _ => return parts_by_name(document, message),
+    };
+    let reason = parts_by_name(document, reason.trim_start_matches(':').trim_start());
+    format!("“{subject}” was switched off: {reason}")
+}
+
+/// "part #2" and "#2" in a message become the part's name ("Cylinder 2").
+fn parts_by_name(document: &Document, text: &str) -> String {
+    let text = text.replace("part #", "#");
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text.as_str();
+    while let Some(at) = rest.find('#') {
+        out.push_str(&rest[..at]);
+        let digits: String = rest[at + 1..]
+            .chars()
+            .take_while(char::is_ascii_digit)
+            .collect();
+        match digits.parse::<u32>() {
+            Ok(n) => out.push_str(&part_name(document, PrimitiveId(n))),
+            Err(_) => out.push('#'),
+        }
+        rest = &rest[at + 1 + digits.len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// A message from the core split into what a designer reads and the developer figures:
 /// a trailing parenthesis with a residual or an RMS ("(its residual stays at 2.1e-3)")
 /// goes to the second part.
@@ -158,6 +267,52 @@ mod tests {
             }
         }
         assert_eq!(mm(12.345), "12.3 mm");
+    }
+
+    #[test]
+    fn relations_and_conflicts_read_as_sentences() {
+        use glam::DVec3;
+
+        use super::{conflict, member, relation_sentence};
+        use crate::core::model::{Document, Fit, Placed, Relation};
+        use crate::core::primitive::{Axis, Feature, Primitive, Sphere};
+        use crate::core::relation::{Mode, RelationKind};
+
+        let mut document = Document::new();
+        let [a, b] = [0.0, 8.0].map(|x| {
+            document.add(Placed {
+                primitive: Primitive::Sphere(Sphere {
+                    center: DVec3::X * x,
+                    radius: 3.0,
+                }),
+                fit: Fit::default(),
+            })
+        });
+        let relation = Relation {
+            kind: RelationKind::Concentric,
+            members: vec![b, a],
+            features: vec![Some(Feature::Outline), Some(Feature::Outline)],
+            mode: Mode::Hard,
+            inferred: None,
+        };
+        let id = document.add_relation(relation).expect("valid");
+        let relation = document.relation(id).expect("added");
+        assert_eq!(
+            relation_sentence(&document, relation),
+            "Sphere 1 is concentric with Sphere 0"
+        );
+        assert_eq!(member(&document, a, Some(Feature::Top)), "Sphere 0's top");
+        assert_eq!(
+            member(&document, a, Some(Feature::face(Axis::Z, true))),
+            "Sphere 0's front face"
+        );
+        let message = "relation 0 (concentric of #1 outline, #0 outline) switched off: with \
+                       it, part #1 collapses (a size of 3.000 becomes 0.001)";
+        assert_eq!(
+            conflict(&document, Some(relation), message),
+            "“Sphere 1 is concentric with Sphere 0” was switched off: with it, Sphere 1 \
+             collapses (a size of 3.000 becomes 0.001)"
+        );
     }
 
     #[test]

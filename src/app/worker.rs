@@ -285,6 +285,8 @@ pub struct JobOutput {
     pub messages: Vec<String>,
     /// Whether the job was cancelled (nothing changes).
     pub cancelled: bool,
+    /// Whether the part was placed as dragged, unsnapped (no strokes supported it).
+    pub placed_freely: bool,
     /// How long it took.
     pub elapsed: Duration,
 }
@@ -397,10 +399,14 @@ pub fn place(
         outcome: None,
         messages: Vec::new(),
         cancelled: false,
+        placed_freely: false,
         elapsed: Duration::ZERO,
     };
     let snapped = match snap(context, dragged, &settings.snap) {
         Ok(s) => s,
+        Err(SnapError::NotEnoughStrokes { .. }) => {
+            return place_freely(document, dragged, replacing, "no strokes here support it");
+        }
         Err(error) => {
             output.messages.push(format!(
                 "The {} did not snap: {}. Drop it nearer its strokes.",
@@ -419,15 +425,12 @@ pub fn place(
     }
     let confidence = snapped.confidence(dragged, &document.owner(), &settings.snap);
     if confidence.verdict == Verdict::Refused {
-        output.messages.push(format!(
-            "The {} was not placed: {}. Drop it on the strokes of one part.",
-            super::words::kind_noun(dragged.kind()),
-            confidence
-                .reason
-                .as_deref()
-                .unwrap_or("nothing in the drawing supports it")
-        ));
-        return output;
+        // Nothing here supports it: it goes where it was dropped, unsnapped.
+        let why = confidence
+            .reason
+            .as_deref()
+            .unwrap_or("nothing in the drawing supports it");
+        return place_freely(document, dragged, None, why);
     }
     let id = document.add_fitted(&snapped, Fit::of(&snapped).judged(&confidence));
     let clock = MonotonicClock::start();
@@ -447,19 +450,21 @@ pub fn place(
         return output;
     }
     if let Some(placed) = document.get(id) {
+        let name = super::words::part_name(&document, id);
         output.messages.push(format!(
-            "#{} snapped to {} strokes, {} off on average.",
-            id.0,
+            "{name} snapped to {} strokes, {} off on average.",
             placed.fit.strokes.len(),
             super::words::mm(placed.fit.rms)
         ));
         if let Some(reason) = &placed.fit.reason {
             output
                 .messages
-                .push(format!("#{} is doubtful: {reason}.", id.0));
+                .push(format!("{name} is doubtful: {reason}."));
         }
     }
-    output.messages.extend(describe(&outcome, relations.len()));
+    output
+        .messages
+        .extend(describe(&document, &outcome, relations.len()));
     output.placed = Some(id);
     output.outcome = Some(outcome);
     output.document = Some(document);
@@ -489,21 +494,54 @@ pub fn resolve(
     );
     let cancelled = cancel.is_cancelled();
     JobOutput {
-        messages: describe(&outcome, 0),
+        messages: describe(&document, &outcome, 0),
         document: (!cancelled).then_some(document),
         placed: None,
         outcome: Some(outcome),
         cancelled,
+        placed_freely: false,
         elapsed: Duration::ZERO,
     }
 }
 
-/// The messages of a solve for the user.
-fn describe(outcome: &GlobalOutcome, inferred: usize) -> Vec<String> {
+/// Places `dragged` as it is, unsnapped (in place of `replacing` when moving a part):
+/// a drop where no strokes support a part, or an Alt + drop. The part has no strokes in
+/// its fit, which marks it "placed freely" on the canvas, in the panel and in the
+/// saved session.
+pub fn place_freely(
+    mut document: Document,
+    dragged: &Primitive,
+    replacing: Option<PrimitiveId>,
+    why: &str,
+) -> JobOutput {
+    if let Some(old) = replacing {
+        document.remove(old);
+    }
+    let id = document.add(crate::core::model::Placed {
+        primitive: dragged.clone(),
+        fit: Fit::default(),
+    });
+    let name = super::words::part_name(&document, id);
+    JobOutput {
+        messages: vec![format!(
+            "{name} was placed freely, where it was dropped: {why}. Drag it onto its \
+             strokes to snap it."
+        )],
+        document: Some(document),
+        placed: Some(id),
+        outcome: None,
+        cancelled: false,
+        placed_freely: true,
+        elapsed: Duration::ZERO,
+    }
+}
+
+/// The messages of a solve for the user, in words (the relations and parts by name).
+fn describe(document: &Document, outcome: &GlobalOutcome, inferred: usize) -> Vec<String> {
     let mut messages: Vec<String> = outcome
         .conflicts
         .iter()
-        .map(|c| c.message.clone())
+        .map(|c| super::words::conflict(document, document.relation(c.relation), &c.message))
         .collect();
     if outcome.reverted {
         messages.push(
