@@ -412,7 +412,8 @@ fn any_json() -> impl Strategy<Value = Value> {
     })
 }
 
-fn json_edit() -> impl Strategy<Value = JsonEdit> {
+/// Structural edits; `grow` is how many copies an array may gain.
+fn json_edit(grow: std::ops::Range<usize>) -> impl Strategy<Value = JsonEdit> {
     prop_oneof![
         3 => Just(JsonEdit::Delete),
         3 => prop::sample::select(vec![Typo::Swap, Typo::Drop, Typo::Double, Typo::Upper])
@@ -424,7 +425,7 @@ fn json_edit() -> impl Strategy<Value = JsonEdit> {
         ])
         .prop_map(JsonEdit::Raw),
         1 => prop_oneof![1usize..40, 100usize..3000].prop_map(JsonEdit::Nest),
-        1 => prop_oneof![1usize..20, 1000usize..20_000].prop_map(JsonEdit::Grow),
+        1 => prop_oneof![1usize..4, grow].prop_map(JsonEdit::Grow),
     ]
 }
 
@@ -532,8 +533,8 @@ fn encode_with_raw(value: &Value, edits: &[(Vec<usize>, JsonEdit)]) -> Vec<u8> {
 }
 
 /// A valid JSON file with 1 to 3 structural edits.
-fn json_mutated(base: Value) -> impl Strategy<Value = Vec<u8>> {
-    let edit = (prop::collection::vec(any::<usize>(), 0..6), json_edit());
+fn json_mutated(base: Value, grow: std::ops::Range<usize>) -> impl Strategy<Value = Vec<u8>> {
+    let edit = (prop::collection::vec(any::<usize>(), 0..6), json_edit(grow));
     prop::collection::vec(edit, 1..4).prop_map(move |edits| {
         let mut value = base.clone();
         for (choices, edit) in &edits {
@@ -543,13 +544,19 @@ fn json_mutated(base: Value) -> impl Strategy<Value = Vec<u8>> {
     })
 }
 
+/// Arrays grown by up to 20,000 copies (or a few): for readers.
+const GROW_LARGE: std::ops::Range<usize> = 1000..20_000;
+
+/// Arrays grown by a few copies only: for scripts, whose steps `run` does one by one.
+const GROW_SMALL: std::ops::Range<usize> = 1..4;
+
 /// Any mutation of a valid JSON file: structural, byte-level or both.
-fn json_file(base: Value) -> impl Strategy<Value = Vec<u8>> {
+fn json_file(base: Value, grow: std::ops::Range<usize>) -> impl Strategy<Value = Vec<u8>> {
     let bytes = to_bytes(&base);
     prop_oneof![
-        4 => json_mutated(base.clone()),
+        4 => json_mutated(base.clone(), grow.clone()),
         3 => bytes_mutated(bytes),
-        1 => json_mutated(base).prop_flat_map(bytes_mutated),
+        1 => json_mutated(base, grow).prop_flat_map(bytes_mutated),
     ]
 }
 
@@ -722,6 +729,11 @@ fn svg_grammar() -> impl Strategy<Value = Vec<u8>> {
 // ---------------------------------------------------------------------------------
 // The kinds.
 
+/// The budget of each `run`: far more than a case needs (milliseconds); a case that
+/// needs more (a script grown to thousands of steps by a byte edit) ends through the
+/// time limit, which must name the script and leave the outputs untouched too.
+const RUN_TIME_LIMIT: &str = "2";
+
 /// Outputs of `run`: the model and its overlay.
 const RUN_OUTPUTS: &[&str] = &["out.model.json", "out.png"];
 
@@ -744,6 +756,8 @@ fn drawing_case(dir: &Scratch, name: &str, data: &[u8]) -> Result<(), TestCaseEr
             &outputs.path("out.model.json"),
             Path::new("--overlay"),
             &outputs.path("out.png"),
+            Path::new("--time-limit"),
+            Path::new(RUN_TIME_LIMIT),
         ],
     )
 }
@@ -782,7 +796,7 @@ fn sketch_files() {
         &to_bytes(&script_over("d.sketch.json", 1)),
     );
     let strategy = prop_oneof![
-        4 => json_file(native_sketch()),
+        4 => json_file(native_sketch(), GROW_LARGE),
         1 => json_grammar("geosnap-sketch", SKETCH_KEYS),
     ];
     fuzz("sketch files", strategy, |data| {
@@ -804,7 +818,7 @@ fn placement_scripts() {
         names: &["out.model.json", "out.glb"],
     };
     let strategy = prop_oneof![
-        4 => json_file(script_over("d.svg", 2)),
+        4 => json_file(script_over("d.svg", 2), GROW_SMALL),
         1 => json_grammar("geosnap-script", SCRIPT_KEYS),
     ];
     fuzz("placement scripts", strategy, |data| {
@@ -820,6 +834,8 @@ fn placement_scripts() {
                 &outputs.path("out.model.json"),
                 Path::new("--gltf"),
                 &outputs.path("out.glb"),
+                Path::new("--time-limit"),
+                Path::new(RUN_TIME_LIMIT),
             ],
         )
     });
@@ -868,7 +884,7 @@ fn model_files() {
         names: &["out.model.json", "out.glb"],
     };
     let strategy = prop_oneof![
-        4 => json_file(base),
+        4 => json_file(base, GROW_LARGE),
         1 => json_grammar("geosnap-model", MODEL_KEYS),
     ];
     fuzz("model files", strategy, |data| {
@@ -939,7 +955,7 @@ fn session_files() {
         names: &[],
     };
     let strategy = prop_oneof![
-        4 => json_file(base),
+        4 => json_file(base, GROW_LARGE),
         1 => json_grammar("geosnap-session", SESSION_KEYS),
     ];
     fuzz("session files", strategy, |data| {

@@ -122,7 +122,12 @@ fn run_stops_between_steps_when_its_time_is_spent() {
         &dir,
         &before,
     );
-    assert!(stderr(&done).contains(" of 300 steps"), "{}", stderr(&done));
+    assert!(
+        stderr(&done).contains(" of 300 steps of ")
+            && stderr(&done).contains("long300.script.json"),
+        "{}",
+        stderr(&done)
+    );
     // Stopped at the next safe point, long before 300 steps were done.
     assert!(took < Duration::from_secs(30), "stopped after {took:?}");
 

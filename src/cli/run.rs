@@ -133,7 +133,13 @@ pub(super) fn run(args: &RunArgs<'_>) -> Result<ExitCode> {
         },
     );
     let done = progress.done.unwrap_or(outcomes.len());
-    deadline.check(|| format!("after {done} of {} steps", steps.len()))?;
+    deadline.check(|| {
+        format!(
+            "after {done} of {} steps of {}",
+            steps.len(),
+            args.script.display()
+        )
+    })?;
     // The solve after accepting suggestions, counted in the summary with the steps'.
     let mut last_solves = 0;
     if args.accept_suggestions {
