@@ -22,7 +22,8 @@
 //!   ([`io::gltf`]), overlays and atomic writes. Their formats are specified in
 //!   `docs/formats.md`.
 //! - [`clock`]: the real clock handed to solves.
-//! - `cli` (binary only): the command line.
+//! - [`cli`]: the command line's commands (`run`, `check`, `solve`, `export`, …), which
+//!   the binary parses and runs, and tests drive in-process.
 //! - `render` (the wgpu 3D view) and `app` (the egui/eframe application): the desktop
 //!   application, behind the default `gui` feature.
 //!
@@ -57,6 +58,7 @@
 
 #[cfg(feature = "gui")]
 pub mod app;
+pub mod cli;
 pub mod clock;
 #[doc(inline)]
 pub use geosnap_core as core;

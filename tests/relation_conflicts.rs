@@ -299,7 +299,10 @@ fn relations_that_make_a_part_its_own_two_ends_are_named_before_any_solve() {
         conflicts[0].contains("relation 2 (") && conflicts[0].contains("no size"),
         "{stdout}"
     );
-    assert!(stdout.contains("1 solve(s)"), "no re-solve: {stdout}");
+    assert!(
+        stdout.contains("1 global solve(s)"),
+        "no re-solve: {stdout}"
+    );
     let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
     assert_eq!(solved["relations"][2]["mode"], "off");
 }

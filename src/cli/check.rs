@@ -3,21 +3,27 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{bail, Context, Result};
-use geosnap::core::sketch::{
+use crate::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
-use geosnap::io::input::read_input;
-use geosnap::io::model_file::parse_model;
-use geosnap::io::overlay::classes_png;
-use geosnap::io::script::parse_script;
-use geosnap::io::sketch_file::load_sketch;
+use crate::io::input::read_input;
+use crate::io::model_file::parse_model;
+use crate::io::overlay::classes_png;
+use crate::io::script::parse_script;
+use crate::io::sketch_file::load_sketch;
+use anyhow::{bail, Context, Result};
 use glam::DVec2;
 
+use super::limit::Deadline;
 use super::outputs::{check_outputs, write_outputs, Output, PNG_EXTENSIONS};
 
 #[expect(clippy::print_stdout, reason = "CLI output")]
-pub(super) fn check(files: &[PathBuf], strokes: bool, overlay: Option<&Path>) -> Result<ExitCode> {
+pub(super) fn check(
+    files: &[PathBuf],
+    strokes: bool,
+    overlay: Option<&Path>,
+    deadline: &Deadline,
+) -> Result<ExitCode> {
     if overlay.is_some() && files.len() != 1 {
         bail!("--overlay needs exactly one sketch file");
     }
@@ -32,8 +38,9 @@ pub(super) fn check(files: &[PathBuf], strokes: bool, overlay: Option<&Path>) ->
             &inputs,
         )?;
     }
-    let mut failures = 0;
-    for file in files {
+    let mut failures = Vec::new();
+    for (index, file) in files.iter().enumerate() {
+        deadline.check(|| format!("after checking {index} of {} file(s)", files.len()))?;
         match check_one(file) {
             Ok((report, kind)) => {
                 println!("{}: ok: {report}", file.display());
@@ -45,16 +52,33 @@ pub(super) fn check(files: &[PathBuf], strokes: bool, overlay: Option<&Path>) ->
                 }
             }
             Err(error) => {
-                failures += 1;
                 eprintln!("{}: error: {error:#}", file.display());
+                failures.push(file.display().to_string());
             }
         }
     }
-    if failures > 0 {
-        bail!("{failures} of {} file(s) have problems", files.len());
+    deadline.check(|| format!("after checking all {} file(s)", files.len()))?;
+    if !failures.is_empty() {
+        let more = failures.len().saturating_sub(MAX_LISTED_FILES);
+        failures.truncate(MAX_LISTED_FILES);
+        bail!(
+            "{} of {} file(s) have problems: {}{}",
+            failures.len() + more,
+            files.len(),
+            failures.join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
+
+/// The most failing files the final error of `check` names (each has its own message
+/// before it).
+const MAX_LISTED_FILES: usize = 10;
 
 /// Lists a sketch's strokes as the snapper sees them and/or draws them by class.
 #[expect(clippy::print_stdout, reason = "CLI output")]
@@ -109,7 +133,7 @@ pub(super) enum FileKind {
 /// The kind of a file's content: a geosnap JSON file by its `format`, else a sketch (SVG
 /// or anything the sketch reader can tell about).
 pub(super) fn file_kind(data: &[u8]) -> FileKind {
-    match geosnap::io::json::format_tag(data).as_deref() {
+    match crate::io::json::format_tag(data).as_deref() {
         Some("geosnap-script") => FileKind::Script,
         Some("geosnap-model") => FileKind::Model,
         Some("geosnap-session") => FileKind::Session,
@@ -153,7 +177,7 @@ pub(super) fn check_one(file: &Path) -> Result<(String, FileKind)> {
             )
         }
         FileKind::Session => {
-            let session = geosnap::io::parse_session(&data)?;
+            let session = crate::io::parse_session(&data)?;
             format!(
                 "session with {} strokes and {} primitives",
                 session.sketch.strokes.len(),

@@ -1,63 +1,52 @@
-//! The command line: `geosnap [COMMAND]`.
+//! The command line: `geosnap COMMAND`, parsed by [`Command`] and run by [`execute`].
 //!
 //! - `geosnap run SCRIPT --out MODEL [--overlay PNG] [--gltf FILE] [--strict]`: a
 //!   placement script, headless. Outputs are checked before any work and written
 //!   together or not at all.
 //! - `geosnap export MODEL --out FILE.glb|FILE.gltf [--scale M] [--segments N]`: glTF 2.0.
-//! - `geosnap check FILE…`: loads sketches, scripts or models and reports problems.
+//! - `geosnap check FILE…`: loads sketches, scripts, models or sessions and reports
+//!   problems.
 //! - `geosnap solve MODEL --out MODEL`: re-solves a model with its relations.
+//! - `geosnap sample DIR`: the built-in sample sketch and its script.
 //! - `geosnap selftest`: the solver on the Hock–Schittkowski problems.
+//!
+//! `run`, `solve`, `export` and `check` take `--time-limit SECONDS`, a budget for the
+//! whole command: when it is spent the command stops at the next safe point (between
+//! steps, between files, or inside a global solve through the solver's cancel flag),
+//! writes nothing, and ends with [`TimeLimitReached`] (exit status
+//! [`EXIT_TIME_LIMIT`]).
+//!
+//! The binary (`src/main.rs`) adds the desktop application (no command) and turns the
+//! result of [`execute`] into an exit status with [`exit_code`]; tests drive the same
+//! [`execute`] in-process.
 
 mod check;
+mod limit;
 mod model;
 mod outputs;
 mod run;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use geosnap::clock::MonotonicClock;
-use geosnap::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
-use geosnap::io::gltf::{DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS};
+
+use crate::clock::MonotonicClock;
+use crate::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
+use crate::io::gltf::{DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS};
+
+pub use limit::{TimeLimitReached, EXIT_HELP, EXIT_TIME_LIMIT};
 
 use check::check;
+use limit::{parse_seconds, Deadline};
 use model::{export, solve_model};
 use run::{run, RunArgs};
 
-/// Sketch-based 3D modelling with geosemantic snapping.
-#[derive(Debug, Parser)]
-#[command(
-    name = "geosnap",
-    version,
-    about,
-    args_conflicts_with_subcommands = true
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Option<Command>,
-    /// Without a command: open the desktop application on this file (a session, a
-    /// sketch, an SVG drawing or a PNG/JPEG reference image), or on the built-in sample.
-    file: Option<PathBuf>,
-    /// Measure frame times during a simulated palette drag over this many frames, write
-    /// them as JSON to `--frame-times` and quit.
-    #[arg(long, value_name = "FRAMES", requires = "frame_times")]
-    drag_benchmark: Option<usize>,
-    /// Where `--drag-benchmark` writes its figures.
-    #[arg(long, value_name = "JSON")]
-    frame_times: Option<PathBuf>,
-    /// Save a screenshot of the window (PNG) once the work has settled, and quit.
-    #[arg(long, value_name = "PNG")]
-    screenshot: Option<PathBuf>,
-    /// Before showing the window, play this placement script's drops as drags (for
-    /// screenshots and demos); its sketch is opened.
-    #[arg(long, value_name = "SCRIPT")]
-    play: Option<PathBuf>,
-}
-
+/// A command of `geosnap`.
 #[derive(Debug, Subcommand)]
-enum Command {
+pub enum Command {
     /// Run a placement script headless and write the model (and an overlay PNG).
     ///
     /// Every output is checked before any work (a supported extension, a writable
@@ -65,6 +54,7 @@ enum Command {
     /// before any work when a step is invalid (an unknown field, say) or its sketch has
     /// no strokes; exit status 1 then, and on any error. A step that cannot be snapped is
     /// skipped with a warning; with `--strict` that also exits 1, after writing.
+    #[command(after_help = EXIT_HELP)]
     Run {
         /// The script (`*.script.json`).
         script: PathBuf,
@@ -86,8 +76,13 @@ enum Command {
         /// not only when a step is invalid.
         #[arg(long)]
         strict: bool,
+        /// A budget for the whole command, in seconds: when it is spent the command
+        /// stops at the next safe point, writes nothing and exits with status 3.
+        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_negative_numbers = true)]
+        time_limit: Option<Duration>,
     },
     /// Export a model file as glTF 2.0: metres, +Y up, one node per primitive.
+    #[command(after_help = EXIT_HELP)]
     Export {
         /// The model (`*.model.json`).
         model: PathBuf,
@@ -100,6 +95,10 @@ enum Command {
         /// Segments around each circle.
         #[arg(long, default_value_t = DEFAULT_SEGMENTS)]
         segments: usize,
+        /// A budget for the whole command, in seconds: when it is spent the command
+        /// stops at the next safe point, writes nothing and exits with status 3.
+        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_negative_numbers = true)]
+        time_limit: Option<Duration>,
     },
     /// Write the built-in sample sketch and its script into a folder.
     Sample {
@@ -107,6 +106,7 @@ enum Command {
         dir: PathBuf,
     },
     /// Load sketches, scripts or models and report problems.
+    #[command(after_help = EXIT_HELP)]
     Check {
         /// The files.
         #[arg(required = true)]
@@ -119,16 +119,25 @@ enum Command {
         /// blue, silhouettes black).
         #[arg(long)]
         overlay: Option<PathBuf>,
+        /// A budget for the whole command, in seconds: when it is spent the command
+        /// stops at the next safe point, writes nothing and exits with status 3.
+        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_negative_numbers = true)]
+        time_limit: Option<Duration>,
     },
     /// Re-solve a model file with its relations (as edited by hand, say): relations that
     /// conflict are switched off with a message; the parts keep the places their fits
     /// gave them, as the model file has no strokes.
+    #[command(after_help = EXIT_HELP)]
     Solve {
         /// The model file (`*.model.json`).
         model: PathBuf,
         /// Where to write the solved model.
         #[arg(long)]
         out: PathBuf,
+        /// A budget for the whole command, in seconds: when it is spent the command
+        /// stops at the next safe point, writes nothing and exits with status 3.
+        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_negative_numbers = true)]
+        time_limit: Option<Duration>,
     },
     /// Solve the built-in Hock–Schittkowski test problems and report each result.
     Selftest {
@@ -141,84 +150,96 @@ enum Command {
     },
 }
 
-/// Runs the command line and turns errors into a message and exit code 1.
-pub(crate) fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let app = AppArgs {
-        file: cli.file,
-        drag_benchmark: cli.drag_benchmark.zip(cli.frame_times),
-        screenshot: cli.screenshot,
-        play: cli.play,
-    };
-    let result = match cli.command {
-        Some(Command::Selftest { json, argmin }) => selftest(json, argmin),
-        Some(Command::Run {
+/// Parses a command line (`args[0]` is the program's name, as in [`std::env::args_os`])
+/// into a [`Command`], as the binary does.
+///
+/// # Errors
+///
+/// Clap's error for an unknown command or option, a missing argument or a bad value.
+pub fn parse<I, T>(args: I) -> Result<Command, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    /// The command line without the desktop application's options.
+    #[derive(Parser)]
+    #[command(name = "geosnap")]
+    struct Only {
+        #[command(subcommand)]
+        command: Command,
+    }
+    Only::try_parse_from(args).map(|only| only.command)
+}
+
+/// Runs a command: its report goes to stdout, warnings and progress to stderr.
+///
+/// # Errors
+///
+/// Any failure, with a message that names the file concerned; nothing is written then
+/// (`run --strict` excepted, which fails after writing). A spent `--time-limit` is a
+/// [`TimeLimitReached`] (see [`exit_code`]).
+pub fn execute(command: Command) -> Result<ExitCode> {
+    match command {
+        Command::Selftest { json, argmin } => selftest(json, argmin),
+        Command::Run {
             script,
             out,
             overlay,
             gltf,
             accept_suggestions,
             strict,
-        }) => run(&RunArgs {
+            time_limit,
+        } => run(&RunArgs {
             script: &script,
             out: &out,
             overlay: overlay.as_deref(),
             gltf: gltf.as_deref(),
             accept_suggestions,
             strict,
+            deadline: &Deadline::new(time_limit),
         }),
-        Some(Command::Export {
+        Command::Export {
             model,
             out,
             scale,
             segments,
-        }) => export(&model, &out, scale, segments),
-        Some(Command::Check {
+            time_limit,
+        } => export(&model, &out, (scale, segments), &Deadline::new(time_limit)),
+        Command::Check {
             files,
             strokes,
             overlay,
-        }) => check(&files, strokes, overlay.as_deref()),
-        Some(Command::Sample { dir }) => sample(&dir),
-        Some(Command::Solve { model, out }) => solve_model(&model, &out),
-        None => open_app(app),
-    };
+            time_limit,
+        } => check(
+            &files,
+            strokes,
+            overlay.as_deref(),
+            &Deadline::new(time_limit),
+        ),
+        Command::Sample { dir } => sample(&dir),
+        Command::Solve {
+            model,
+            out,
+            time_limit,
+        } => solve_model(&model, &out, &Deadline::new(time_limit)),
+    }
+}
+
+/// The exit status of a command's result, its error printed on stderr: 0 or the
+/// command's own on success, [`EXIT_TIME_LIMIT`] for a spent `--time-limit`, 1 for any
+/// other error.
+pub fn exit_code(result: Result<ExitCode>) -> ExitCode {
     match result {
         Ok(code) => code,
         Err(error) => {
             eprintln!("geosnap: {error:#}");
-            ExitCode::FAILURE
+            if error.downcast_ref::<TimeLimitReached>().is_some() {
+                ExitCode::from(EXIT_TIME_LIMIT)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
-}
-
-/// What the desktop application is asked to do.
-struct AppArgs {
-    file: Option<PathBuf>,
-    drag_benchmark: Option<(usize, PathBuf)>,
-    screenshot: Option<PathBuf>,
-    play: Option<PathBuf>,
-}
-
-#[cfg(feature = "gui")]
-fn open_app(args: AppArgs) -> Result<ExitCode> {
-    geosnap::app::run(geosnap::app::AppOptions {
-        file: args.file,
-        autosave_dir: None,
-        drag_benchmark: args.drag_benchmark,
-        screenshot: args.screenshot,
-        play: args.play,
-    })?;
-    Ok(ExitCode::SUCCESS)
-}
-
-#[cfg(not(feature = "gui"))]
-fn open_app(args: AppArgs) -> Result<ExitCode> {
-    let _ = (args.file, args.drag_benchmark, args.screenshot, args.play);
-    anyhow::bail!(
-        "this build has no desktop application (built without the `gui` feature); \
-         try `geosnap run sketches/vase.script.json --out vase.model.json --overlay vase.png`, \
-         `geosnap selftest`, or `geosnap --help`"
-    )
 }
 
 #[expect(clippy::print_stdout, reason = "CLI output")]
@@ -277,9 +298,9 @@ fn sample(dir: &Path) -> Result<ExitCode> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let svg = dir.join("vase.svg");
     let script = dir.join("vase.script.json");
-    geosnap::io::write_atomic(&svg, geosnap::samples::VASE_SVG.as_bytes())
+    crate::io::write_atomic(&svg, crate::samples::VASE_SVG.as_bytes())
         .with_context(|| format!("writing {}", svg.display()))?;
-    geosnap::io::write_atomic(&script, geosnap::samples::VASE_SCRIPT.as_bytes())
+    crate::io::write_atomic(&script, crate::samples::VASE_SCRIPT.as_bytes())
         .with_context(|| format!("writing {}", script.display()))?;
     println!(
         "wrote {} and {}\ntry: geosnap run {} --out vase.model.json --overlay vase.png",

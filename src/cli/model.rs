@@ -1,18 +1,22 @@
 //! `geosnap solve` and `geosnap export`: a model file re-solved, or exported as glTF.
 
+use std::io::IsTerminal;
 use std::path::Path;
 use std::process::ExitCode;
+use std::time::Duration;
 
+use crate::clock::MonotonicClock;
+use crate::core::model::{Companions, Conflict, GlobalSettings};
+use crate::core::solve::{Clock, Iterate};
+use crate::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
+use crate::io::model_file::{load_model, model_bytes, read_model};
 use anyhow::{Context, Result};
-use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{Companions, Conflict, GlobalSettings};
-use geosnap::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
-use geosnap::io::model_file::{load_model, model_bytes, read_model};
 
+use super::limit::Deadline;
 use super::outputs::{check_outputs, write_outputs, Output, GLTF_EXTENSIONS, MODEL_EXTENSIONS};
 
 #[expect(clippy::print_stdout, reason = "CLI output")]
-pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
+pub(super) fn solve_model(path: &Path, out: &Path, deadline: &Deadline) -> Result<ExitCode> {
     check_outputs(
         &[Output {
             path: out,
@@ -22,29 +26,62 @@ pub(super) fn solve_model(path: &Path, out: &Path) -> Result<ExitCode> {
         &[path],
     )?;
     let (original, mut loaded) = read_model(path).context("reading the model")?;
+    deadline.check(|| format!("after reading {}, before solving it", path.display()))?;
     let clock = MonotonicClock::start();
+    let show = std::io::stderr().is_terminal();
+    if show {
+        eprintln!(
+            "solving {} part(s) with {} relation(s)…",
+            loaded.document.len(),
+            loaded.document.relations().len()
+        );
+    }
+    let mut begun = 0_usize;
+    let mut observer = |iterate: &Iterate<'_>| {
+        if iterate.outer == 1 {
+            begun += 1;
+            if show && begun > 1 {
+                eprintln!(
+                    "  re-solve {} after a conflict, at {:.0} ms",
+                    begun - 1,
+                    ms(clock.elapsed())
+                );
+            }
+        }
+    };
     let outcome = loaded.document.solve(
         None,
         &GlobalSettings::default(),
-        Companions {
-            clock: Some(&clock),
-            ..Companions::default()
-        },
+        Companions::default()
+            .with_clock(&clock)
+            .with_cancel(deadline.flag())
+            .with_observer(&mut observer),
     );
+    deadline.check(|| {
+        format!(
+            "during the global solve of {} ({} solve(s) begun, {} conflict(s) so far)",
+            path.display(),
+            outcome.solves,
+            outcome.conflicts.len()
+        )
+    })?;
     print_conflicts(&outcome.conflicts);
     if let Some(report) = &outcome.report {
         println!(
-            "solved {} part(s) with {} relation(s){}: {}, ‖ψ‖∞ {:.1e}, {} evaluations in the last \
-             solve, {:.1} ms; {} solve(s), {} evaluations in all",
+            "solved {} part(s) with {} relation(s){}: {}, ‖ψ‖∞ {:.1e}, {} evaluations, {:.1} ms; \
+             {} global solve(s) ({} re-solve(s) after conflicts, {} evaluations in all), \
+             {:.1} ms in all",
             outcome.solved.len(),
             outcome.relations,
             implied(outcome.implied),
             report.termination,
             report.max_violation,
             report.evaluations,
-            report.elapsed.as_secs_f64() * 1e3,
+            ms(report.elapsed),
             outcome.solves,
-            outcome.evaluations
+            outcome.solves.saturating_sub(1),
+            outcome.evaluations,
+            ms(clock.elapsed())
         );
     }
     if outcome.reverted {
@@ -99,7 +136,12 @@ fn implied(n: usize) -> String {
     }
 }
 
-pub(super) fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> Result<ExitCode> {
+pub(super) fn export(
+    model: &Path,
+    out: &Path,
+    (scale, segments): (f64, usize),
+    deadline: &Deadline,
+) -> Result<ExitCode> {
     check_outputs(
         &[Output {
             path: out,
@@ -110,7 +152,23 @@ pub(super) fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> R
     )?;
     let settings = ExportSettings::new(scale, segments, Origin::default())?;
     let loaded = load_model(model).context("reading the model")?;
-    let (bytes, report) = gltf_bytes(&loaded.document, out, &settings)?;
+    deadline.check(|| format!("after reading {}, before exporting it", model.display()))?;
+    if std::io::stderr().is_terminal() {
+        eprintln!(
+            "exporting {} part(s) to {}…",
+            loaded.document.len(),
+            out.display()
+        );
+    }
+    let (bytes, report) = gltf_bytes(&loaded.document, out, &settings)
+        .with_context(|| model.display().to_string())?;
+    deadline.check(|| {
+        format!(
+            "after encoding {}, before writing {}",
+            model.display(),
+            out.display()
+        )
+    })?;
     write_outputs(&[(out, bytes)])?;
     print_gltf_report(&report, out, &settings);
     Ok(ExitCode::SUCCESS)
@@ -118,7 +176,7 @@ pub(super) fn export(model: &Path, out: &Path, scale: f64, segments: usize) -> R
 
 /// Encodes a document as glTF for `path` (binary or JSON by its extension).
 pub(super) fn gltf_bytes(
-    document: &geosnap::core::model::Document,
+    document: &crate::core::model::Document,
     path: &Path,
     settings: &ExportSettings,
 ) -> Result<(Vec<u8>, ExportReport)> {
@@ -146,4 +204,9 @@ pub(super) fn print_gltf_report(report: &ExportReport, path: &Path, settings: &E
         settings.metres_per_unit(),
         path.display()
     );
+}
+
+/// A duration in milliseconds.
+fn ms(duration: Duration) -> f64 {
+    duration.as_secs_f64() * 1e3
 }

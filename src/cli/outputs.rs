@@ -57,7 +57,7 @@ pub(super) fn check_outputs(outputs: &[Output<'_>], inputs: &[&Path]) -> Result<
                 other.option
             );
         }
-        geosnap::io::check_target(output.path)
+        crate::io::check_target(output.path)
             .with_context(|| format!("{option} {path}: cannot write there"))?;
     }
     Ok(())
@@ -101,7 +101,7 @@ pub(super) fn same_target(a: &Path, b: &Path) -> bool {
 /// Writes the outputs of one command together: all of them, or none.
 pub(super) fn write_outputs(files: &[(&Path, Vec<u8>)]) -> Result<()> {
     let borrowed: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
-    let written = geosnap::io::write_all_atomic(&borrowed);
+    let written = crate::io::write_all_atomic(&borrowed);
     written.map_err(|error| {
         let none = if files.len() > 1 {
             "; no output was written"

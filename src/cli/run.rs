@@ -1,19 +1,22 @@
 //! `geosnap run`: a placement script, headless, with its report.
 
+use std::cell::Cell;
 use std::io::IsTerminal;
 use std::path::Path;
 use std::process::ExitCode;
+use std::time::Instant;
 
+use crate::clock::MonotonicClock;
+use crate::core::model::{run_steps_with, SessionSettings, StepOutcome};
+use crate::core::solve::{Iterate, SolveContext};
+use crate::io::gltf::{ExportReport, ExportSettings};
+use crate::io::model_file::model_bytes;
+use crate::io::overlay::{overlay_png, OverlayItem, OverlayRelation};
+use crate::io::script::{load_script, Script};
+use crate::io::sketch_file::{load_sketch, LoadedSketch};
 use anyhow::{bail, Context, Result};
-use geosnap::clock::MonotonicClock;
-use geosnap::core::model::{run_steps_with, SessionSettings, StepOutcome};
-use geosnap::core::solve::SolveContext;
-use geosnap::io::gltf::{ExportReport, ExportSettings};
-use geosnap::io::model_file::model_bytes;
-use geosnap::io::overlay::{overlay_png, OverlayItem, OverlayRelation};
-use geosnap::io::script::{load_script, Script};
-use geosnap::io::sketch_file::{load_sketch, LoadedSketch};
 
+use super::limit::Deadline;
 use super::model::{gltf_bytes, print_gltf_report};
 use super::outputs::{
     check_outputs, write_outputs, Output, GLTF_EXTENSIONS, MODEL_EXTENSIONS, PNG_EXTENSIONS,
@@ -38,6 +41,8 @@ pub(super) struct RunArgs<'a> {
     pub(super) gltf: Option<&'a Path>,
     pub(super) accept_suggestions: bool,
     pub(super) strict: bool,
+    /// The command's `--time-limit`.
+    pub(super) deadline: &'a Deadline,
 }
 
 /// Reads a script and its sketch for `geosnap run`, refusing before any work a bad
@@ -109,24 +114,51 @@ pub(super) fn prepare_run(args: &RunArgs<'_>) -> Result<(Script, LoadedSketch)> 
 pub(super) fn run(args: &RunArgs<'_>) -> Result<ExitCode> {
     let (script, loaded) = prepare_run(args)?;
     let steps = &script.steps;
+    let deadline = args.deadline;
     let clock = MonotonicClock::start();
     let settings = SessionSettings::default();
     let mut progress = Progress::new(steps.len(), std::io::stderr().is_terminal());
+    let first_solve = FirstSolve::default();
+    let mut observer = |iterate: &Iterate<'_>| first_solve.iterate(iterate);
     let (mut document, outcomes) = run_steps_with(
         &loaded.sketch,
         steps,
         &settings,
-        SolveContext::default().with_clock(&clock),
-        &mut |index, outcome| progress.step(index, outcome),
+        SolveContext::default()
+            .with_clock(&clock)
+            .with_cancel(deadline.flag())
+            .with_observer(&mut observer),
+        &mut |index, outcome| {
+            progress.step(index, outcome, first_solve.take(), deadline.expired());
+        },
     );
+    let done = progress.done.unwrap_or(outcomes.len());
+    deadline.check(|| {
+        format!(
+            "after {done} of {} steps of {}",
+            steps.len(),
+            args.script.display()
+        )
+    })?;
+    // The solve after accepting suggestions, counted in the summary with the steps'.
+    let mut last_solves = 0;
     if args.accept_suggestions {
         let accepted = document.accept_suggestions();
         if !accepted.is_empty() {
             let outcome = document.solve(
                 None,
                 &settings.global,
-                SolveContext::default().with_clock(&clock),
+                SolveContext::default()
+                    .with_clock(&clock)
+                    .with_cancel(deadline.flag()),
             );
+            last_solves = outcome.solves;
+            deadline.check(|| {
+                format!(
+                    "after all {} steps, in the solve with the accepted suggestions",
+                    steps.len()
+                )
+            })?;
             println!(
                 "accepted {} suggested relation(s); {}",
                 accepted.len(),
@@ -141,18 +173,46 @@ pub(super) fn run(args: &RunArgs<'_>) -> Result<ExitCode> {
             }
         }
     }
-    let elapsed = geosnap::core::solve::Clock::elapsed(&clock);
+    let elapsed = crate::core::solve::Clock::elapsed(&clock);
 
     let gltf_report = write_run_outputs(args, &script, &loaded, &document)?;
     run_summary(
         args,
         &script,
         &loaded,
-        (&document, &outcomes),
+        (&document, &outcomes, last_solves),
         (elapsed, &progress.step_ms),
         gltf_report,
     )?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// When the first global solve of a step ended, told by the solver's iterates (each
+/// solve's first outer iteration is number 1): the rest of the step is spent on
+/// conflicts and their re-solves.
+#[derive(Default)]
+pub(super) struct FirstSolve {
+    /// Solves begun in this step.
+    solves: Cell<usize>,
+    /// The last iterate of the step's first solve.
+    end: Cell<Option<Instant>>,
+}
+
+impl FirstSolve {
+    fn iterate(&self, iterate: &Iterate<'_>) {
+        if iterate.outer == 1 {
+            self.solves.set(self.solves.get() + 1);
+        }
+        if self.solves.get() <= 1 {
+            self.end.set(Some(Instant::now()));
+        }
+    }
+
+    /// The end of this step's first solve, if it had any, and a fresh start for the next.
+    fn take(&self) -> Option<Instant> {
+        self.solves.set(0);
+        self.end.take()
+    }
 }
 
 /// Renders every output of a run, then writes them together (all or none); returns the
@@ -161,7 +221,7 @@ pub(super) fn write_run_outputs(
     args: &RunArgs<'_>,
     script: &Script,
     loaded: &LoadedSketch,
-    document: &geosnap::core::model::Document,
+    document: &crate::core::model::Document,
 ) -> Result<Option<ExportReport>> {
     let out = args.out;
     // Everything is rendered before anything is written, then written together.
@@ -191,6 +251,12 @@ pub(super) fn write_run_outputs(
         }
         None => None,
     };
+    args.deadline.check(|| {
+        format!(
+            "after all {} steps, before writing the outputs",
+            script.steps.len()
+        )
+    })?;
     write_outputs(&files)?;
     Ok(gltf_report)
 }
@@ -202,7 +268,7 @@ pub(super) fn run_summary(
     args: &RunArgs<'_>,
     script: &Script,
     loaded: &LoadedSketch,
-    (document, outcomes): (&geosnap::core::model::Document, &[StepOutcome]),
+    (document, outcomes, last_solves): (&crate::core::model::Document, &[StepOutcome], usize),
     (elapsed, step_ms): (std::time::Duration, &[f64]),
     gltf_report: Option<ExportReport>,
 ) -> Result<()> {
@@ -233,6 +299,10 @@ pub(super) fn run_summary(
     );
     solve_ms.sort_by(f64::total_cmp);
     let (solves, resolves) = solve_counts(outcomes);
+    let (solves, resolves) = (
+        solves + last_solves,
+        resolves + last_solves.saturating_sub(1),
+    );
     let slowest = step_ms
         .iter()
         .enumerate()
@@ -289,13 +359,16 @@ pub(super) fn solve_counts(outcomes: &[StepOutcome]) -> (usize, usize) {
 }
 
 /// Per-step progress of `geosnap run`: each step's wall time, and a line per step on
-/// stderr when it is a terminal (a long script is never silent).
+/// stderr when it is a terminal (a long script is never silent), with the time spent on
+/// conflicts and their re-solves.
 pub(super) struct Progress {
     total: usize,
     show: bool,
-    last: std::time::Instant,
+    last: Instant,
     /// Each step's wall time (snap, inference and every solve), in ms.
     step_ms: Vec<f64>,
+    /// The steps wholly done when the time limit was found spent.
+    done: Option<usize>,
 }
 
 impl Progress {
@@ -306,16 +379,29 @@ impl Progress {
         Self {
             total,
             show,
-            last: std::time::Instant::now(),
+            last: Instant::now(),
             step_ms: Vec::with_capacity(total),
+            done: None,
         }
     }
 
-    fn step(&mut self, index: usize, outcome: &StepOutcome) {
-        let now = std::time::Instant::now();
+    /// Records step `index`, ended now; `first_solve_end` is when its first global solve
+    /// ended; `expired`, whether the time limit is spent (the step may have been cut
+    /// short, and no more steps run).
+    fn step(
+        &mut self,
+        index: usize,
+        outcome: &StepOutcome,
+        first_solve_end: Option<Instant>,
+        expired: bool,
+    ) {
+        let now = Instant::now();
         let ms = now.duration_since(self.last).as_secs_f64() * 1e3;
         self.last = now;
         self.step_ms.push(ms);
+        if expired && self.done.is_none() {
+            self.done = Some(index);
+        }
         if !self.show {
             return;
         }
@@ -324,12 +410,18 @@ impl Progress {
                 id, snap, solve, ..
             } => {
                 let again = solve.solves.saturating_sub(1);
+                let conflicts_ms = first_solve_end
+                    .filter(|_| again > 0)
+                    .map_or(0.0, |end| now.duration_since(end).as_secs_f64() * 1e3);
                 format!(
                     "{} #{} placed{}",
                     snap.primitive.kind().name(),
                     id.0,
                     if again > 0 {
-                        format!(", {again} re-solve(s) after conflicts")
+                        format!(
+                            ", {again} re-solve(s) after {} conflict(s) ({conflicts_ms:.0} ms)",
+                            solve.conflicts.len()
+                        )
                     } else {
                         String::new()
                     }
@@ -433,8 +525,8 @@ pub(super) fn print_steps(outcomes: &[StepOutcome]) -> (Vec<f64>, Vec<String>) {
 }
 
 /// The relations by kind, in words: `2 coaxial, 1 concentric (+1 suggested, +1 off)`.
-pub(super) fn relation_counts(document: &geosnap::core::model::Document) -> Vec<String> {
-    use geosnap::core::relation::Mode;
+pub(super) fn relation_counts(document: &crate::core::model::Document) -> Vec<String> {
+    use crate::core::relation::Mode;
     let mut by_kind: std::collections::BTreeMap<&str, (usize, usize, usize)> =
         std::collections::BTreeMap::new();
     for r in document.relations() {

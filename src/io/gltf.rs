@@ -513,7 +513,10 @@ fn f32s(v: DVec3, what: &str) -> Result<[f32; 3], ExportError> {
         Ok(out)
     } else {
         Err(ExportError::TooLarge {
-            reason: format!("{what} does not fit in f32: {v}"),
+            reason: format!(
+                "{what} does not fit in f32: [{:.3e}, {:.3e}, {:.3e}]",
+                v.x, v.y, v.z
+            ),
         })
     }
 }

@@ -648,7 +648,8 @@ pub fn run_steps(
 }
 
 /// [`run_steps`], calling `on_step` with each step's index and outcome as soon as the
-/// step is done (for progress reports on long scripts).
+/// step is done (for progress reports on long scripts). Once `solve`'s cancel flag is
+/// raised no further step starts: the outcomes then cover only the steps begun.
 pub fn run_steps_with(
     sketch: &Sketch,
     steps: &[Step],
@@ -666,6 +667,12 @@ pub fn run_steps_with(
     let mut document = Document::new();
     let mut outcomes = Vec::with_capacity(steps.len());
     for (index, step) in steps.iter().enumerate() {
+        if solve
+            .cancel
+            .is_some_and(crate::solve::CancelFlag::is_cancelled)
+        {
+            break; // cancelled: no more steps, the outcomes cover those done
+        }
         let dropped = match step {
             Step::Invalid { reason } => Err(reason.clone()),
             Step::Place { kind, placement } => {
