@@ -67,7 +67,7 @@ mod settings;
 mod structure;
 mod warm;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashSet};
 use std::ops::ControlFlow;
 use std::time::Duration;
 
@@ -214,7 +214,7 @@ impl Document {
         let mut scope = Scope {
             ids,
             held,
-            trust_structure: true,
+            unmet: HashSet::new(),
             first_evaluations: None,
         };
         while let ControlFlow::Continue(()) =
@@ -235,11 +235,8 @@ impl Document {
     ) -> ControlFlow<()> {
         let all = self.relations_between(&scope.ids, &scope.held);
         outcome.relations = all.len();
-        let structure = if scope.trust_structure {
-            structure::analyse(self, &all)
-        } else {
-            structure::Structure::default()
-        };
+        let mut structure = structure::analyse(self, &all);
+        structure.implied.retain(|id| !scope.unmet.contains(id));
         if !structure.contradicted.is_empty() {
             let named = structure.named(&all);
             self.switch_off(named, outcome);
@@ -302,10 +299,11 @@ impl Document {
             &parts, &solved, &hard, &values, &report, &relations, settings,
         );
         let Some(conflict) = blamed else {
-            if !structure.holds(self, &all, &solved, settings.violation_tol()) {
-                // An implied relation came out beyond the tolerance (a long chain of
-                // relations each just within it): solve them all.
-                scope.trust_structure = false;
+            let unmet = structure.unmet(self, &all, &solved, settings.violation_tol());
+            if !unmet.is_empty() {
+                // Implied relations came out beyond the tolerance (at the end of a long
+                // chain of relations, each just within it): solve them too.
+                scope.unmet.extend(unmet);
                 return ControlFlow::Continue(());
             }
             self.accept(solved, keys, &report);
@@ -348,9 +346,9 @@ fn may_solve_again(scope: &Scope, outcome: &GlobalOutcome, settings: &GlobalSett
 struct Scope {
     ids: BTreeSet<PrimitiveId>,
     held: BTreeSet<PrimitiveId>,
-    /// Whether implied relations are left out of the solve (cleared when one of them
-    /// does not hold after it, so that the next round solves them all).
-    trust_structure: bool,
+    /// Implied relations that did not hold after a solve without them: solved from then
+    /// on.
+    unmet: HashSet<RelationKey>,
     /// The evaluations of the first solve.
     first_evaluations: Option<u64>,
 }

@@ -411,15 +411,15 @@ impl Structure {
             .collect()
     }
 
-    /// Whether every implied relation among `all` holds to `tol` on the `solved` parts
+    /// The implied relations among `all` that do not hold to `tol` on the `solved` parts
     /// (the others as `document` has them).
-    pub(super) fn holds(
+    pub(super) fn unmet(
         &self,
         document: &Document,
         all: &[Related<'_>],
         solved: &[(PrimitiveId, Primitive, f64)],
         tol: f64,
-    ) -> bool {
+    ) -> Vec<RelationKey> {
         let solved: HashMap<PrimitiveId, &Primitive> =
             solved.iter().map(|(id, p, _)| (*id, p)).collect();
         let primitive = |id: PrimitiveId| {
@@ -431,7 +431,9 @@ impl Structure {
         let mut shapes = HashMap::new();
         all.iter()
             .filter(|r| self.implied.contains(&r.id))
-            .all(|r| residual(r.relation, &mut shapes, primitive).is_none_or(|v| v <= tol))
+            .filter(|r| residual(r.relation, &mut shapes, primitive).is_some_and(|v| v > tol))
+            .map(|r| r.id)
+            .collect()
     }
 }
 
