@@ -29,41 +29,37 @@ fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
 }
 
 /// Draws the polyline `points` (pixels) `width` wide in `paint` onto `pixmap`, through a
-/// coverage mask over its bounds (see the module docs). Points and parts outside the
-/// image are clipped; nothing is drawn for no points or a non-positive width.
+/// coverage mask composited over the polyline's bounds (see the module docs). Parts
+/// outside the image are clipped; nothing is drawn for no points or a non-positive
+/// width.
 pub(super) fn draw_through_mask(
     pixmap: &mut Pixmap,
     points: &[DVec2],
     width: f64,
     paint: &Paint<'_>,
 ) {
-    let Some((left, top, mut mask)) = mask_over(pixmap, points, width) else {
+    let Some(rect) = bounds_on(pixmap, points, width) else {
         return;
     };
-    let origin = DVec2::new(f64::from(left), f64::from(top));
+    // tiny-skia takes a mask the size of the image, in the image's pixels.
+    let Some(mut mask) = Mask::new(pixmap.width(), pixmap.height()) else {
+        return;
+    };
     let radius = width / 2.0 + 0.5;
     let size = (mask.width() as usize, mask.height() as usize);
     let data = mask.data_mut();
     if let [single] = points {
-        add_segment(data, size, *single - origin, *single - origin, radius);
+        add_segment(data, size, *single, *single, radius);
     }
     for w in points.windows(2) {
-        add_segment(data, size, w[0] - origin, w[1] - origin, radius);
+        add_segment(data, size, w[0], w[1], radius);
     }
-    let rect = Rect::from_xywh(
-        left as f32,
-        top as f32,
-        mask.width() as f32,
-        mask.height() as f32,
-    );
-    if let Some(rect) = rect {
-        pixmap.fill_rect(rect, paint, Transform::identity(), Some(&mask));
-    }
+    pixmap.fill_rect(rect, paint, Transform::identity(), Some(&mask));
 }
 
-/// An empty mask over the part of `pixmap` that the polyline `points`, `width` wide,
-/// may cover, with its left and top pixel; `None` when that is nothing.
-fn mask_over(pixmap: &Pixmap, points: &[DVec2], width: f64) -> Option<(u32, u32, Mask)> {
+/// The part of `pixmap` that the polyline `points`, `width` wide, may cover (whole
+/// pixels); `None` when that is nothing.
+fn bounds_on(pixmap: &Pixmap, points: &[DVec2], width: f64) -> Option<Rect> {
     if !(width > 0.0) {
         return None;
     }
@@ -81,11 +77,10 @@ fn mask_over(pixmap: &Pixmap, points: &[DVec2], width: f64) -> Option<(u32, u32,
     if !(size.x >= 1.0 && size.y >= 1.0) {
         return None;
     }
-    let mask = Mask::new(size.x as u32, size.y as u32)?;
-    Some((lo.x as u32, lo.y as u32, mask))
+    Rect::from_xywh(lo.x as f32, lo.y as f32, size.x as f32, size.y as f32)
 }
 
-/// Adds the coverage of the segment `a`–`b` (pixels, relative to the mask), `radius`
+/// Adds the coverage of the segment `a`–`b` (pixels), `radius`
 /// around it including the anti-aliased pixel (see the module docs), to the mask `data`
 /// of `size` (width, height): each pixel keeps the larger coverage. The segment is
 /// walked along its major axis, one row (or column) of pixels at a time, over the few
@@ -156,7 +151,9 @@ fn to_byte(coverage: f64) -> u8 {
 mod tests {
     use glam::DVec2;
 
-    use super::{add_segment, segment_distance, to_byte};
+    use tiny_skia::{Color, Paint, Pixmap};
+
+    use super::{add_segment, draw_through_mask, segment_distance, to_byte};
 
     /// The coverage every pixel of a `size` mask gets from the segment `a`–`b`, by
     /// testing every pixel.
@@ -194,6 +191,28 @@ mod tests {
                 assert_eq!(data, every_pixel(size, a, b, radius), "{a} – {b}, {radius}");
             }
         }
+    }
+
+    #[test]
+    fn a_long_polyline_is_drawn_where_it_runs() {
+        let mut pixmap = Pixmap::new(100, 80).expect("a size");
+        pixmap.fill(Color::WHITE);
+        let mut paint = Paint::default();
+        paint.set_color_rgba8(170, 170, 170, 255);
+        let zigzag: Vec<DVec2> = (0..5000)
+            .map(|i| {
+                DVec2::new(
+                    20.0 + 0.01 * f64::from(i),
+                    if i % 2 == 0 { 10.0 } else { 70.0 },
+                )
+            })
+            .collect();
+        draw_through_mask(&mut pixmap, &zigzag, 1.5, &paint);
+        let at = |x: u32, y: u32| pixmap.pixel(x, y).expect("inside").red();
+        assert_eq!(at(40, 40), 170, "inside the zigzag");
+        assert_eq!(at(10, 40), 255, "left of it");
+        assert_eq!(at(90, 40), 255, "right of it");
+        assert_eq!(at(40, 5), 255, "above it");
     }
 
     #[test]
