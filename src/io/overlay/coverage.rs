@@ -16,18 +16,6 @@
 use glam::DVec2;
 use tiny_skia::{Mask, Paint, Pixmap, Rect, Transform};
 
-/// The distance from `p` to the segment `a`–`b`.
-fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
-    let ab = b - a;
-    let length_squared = ab.length_squared();
-    let t = if length_squared > 0.0 {
-        ((p - a).dot(ab) / length_squared).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + ab * t)
-}
-
 /// Draws the polyline `points` (pixels) `width` wide in `paint` onto `pixmap`, through a
 /// coverage mask composited over the polyline's bounds (see the module docs). Parts
 /// outside the image are clipped; nothing is drawn for no points or a non-positive
@@ -150,10 +138,21 @@ fn to_byte(coverage: f64) -> u8 {
 #[cfg(test)]
 mod tests {
     use glam::DVec2;
-
     use tiny_skia::{Color, Paint, Pixmap};
 
-    use super::{add_segment, draw_through_mask, segment_distance, to_byte};
+    use super::{add_segment, draw_through_mask, to_byte};
+
+    /// The distance from `p` to the segment `a`–`b`.
+    fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
+        let ab = b - a;
+        let length_squared = ab.length_squared();
+        let t = if length_squared > 0.0 {
+            ((p - a).dot(ab) / length_squared).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        p.distance(a + ab * t)
+    }
 
     /// The coverage every pixel of a `size` mask gets from the segment `a`–`b`, by
     /// testing every pixel.
