@@ -97,7 +97,7 @@ fn add_segment(data: &mut [u8], size: (usize, usize), a: DVec2, b: DVec2, radius
     };
     // Every pixel within `radius` of the segment lies within `radius` of its line, so
     // within `radius·√(1 + slope²)` across of the line's point in that row.
-    let half = radius * slope.mul_add(slope, 1.0).sqrt();
+    let half = radius * (1.0 + slope * slope).sqrt();
     let along = hi - lo;
     let inverse = if along.length_squared() > 0.0 {
         along.length_squared().recip()
@@ -108,23 +108,23 @@ fn add_segment(data: &mut [u8], size: (usize, usize), a: DVec2, b: DVec2, radius
     let (first, last) = span(lo.x - radius, hi.x + radius, major_size);
     for i in first..last {
         let centre = i as f64 + 0.5;
-        let across = (centre - lo.x).mul_add(slope, lo.y);
+        let across = lo.y + (centre - lo.x) * slope;
         let (from, to) = span(across - half - 0.5, across + half + 0.5, minor_size);
         for j in from..to {
-            let pixel = DVec2::new(centre, j as f64 + 0.5);
-            let t = ((pixel - lo).dot(along) * inverse).clamp(0.0, 1.0);
-            let squared = pixel.distance_squared(along.mul_add(DVec2::splat(t), lo));
-            if squared >= reach {
-                continue;
-            }
-            let coverage = (radius - squared.sqrt()).min(1.0);
             let index = if steep {
                 i * size.0 + j
             } else {
                 j * size.0 + i
             };
-            if let Some(value) = data.get_mut(index) {
-                *value = (*value).max(to_byte(coverage));
+            // A pixel already fully covered stays so (a scribble covers most many times).
+            let Some(value) = data.get_mut(index).filter(|v| **v < u8::MAX) else {
+                continue;
+            };
+            let pixel = DVec2::new(centre, j as f64 + 0.5);
+            let t = ((pixel - lo).dot(along) * inverse).clamp(0.0, 1.0);
+            let squared = pixel.distance_squared(lo + along * t);
+            if squared < reach {
+                *value = (*value).max(to_byte((radius - squared.sqrt()).min(1.0)));
             }
         }
     }
@@ -132,7 +132,7 @@ fn add_segment(data: &mut [u8], size: (usize, usize), a: DVec2, b: DVec2, radius
 
 /// A coverage in [0, 1] as a mask byte (rounded).
 fn to_byte(coverage: f64) -> u8 {
-    coverage.mul_add(255.0, 0.5).clamp(0.0, 255.0) as u8
+    (coverage * 255.0 + 0.5).clamp(0.0, 255.0) as u8
 }
 
 #[cfg(test)]
