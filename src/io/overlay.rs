@@ -5,6 +5,9 @@
 //! for those switched off). Drawn with tiny-skia; the labels use a small built-in stroke
 //! font, as tiny-skia draws no text.
 
+mod coverage;
+mod polyline;
+
 use std::path::Path;
 
 use glam::DVec2;
@@ -157,6 +160,15 @@ const PALETTE: [(u8, u8, u8); 10] = [
 /// The largest side of the image, in pixels.
 const MAX_SIDE: f64 = 1400.0;
 
+/// A polyline of more segments than this (after simplifying) is drawn through a coverage
+/// mask (see [`coverage`]): tiny-skia's cost per segment is too high for a scribble of a
+/// hundred thousand. The strokes of a drawing have a few hundred at most.
+const MASKED_SEGMENTS: usize = 4096;
+
+/// How far (in pixels) simplifying a polyline before drawing may move it: a quarter of a
+/// pixel, which anti-aliasing hides.
+const SIMPLIFY_TOLERANCE: f64 = 0.25;
+
 /// Renders the overlay as PNG bytes.
 ///
 /// # Errors
@@ -279,7 +291,11 @@ impl Canvas {
         Ok((Self { lo, scale }, pixmap))
     }
 
-    /// Strokes a polyline given in sketch space.
+    /// Strokes a polyline given in sketch space: simplified to the pixel grid (it moves
+    /// by at most [`SIMPLIFY_TOLERANCE`] pixels), then drawn in pieces of at most
+    /// [`polyline::PIECE_SEGMENTS`] segments, or, beyond [`MASKED_SEGMENTS`] segments,
+    /// through a coverage mask (see [`coverage`]), so that its cost grows with its
+    /// length however dense or tangled it is (see [`polyline`]).
     fn draw(
         &self,
         pixmap: &mut Pixmap,
@@ -288,33 +304,41 @@ impl Canvas {
         rgb: (u8, u8, u8),
         width: f32,
     ) {
-        let to_px = |p: DVec2| {
-            let q = (p - self.lo) * self.scale;
-            (q.x as f32, q.y as f32)
-        };
-        let mut pb = PathBuilder::new();
-        let mut iter = points.iter().filter(|p| p.is_finite());
-        let Some(first) = iter.next() else { return };
-        let (x, y) = to_px(*first);
-        pb.move_to(x, y);
-        for p in iter {
-            let (x, y) = to_px(*p);
-            pb.line_to(x, y);
-        }
+        let mut pixels: Vec<DVec2> = points
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| (*p - self.lo) * self.scale)
+            .collect();
         if closed {
-            pb.close();
+            if let Some(&first) = pixels.first() {
+                pixels.push(first);
+            }
         }
-        if let Some(path) = pb.finish() {
-            let mut paint = Paint::default();
-            paint.set_color_rgba8(rgb.0, rgb.1, rgb.2, 255);
-            paint.anti_alias = true;
-            let pen = Pen {
-                width,
-                line_cap: LineCap::Round,
-                line_join: LineJoin::Round,
-                ..Pen::default()
-            };
-            pixmap.stroke_path(&path, &paint, &pen, Transform::identity(), None);
+        let pixels = polyline::simplify(&pixels, SIMPLIFY_TOLERANCE);
+        let mut paint = Paint::default();
+        paint.set_color_rgba8(rgb.0, rgb.1, rgb.2, 255);
+        paint.anti_alias = true;
+        let pen = Pen {
+            width,
+            line_cap: LineCap::Round,
+            line_join: LineJoin::Round,
+            ..Pen::default()
+        };
+        if pixels.len() > MASKED_SEGMENTS {
+            coverage::draw_through_mask(pixmap, &pixels, f64::from(width), &paint);
+            return;
+        }
+        for piece in polyline::pieces(&pixels, polyline::PIECE_SEGMENTS) {
+            let mut pb = PathBuilder::new();
+            let mut iter = piece.iter().map(|p| (p.x as f32, p.y as f32));
+            let Some((x, y)) = iter.next() else { continue };
+            pb.move_to(x, y);
+            for (x, y) in iter {
+                pb.line_to(x, y);
+            }
+            if let Some(path) = pb.finish() {
+                pixmap.stroke_path(&path, &paint, &pen, Transform::identity(), None);
+            }
         }
     }
 }

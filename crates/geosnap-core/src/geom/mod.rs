@@ -1,12 +1,14 @@
 //! Geometry: projection and camera conventions, fitting of lines, circles and ellipses
-//! to points, and meshes.
+//! to points, meshes, and a spatial index of boxes ([`BoxIndex`]).
 
 pub mod projection;
 
+mod box_index;
 mod fit;
 
 use glam::DVec2;
 
+pub use box_index::BoxIndex;
 pub use fit::{
     fit_circle, fit_ellipse, fit_line, refine_ellipse, AngularSpan, Circle2, Ellipse2, Line2,
 };

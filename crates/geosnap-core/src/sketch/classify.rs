@@ -26,7 +26,7 @@ use glam::DVec2;
 
 use super::preprocess::{resample_to, smooth};
 use super::{Sketch, Stroke, StrokeClass, StrokeId};
-use crate::geom::{fit_ellipse, fit_line, refine_ellipse, AngularSpan, Ellipse2};
+use crate::geom::{fit_ellipse, fit_line, refine_ellipse, AngularSpan, BoxIndex, Ellipse2};
 
 /// Thresholds for [`classify_with`] and [`classify_sketch`], all relative (ratios or
 /// angles); see those functions for how each is used.
@@ -284,6 +284,16 @@ pub fn classify_with(stroke: &Stroke, options: &ClassifyOptions) -> Classificati
 ///
 /// All distances are relative to the strokes' lengths or the sketch's size.
 pub fn classify_sketch(sketch: &Sketch, options: &ClassifyOptions) -> Vec<Classification> {
+    classify_among(sketch, options, true)
+}
+
+/// [`classify_sketch`], the neighbour rules looking at the strokes an index of their
+/// bounds finds near (`indexed`) or at every stroke (the same result, slowly).
+fn classify_among(
+    sketch: &Sketch,
+    options: &ClassifyOptions,
+    indexed: bool,
+) -> Vec<Classification> {
     let analyses: Vec<Analysis> = sketch
         .strokes
         .iter()
@@ -303,43 +313,40 @@ pub fn classify_sketch(sketch: &Sketch, options: &ClassifyOptions) -> Vec<Classi
     // The silhouettes an arc may join: open (a loop has no end to leave from). A shallow
     // arc may anchor only an arc less than half its length (the curved sides of a cup
     // and the small arc of its bottom), or two of them (the two sides of a curved horn,
-    // say) would vouch for each other.
-    let anchors: Vec<(usize, f64)> = (0..analyses.len())
-        .filter_map(|i| {
+    // say) would vouch for each other. Per stroke, the longest arc it may anchor.
+    let anchors: Vec<Option<f64>> = (0..analyses.len())
+        .map(|i| {
             let c = &analyses[i].classification;
             (c.class == StrokeClass::Silhouette && !c.closes).then(|| {
-                let a = &analyses[i];
-                (
-                    i,
-                    if candidate[i] {
-                        a.length / 2.0
-                    } else {
-                        f64::INFINITY
-                    },
-                )
+                if candidate[i] {
+                    analyses[i].length / 2.0
+                } else {
+                    f64::INFINITY
+                }
             })
         })
         .collect();
+    // The neighbour rules look only at the strokes whose bounds come near enough.
+    let near = Neighbours {
+        all: &analyses,
+        boxes: indexed.then(|| BoxIndex::new(analyses.iter().map(|a| bounds(&a.points)))),
+    };
     let size = sketch.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length());
     let sketch_gap = options.junction_gap_sketch * if size.is_finite() { size } else { 0.0 };
     let mut out: Vec<Classification> = analyses.iter().map(|a| a.classification).collect();
     for (i, a) in analyses.iter().enumerate() {
-        if candidate[i] && joins_two_silhouettes(a, &analyses, &anchors, sketch_gap, options) {
+        if candidate[i] && joins_two_silhouettes(a, &near, &anchors, sketch_gap, options) {
             out[i].class = StrokeClass::Feature;
             out[i].reason = ClassReason::ArcBetweenSilhouettes;
         }
     }
     for (i, a) in analyses.iter().enumerate() {
         let c = &a.classification;
-        if c.reason == ClassReason::Ellipse && !c.closes && has_parallel_twin(a, &analyses, options)
-        {
+        if c.reason == ClassReason::Ellipse && !c.closes && has_parallel_twin(a, &near, options) {
             out[i].class = StrokeClass::Silhouette;
             out[i].reason = ClassReason::ParallelOutline;
         }
-        if c.reason == ClassReason::Ellipse
-            && !c.closes
-            && hangs_from_a_rim(a, &analyses, sketch_gap)
-        {
+        if c.reason == ClassReason::Ellipse && !c.closes && hangs_from_a_rim(a, &near, sketch_gap) {
             out[i].class = StrokeClass::Silhouette;
             out[i].reason = ClassReason::OutlineUnderRim;
         }
@@ -347,12 +354,40 @@ pub fn classify_sketch(sketch: &Sketch, options: &ClassifyOptions) -> Vec<Classi
     out
 }
 
+/// The strokes of a sketch as the neighbour rules see them, with an index of their
+/// bounds: a rule looks only at the strokes whose bounds come within its reach, which
+/// are the only ones its tests can pass (so the result is that of a scan over all).
+struct Neighbours<'a> {
+    all: &'a [Analysis],
+    /// The index of the strokes' bounds (`None`: every stroke is near).
+    boxes: Option<BoxIndex>,
+}
+
+impl Neighbours<'_> {
+    /// The strokes whose bounds come within `distance` of the box `lo`–`hi` along each
+    /// axis (with no index, all), in sketch order.
+    fn near(
+        &self,
+        lo: DVec2,
+        hi: DVec2,
+        distance: f64,
+    ) -> impl Iterator<Item = (usize, &Analysis)> {
+        let indices = match &self.boxes {
+            Some(boxes) => boxes.near(lo, hi, distance),
+            None => (0..self.all.len()).collect(),
+        };
+        indices
+            .into_iter()
+            .filter_map(|i| self.all.get(i).map(|a| (i, a)))
+    }
+}
+
 /// Whether both ends of the open elliptical arc `arc` lie on one closed ellipse (within
 /// `gap`, or 5 % of the arc's length), while the arc's own ellipse is of another shape
 /// (its minor semi-axis half as large again or more): a bowl's outline hangs from the
 /// ends of its rim, whereas the drawn half of a disc's hidden rim has the shape of the
 /// rim above it.
-fn hangs_from_a_rim(arc: &Analysis, all: &[Analysis], gap: f64) -> bool {
+fn hangs_from_a_rim(arc: &Analysis, near: &Neighbours<'_>, gap: f64) -> bool {
     let (Some(&start), Some(&end), Some(own)) = (
         arc.points.first(),
         arc.points.last(),
@@ -361,7 +396,8 @@ fn hangs_from_a_rim(arc: &Analysis, all: &[Analysis], gap: f64) -> bool {
         return false;
     };
     let gap = gap.max(0.05 * arc.length);
-    all.iter().any(|rim| {
+    // A rim within `gap` of the arc's start has its bounds within `gap` of it.
+    near.near(start, start, gap).any(|(_, rim)| {
         let c = &rim.classification;
         let Some(shape) = c.ellipse.as_ref() else {
             return false;
@@ -383,7 +419,7 @@ fn hangs_from_a_rim(arc: &Analysis, all: &[Analysis], gap: f64) -> bool {
 /// [`ClassifyOptions::twin_max_variation`], and always closest to the twin's inside, not
 /// its ends. The back and front halves of one ellipse do not pass: they touch at their
 /// ends and are furthest apart in the middle.
-fn has_parallel_twin(arc: &Analysis, all: &[Analysis], options: &ClassifyOptions) -> bool {
+fn has_parallel_twin(arc: &Analysis, near: &Neighbours<'_>, options: &ClassifyOptions) -> bool {
     let n = arc.points.len();
     if n < 8 || !(arc.length > 0.0) {
         return false;
@@ -391,7 +427,9 @@ fn has_parallel_twin(arc: &Analysis, all: &[Analysis], options: &ClassifyOptions
     let middle = &arc.points[n * 3 / 20..n - n * 3 / 20];
     let max_offset = options.twin_max_offset * arc.length;
     let (lo, hi) = bounds(middle);
-    all.iter().any(|other| {
+    // The cheap rejection below, by the index: only the strokes whose bounds come
+    // within `max_offset` of the middle's along each axis can pass it.
+    near.near(lo, hi, max_offset).any(|(_, other)| {
         if other.classification.id == arc.classification.id
             || other.classification.closes
             || other.points.len() < 3
@@ -567,12 +605,13 @@ fn is_arc_candidate(a: &Analysis, options: &ClassifyOptions) -> bool {
         && !reverses(c, options)
 }
 
-/// Whether each end of the arc `arc` meets an end of a different anchor silhouette (each
-/// with the longest arc it may anchor), and both leave towards the arc's concave side.
+/// Whether each end of the arc `arc` meets an end of a different anchor silhouette, and
+/// both leave towards the arc's concave side. `anchors` holds, per stroke, the longest
+/// arc it may anchor (`None` for a stroke that anchors none).
 fn joins_two_silhouettes(
     arc: &Analysis,
-    all: &[Analysis],
-    anchors: &[(usize, f64)],
+    near: &Neighbours<'_>,
+    anchors: &[Option<f64>],
     sketch_gap: f64,
     options: &ClassifyOptions,
 ) -> bool {
@@ -589,11 +628,11 @@ fn joins_two_silhouettes(
     let gap = (options.junction_gap * arc.length).max(sketch_gap);
     // For each end of the arc, the anchors meeting it there and leaving concavely, with
     // their directions of departure.
+    // An anchor's end within `gap` of `at` lies in its bounds.
     let meeting = |at: DVec2| -> Vec<(StrokeId, DVec2)> {
-        anchors
-            .iter()
-            .filter_map(|&(j, longest_arc)| {
-                let other = &all[j];
+        near.near(at, at, gap)
+            .filter_map(|(j, other)| {
+                let longest_arc = anchors.get(j).copied().flatten()?;
                 let n = other.points.len();
                 if n < 2
                     || other.classification.id == arc.classification.id
@@ -667,7 +706,8 @@ mod tests {
     use glam::DVec2;
 
     use super::{
-        classify, classify_sketch, classify_with, effective_class, ClassReason, ClassifyOptions,
+        classify, classify_among, classify_sketch, classify_with, effective_class, ClassReason,
+        ClassifyOptions,
     };
     use crate::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 
@@ -914,6 +954,70 @@ mod tests {
         sketch.strokes[2].class_override = Some(StrokeClass::Feature);
         let report = classify_sketch(&sketch, &options);
         assert_eq!(report[0].class, StrokeClass::Silhouette, "{:#?}", report[0]);
+    }
+
+    #[test]
+    fn the_index_of_neighbours_changes_no_class() {
+        // Copies of the scenes of the neighbour rules (a cylinder's bottom arc between
+        // its sides, a bowl under its rim, a bent tube's two outlines) on a grid, with
+        // arcs, ellipses and lines scattered among them.
+        let mut seed = 5u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut strokes: Vec<Stroke> = Vec::new();
+        for k in 0..12 {
+            let at = DVec2::new(f64::from(k % 4) * 450.0, f64::from(k / 4) * 450.0);
+            let mut scene = cylinder_bottom(k % 2 == 0, 3.0).strokes;
+            for s in &mut scene {
+                s.points
+                    .iter_mut()
+                    .for_each(|p| *p += at + DVec2::new(0.0, 250.0));
+            }
+            scene.push(stroke(ellipse(at, 100.0, 30.0, 0.0, 0.0, TAU, 64), true));
+            scene.push(stroke(ellipse(at, 100.0, 120.0, 0.0, PI, TAU, 64), false));
+            scene.push(stroke(ellipse(at, 200.0, 120.0, 0.0, 0.0, PI, 60), false));
+            scene.push(stroke(ellipse(at, 170.0, 90.0, 0.0, 0.0, PI, 60), false));
+            for _ in 0..10 {
+                let c = at + DVec2::new(next(), next()) * 400.0 - 200.0;
+                let (a, b, angle) = (10.0 + 80.0 * next(), 10.0 + 80.0 * next(), 6.0 * next());
+                let from = 6.0 * next();
+                let sweep = if next() < 0.3 {
+                    TAU
+                } else {
+                    0.5 + 2.5 * next()
+                };
+                scene.push(stroke(
+                    ellipse(c, a, b, angle, from, from + sweep, 24),
+                    false,
+                ));
+                scene.push(stroke(vec![c, c + DVec2::from_angle(angle) * a], false));
+            }
+            strokes.extend(scene);
+        }
+        for (i, s) in strokes.iter_mut().enumerate() {
+            s.id = StrokeId(i as u32);
+        }
+        let sketch = Sketch {
+            strokes,
+            view_box: None,
+        };
+        let options = ClassifyOptions::default();
+        let indexed = classify_among(&sketch, &options, true);
+        assert_eq!(indexed, classify_among(&sketch, &options, false));
+        for reason in [
+            ClassReason::ArcBetweenSilhouettes,
+            ClassReason::OutlineUnderRim,
+            ClassReason::ParallelOutline,
+        ] {
+            assert!(
+                indexed.iter().any(|c| c.reason == reason),
+                "the scenes exercise {reason:?}"
+            );
+        }
     }
 
     #[test]

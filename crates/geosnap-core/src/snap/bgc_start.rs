@@ -170,7 +170,11 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     let indices: Vec<usize> = (0..context.strokes.len())
         .filter(|i| {
             let s = &context.strokes[*i];
+            // The bounds first: a stroke whose bounds lie beyond `reach` has no point
+            // within it.
+            let (lo, hi) = s.bounds;
             s.points.len() >= 2
+                && center.clamp(lo, hi).distance(center) <= reach
                 && s.points.iter().any(|p| p.distance(center) <= reach)
                 && (s.class == StrokeClass::Silhouette || runs_along(&s.points, drop, r))
         })

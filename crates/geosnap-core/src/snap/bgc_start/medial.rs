@@ -15,6 +15,8 @@
 
 use glam::DVec2;
 
+use crate::geom::BoxIndex;
+
 /// At most this many samples of a stroke are paired.
 const SAMPLES: usize = 40;
 
@@ -83,6 +85,15 @@ pub(super) struct Stop {
     pub inside: f64,
 }
 
+/// The bounds `(min, max)` of a polyline's points (an empty polyline has none: its
+/// bounds are not finite, and an index returns it for every query).
+fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
+    points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
 /// The cumulative arc lengths of a polyline.
 fn arc_lengths(points: &[DVec2]) -> Vec<f64> {
     let mut s = Vec::with_capacity(points.len());
@@ -145,7 +156,9 @@ fn closest(points: &[DVec2], p: DVec2) -> Option<(DVec2, DVec2, f64)> {
 /// each sample of an outline within `reach` of `center` is paired with the nearest point
 /// of another outline that lies across the tube: the two run within about 45° of each
 /// other, the pair lies across the sample's outline, and it is between `widths.0`·r and
-/// `widths.1`·r apart.
+/// `widths.1`·r apart. Only the outlines whose bounds come within `widths.1`·r of a
+/// sample are measured (an index of their bounds finds them): no other can be its
+/// partner.
 pub(super) fn medial_samples(
     outlines: &[&[DVec2]],
     center: DVec2,
@@ -153,14 +166,30 @@ pub(super) fn medial_samples(
     r: f64,
     widths: (f64, f64),
 ) -> Vec<Medial> {
+    let boxes = BoxIndex::new(outlines.iter().map(|points| bounds(points)));
+    pairs_across(outlines, center, reach, r, widths, |p| {
+        boxes.near(p, p, widths.1 * r)
+    })
+}
+
+/// [`medial_samples`], with `candidates(p)` the outlines that may pair with a sample at
+/// `p` (in ascending order, so that ties go as in a scan over all outlines).
+fn pairs_across(
+    outlines: &[&[DVec2]],
+    center: DVec2,
+    reach: f64,
+    r: f64,
+    widths: (f64, f64),
+    candidates: impl Fn(DVec2) -> Vec<usize>,
+) -> Vec<Medial> {
     let mut medial = Vec::new();
     for (i, a) in outlines.iter().enumerate() {
         for (p, tangent, s) in samples(a, center, reach) {
             let mut best: Option<(f64, DVec2, usize, f64)> = None;
-            for (j, b) in outlines.iter().enumerate() {
-                if i == j {
+            for j in candidates(p) {
+                let Some(b) = outlines.get(j).filter(|_| j != i) else {
                     continue;
-                }
+                };
                 let Some((q, dir, t)) = closest(b, p) else {
                     continue;
                 };
@@ -252,6 +281,53 @@ fn crossing(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> Option<(f64, f64)> {
     ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t)).then_some((s, t))
 }
 
+/// Whether two chains share a stroke (then they pair the same tube's outlines two ways).
+fn shares_a_stroke(a: &[Medial], b: &[Medial]) -> bool {
+    let (Some(a), Some(b)) = (a.first(), b.first()) else {
+        return false;
+    };
+    let (a, b) = (a.pair, b.pair);
+    a.0 == b.0 || a.0 == b.1 || a.1 == b.0 || a.1 == b.1
+}
+
+/// The chains that may make junctions on each chain: the tube-like ones of other parts
+/// (sharing no stroke with it) whose bounds meet its own, found by an index of the
+/// chains' bounds (two chains cross only where their bounds meet).
+struct Others<'a> {
+    chains: &'a [Vec<Medial>],
+    tube: Vec<bool>,
+    bounds: Vec<(DVec2, DVec2)>,
+    boxes: BoxIndex,
+}
+
+impl<'a> Others<'a> {
+    fn new(chains: &'a [Vec<Medial>]) -> Self {
+        let bounds: Vec<(DVec2, DVec2)> = chains
+            .iter()
+            .map(|c| bounds(&c.iter().map(|m| m.at).collect::<Vec<_>>()))
+            .collect();
+        Self {
+            chains,
+            tube: chains.iter().map(|c| tube_like(c)).collect(),
+            boxes: BoxIndex::new(bounds.iter().copied()),
+            bounds,
+        }
+    }
+
+    /// The chains that may make junctions on chain `i`, in order.
+    fn of(&self, i: usize) -> Vec<&'a [Medial]> {
+        let (Some(chain), Some(&(lo, hi))) = (self.chains.get(i), self.bounds.get(i)) else {
+            return Vec::new();
+        };
+        self.boxes
+            .meeting(lo, hi)
+            .into_iter()
+            .filter(|&j| j != i && self.tube[j] && !shares_a_stroke(&self.chains[j], chain))
+            .map(|j| self.chains[j].as_slice())
+            .collect()
+    }
+}
+
 /// Whether a chain is tube-like: a few samples along a run longer than it is wide.
 fn tube_like(chain: &[Medial]) -> bool {
     let (Some(first), Some(last)) = (chain.first(), chain.last()) else {
@@ -261,14 +337,11 @@ fn tube_like(chain: &[Medial]) -> bool {
     chain.len() >= 4 && first.at.distance(last.at) >= 2.0 * width
 }
 
-/// The junctions on `chain`: the positions (along) and points where another tube-like
-/// chain crosses it at more than 30°.
+/// The junctions on `chain`: the positions (along) and points where one of the tube-like
+/// chains `others` crosses it at more than 30°.
 fn junctions(chain: &[Medial], others: &[&[Medial]]) -> Vec<(f64, Junction)> {
     let mut cuts = Vec::new();
     for other in others {
-        if !tube_like(other) {
-            continue;
-        }
         for a in chain.windows(2) {
             for b in other.windows(2) {
                 let (da, db) = (a[1].at - a[0].at, b[1].at - b[0].at);
@@ -302,19 +375,9 @@ fn spans(drop: [DVec2; 2], point: DVec2) -> bool {
 /// the drop from `drop[0]` to `drop[1]` clearly spans does not cut.
 pub(super) fn cut_at_junctions(chains: &[Vec<Medial>], drop: [DVec2; 2]) -> Vec<Piece> {
     let mut pieces = Vec::new();
+    let others = Others::new(chains);
     for (i, chain) in chains.iter().enumerate() {
-        let others: Vec<&[Medial]> = chains
-            .iter()
-            .enumerate()
-            // Only the outlines of another part make a junction: a chain that shares a
-            // stroke with this one pairs the same tube's outlines another way.
-            .filter(|(j, c)| {
-                let (a, b) = (c[0].pair, chain[0].pair);
-                *j != i && a.0 != b.0 && a.0 != b.1 && a.1 != b.0 && a.1 != b.1
-            })
-            .map(|(_, c)| c.as_slice())
-            .collect();
-        let mut cuts: Vec<(f64, Junction)> = junctions(chain, &others)
+        let mut cuts: Vec<(f64, Junction)> = junctions(chain, &others.of(i))
             .into_iter()
             .filter(|(_, j)| !spans(drop, j.at))
             .collect();
@@ -620,6 +683,78 @@ mod tests {
         let drop = [a, b];
         let samples = medial_samples(&outlines, (a + b) / 2.0, 400.0, 10.0, (0.8, 4.0));
         tube_of(&cut_at_junctions(&chains(samples), drop), drop)
+    }
+
+    /// Outlines of a cluttered drawing: pairs of wavy parallel strokes (tubes) at random
+    /// places and angles, some crossing, and short strokes between them.
+    fn clutter(count: usize) -> Vec<Vec<DVec2>> {
+        let mut seed = 23u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut strokes = Vec::new();
+        for k in 0..count {
+            let at = DVec2::new(next(), next()) * 600.0;
+            let along = DVec2::from_angle(next() * std::f64::consts::TAU);
+            let (length, width) = if k % 3 == 0 {
+                (20.0 + 30.0 * next(), 0.0)
+            } else {
+                (80.0 + 150.0 * next(), 8.0 + 20.0 * next())
+            };
+            for side in [-1.0, 1.0] {
+                if width == 0.0 && side > 0.0 {
+                    continue;
+                }
+                let wave = next();
+                strokes.push(
+                    (0..=24)
+                        .map(|i| {
+                            let t = f64::from(i) / 24.0;
+                            at + along * (length * t)
+                                + along.perp() * (side * width + 3.0 * (wave + 6.0 * t).sin())
+                        })
+                        .collect(),
+                );
+            }
+        }
+        strokes
+    }
+
+    #[test]
+    fn the_index_pairs_the_samples_a_scan_over_all_outlines_pairs() {
+        let strokes = clutter(120);
+        let outlines: Vec<&[DVec2]> = strokes.iter().map(Vec::as_slice).collect();
+        let all = |_| (0..outlines.len()).collect::<Vec<usize>>();
+        for (center, reach, r) in [
+            (DVec2::splat(300.0), 250.0, 10.0),
+            (DVec2::new(100.0, 500.0), 400.0, 6.0),
+            (DVec2::splat(300.0), 2000.0, 25.0),
+        ] {
+            let scanned = pairs_across(&outlines, center, reach, r, (0.8, 4.0), all);
+            let indexed = medial_samples(&outlines, center, reach, r, (0.8, 4.0));
+            assert!(scanned.len() > 50, "the clutter pairs ({})", scanned.len());
+            assert_eq!(indexed, scanned, "centre {center}, reach {reach}, r {r}");
+            // Every chain meets the same junctions as when it is tested against every
+            // other chain.
+            let chains = chains(indexed);
+            let others = Others::new(&chains);
+            for (i, chain) in chains.iter().enumerate() {
+                let every: Vec<&[Medial]> = chains
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, c)| *j != i && tube_like(c) && !shares_a_stroke(c, chain))
+                    .map(|(_, c)| c.as_slice())
+                    .collect();
+                assert_eq!(
+                    junctions(chain, &others.of(i)),
+                    junctions(chain, &every),
+                    "chain {i}"
+                );
+            }
+        }
     }
 
     #[test]
