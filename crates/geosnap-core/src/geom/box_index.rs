@@ -29,7 +29,7 @@ type Entry = GeomWithData<Rectangle<[f64; 2]>, usize>;
 /// let index = BoxIndex::new([
 ///     (DVec2::ZERO, DVec2::splat(1.0)),
 ///     (DVec2::splat(5.0), DVec2::splat(6.0)),
-///     (DVec2::new(0.5, 0.0), DVec2::new(2.0, 0.5)),
+///     (DVec2::new(0.5, 0.0), DVec2::new(2.0, 1.0)),
 /// ]);
 /// assert_eq!(index.meeting(DVec2::splat(0.8), DVec2::splat(1.5)), [0, 2]);
 /// assert!(index.meeting(DVec2::splat(10.0), DVec2::splat(11.0)).is_empty());
