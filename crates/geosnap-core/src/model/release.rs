@@ -50,9 +50,9 @@ const DEPTH_SCALE: f64 = 0.05;
 /// snaps to its strokes within a per cent or two), far above round-off.
 pub(super) const COINCIDENT: f64 = 0.01;
 
-/// Whether `a` (with its feature curves `features`) and `b` coincide (see
-/// [`COINCIDENT`]).
-fn coincide(a: &Primitive, features: &[FeatureCurve<f64>], b: &Primitive) -> bool {
+/// Whether `a` and `b` coincide (see [`COINCIDENT`]). Their feature curves are computed
+/// only for parts of one kind, size and place, so a release pays little for asking.
+fn coincide(a: &Primitive, b: &Primitive) -> bool {
     let size = a.size().max(b.size());
     let near = |p: DVec3, q: DVec3| p.distance(q) <= COINCIDENT * size;
     if a.kind() != b.kind()
@@ -61,14 +61,13 @@ fn coincide(a: &Primitive, features: &[FeatureCurve<f64>], b: &Primitive) -> boo
     {
         return false;
     }
-    let theirs = b.current_shape().features;
+    let (ours, theirs) = (a.current_shape().features, b.current_shape().features);
     let centre = |f: &FeatureCurve<f64>| match &f.geometry {
         FeatureGeometry::Circle { center, .. } | FeatureGeometry::Rectangle { center, .. } => {
             center.to_dvec3()
         }
     };
-    features
-        .iter()
+    ours.iter()
         .all(|f| theirs.iter().any(|g| near(centre(f), centre(g))))
 }
 
@@ -172,11 +171,10 @@ impl Document {
     /// none, or no part `id`.
     pub fn duplicate_of(&self, id: PrimitiveId) -> Option<PrimitiveId> {
         let part = &self.primitives.get(&id)?.primitive;
-        let features = part.current_shape().features;
         self.primitives
             .iter()
             .filter(|(other, _)| **other < id)
-            .find(|(_, p)| coincide(part, &features, &p.primitive))
+            .find(|(_, p)| coincide(part, &p.primitive))
             .map(|(other, _)| *other)
     }
 
