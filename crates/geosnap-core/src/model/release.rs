@@ -45,7 +45,7 @@ const DEPTH_STEPS: i32 = 40;
 /// from quadratic to logarithmic.
 const DEPTH_SCALE: f64 = 0.05;
 
-/// Two parts closer than this fraction of their size in every feature, and in size,
+/// Two parts closer than this fraction of their size in every feature's drawn centre, and in size,
 /// coincide ([`Document::duplicate_of`]): far below what a drawing tells apart (a part
 /// snaps to its strokes within a per cent or two), far above round-off.
 pub(super) const COINCIDENT: f64 = 0.01;
@@ -54,7 +54,9 @@ pub(super) const COINCIDENT: f64 = 0.01;
 /// only for parts of one kind, size and place, so a release pays little for asking.
 fn coincide(a: &Primitive, b: &Primitive) -> bool {
     let size = a.size().max(b.size());
-    let near = |p: DVec3, q: DVec3| p.distance(q) <= COINCIDENT * size;
+    // In the drawing: a copy drawn over the first at another depth, or mirrored in
+    // depth (a release may have turned the first), is the same strokes.
+    let near = |p: DVec3, q: DVec3| p.truncate().distance(q.truncate()) <= COINCIDENT * size;
     if a.kind() != b.kind()
         || (a.size() - b.size()).abs() > COINCIDENT * size
         || !near(a.center(), b.center())
@@ -617,6 +619,17 @@ mod tests {
         // Moved by a few per cent of its size, a part is no copy.
         let near = doc.add(leg(0.3, axis));
         assert_eq!(doc.duplicate_of(near), None);
+        // The same strokes read at another depth, or mirrored in depth, are a copy.
+        let deeper = doc.add(leg(0.0, axis));
+        let moved = doc.primitives[&deeper]
+            .primitive
+            .transformed(DVec3::Z * 40.0, 1.0);
+        doc.primitives.get_mut(&deeper).expect("added").primitive = moved;
+        assert_eq!(doc.duplicate_of(deeper), Some(first));
+        let mirrored = doc.add(leg(0.0, axis));
+        let flipped = doc.primitives[&mirrored].primitive.mirrored_in_depth();
+        doc.primitives.get_mut(&mirrored).expect("added").primitive = flipped;
+        assert_eq!(doc.duplicate_of(mirrored), Some(first));
     }
 
     #[test]

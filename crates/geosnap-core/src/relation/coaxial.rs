@@ -36,7 +36,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
             d.perp_dot(axis.normalize()).abs()
         }
     };
-    off_line(n1).max(off_line(n2)) <= settings.distance * (r1 + r2)
+    off_line(n1).max(off_line(n2)) <= settings.position_tolerance(r1 + r2)
 }
 
 #[cfg(test)]

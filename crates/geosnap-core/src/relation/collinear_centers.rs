@@ -30,7 +30,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     let ((c1, _, s1), (c2, _, s2), (c3, _, s3)) = (frame(f1), frame(f2), frame(f3));
     let s = s1 + s2 + s3;
     let (d, e) = (offset_2d(c1, c2), offset_2d(c1, c3));
-    d.length() >= s && (e.perp_dot(d) / d.length()).abs() <= settings.distance * s
+    d.length() >= s && (e.perp_dot(d) / d.length()).abs() <= settings.position_tolerance(s)
 }
 
 #[cfg(test)]

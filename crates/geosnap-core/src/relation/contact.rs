@@ -414,6 +414,9 @@ impl ContactGraph {
                 }
             }
             frontier = next;
+            if frontier.is_empty() {
+                break;
+            }
         }
         for (j, _) in self.touching.get(from).into_iter().flatten() {
             if *j != avoid {

@@ -63,7 +63,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     };
     let ((c1, n1, s1), (c2, n2, s2)) = (frame(f1), frame(f2));
     norm(&components(n1.cross(n2))) <= settings.sin_angle()
-        && inside(f1, offset_2d(c1, c2), settings.distance * (s1 + s2))
+        && inside(f1, offset_2d(c1, c2), settings.position_tolerance(s1 + s2))
 }
 
 #[cfg(test)]

@@ -27,7 +27,10 @@ pub(super) fn residuals<T: Real>(m: &[Member<'_, T>]) -> Result<Vec<T>, Relation
 }
 
 pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool {
-    residuals(m).is_ok_and(|r| r[0].abs() <= settings.length)
+    let (Ok(l1), Ok(l2)) = (length(m, 0), length(m, 1)) else {
+        return false;
+    };
+    settings.same_size(l1, l2, settings.length)
 }
 
 #[cfg(test)]

@@ -168,7 +168,7 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
 
 /// The relative error a drawing of this `noise` leaves a relation that holds exactly
 /// in the design: twice the noise.
-const NOISE_ERRORS: f64 = 2.0;
+pub(crate) const NOISE_ERRORS: f64 = 2.0;
 
 /// The confidence in [0, 1] of a relation with this evidence, where `threshold` is its
 /// kind's threshold in the relative units of [`Evidence::noise`] (sin of the angle, or

@@ -3,9 +3,14 @@
 //! duplicates and no redundant chains.
 //!
 //! **Candidates come from the contact graph** ([`super::contact`]): the new part is
-//! compared only with the parts a few joints away from it ([`MAX_HOPS`]), nearest
-//! first, so parts of different objects are never related and the work grows with the
-//! contacts, not with the square of the parts. Each candidate that nearly holds
+//! compared only with the parts a few joints away from it ([`MAX_HOPS`]), and with the
+//! parts of its own object that repeat it (one kind and size: candles, legs, prongs)
+//! however many joints away, nearest first, so parts of different objects are never
+//! related and the work grows with the contacts, not with the square of the parts.
+//! Where a candidate is judged against the drawing, the drawing's own noise for its
+//! parts (their fit RMS) widens every position, radius and length threshold it is
+//! tighter than (a few times at most), and ends drawn on each other may lie apart along their axis by more
+//! than across it ([`AXIAL_SLACK`]). Each candidate that nearly holds
 //! ([`super::closeness`]) is weighed ([`super::evidence`]): how the parts meet, whether
 //! they repeat one another, how closely it holds against the drawing's noise, and a
 //! prior per kind and situation. A confident candidate becomes a hard relation, a
@@ -46,6 +51,12 @@ pub const MAX_HOPS: u32 = 3;
 /// Parts of one kind whose sizes differ by less than this fraction repeat one another
 /// (when they are of one object but not stacked on each other).
 const REPEAT_SIZE: f64 = 0.2;
+
+/// How many times the position tolerance ends that sit on each other in the drawing may
+/// lie apart along their common axis and still be taken as concentric: where an end stops
+/// along its axis is pinned by a stroke's end only (overshoots and gaps where parts join
+/// are common), while its place across the axis is pinned by both silhouettes.
+const AXIAL_SLACK: f64 = 5.0;
 
 /// A placed primitive as inference sees it.
 #[derive(Clone, Copy, Debug)]
@@ -333,11 +344,41 @@ pub fn infer_in(
     if new >= parts.len() {
         return Vec::new();
     }
-    let hops = graph.hops_from(new, MAX_HOPS);
+    let hops = within_reach(graph, parts, new, usize::MAX);
     let others: Vec<usize> = (0..parts.len())
         .filter(|&i| i != new && hops[i].is_some())
         .collect();
     infer_among(parts, new, &others, existing, settings, graph, &hops)
+}
+
+/// How many joints apart each part is from `from` (as [`ContactGraph::hops_avoiding`],
+/// without part `avoid`), for the parts inference compares with it: those within
+/// [`MAX_HOPS`], and beyond them the parts of the same object (joined to it through any
+/// number of joints) that repeat it ([`alike`]). A menorah's candles are many joints
+/// apart across its arms, and alike by design; parts of another object are never
+/// reached.
+fn within_reach(
+    graph: &ContactGraph,
+    parts: &[Part<'_>],
+    from: usize,
+    avoid: usize,
+) -> Vec<Option<u32>> {
+    let limit = u32::try_from(parts.len()).unwrap_or(u32::MAX);
+    let object = graph.hops_avoiding(from, limit, avoid);
+    object
+        .iter()
+        .enumerate()
+        .map(|(i, h)| match h {
+            Some(h) if *h <= MAX_HOPS => Some(*h),
+            Some(h) if alike(&parts[from], &parts[i]) => Some(*h),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Whether two parts are alike: one kind and one size (within [`REPEAT_SIZE`]).
+fn alike(a: &Part<'_>, b: &Part<'_>) -> bool {
+    a.kind == b.kind && (a.size - b.size).abs() <= REPEAT_SIZE * a.size.max(b.size)
 }
 
 /// The relations a part `via` brings about between others: parts placed before the
@@ -360,8 +401,8 @@ pub fn infer_bridged(
     let mut out = Vec::new();
     let neighbours: Vec<usize> = graph.joints(via).collect();
     for n in neighbours {
-        let before = graph.hops_avoiding(n, MAX_HOPS, via);
-        let hops = graph.hops_from(n, MAX_HOPS);
+        let before = within_reach(graph, parts, n, via);
+        let hops = within_reach(graph, parts, n, usize::MAX);
         let others: Vec<usize> = (0..parts.len())
             .filter(|&j| j != n && j != via && hops[j].is_some() && before[j].is_none())
             .collect();
@@ -453,7 +494,29 @@ impl Inference<'_, '_> {
 
     /// Whether `p` nearly holds.
     fn holds(&self, p: &Proposal) -> bool {
-        self.settings.enabled(p.kind) && holds(p.kind, &self.members(p), self.settings)
+        self.settings.enabled(p.kind) && holds(p.kind, &self.members(p), &self.settings_for(p))
+    }
+
+    /// The thresholds for `p`: the settings with the drawing's noise for its members
+    /// (their fit RMS, combined as independent errors) and, for ends that sit on each
+    /// other in the drawing, the axial slack ([`AXIAL_SLACK`]).
+    fn settings_for(&self, p: &Proposal) -> InferenceSettings {
+        let mut members = p.members.clone();
+        members.sort_unstable();
+        members.dedup();
+        let noise = members
+            .iter()
+            .map(|&m| (self.parts[m].noise * self.parts[m].size).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let stacked = p.kind == RelationKind::Concentric
+            && members.len() == 2
+            && matches!(
+                self.graph.between(members[0], members[1]),
+                Contact::EndOnEnd | Contact::EndOnFace
+            );
+        self.settings
+            .for_members(noise, if stacked { AXIAL_SLACK } else { 1.0 })
     }
 
     /// Whether some direction of `other` is parallel to one of the new part's.
@@ -490,9 +553,7 @@ impl Inference<'_, '_> {
         // Alike parts of one object, not stacked on each other: legs under one top,
         // candles on a menorah's arms, prongs on a plug.
         let repeated = other.is_some_and(|o| {
-            let (a, b) = (&self.parts[self.new], &self.parts[o]);
-            a.kind == b.kind
-                && (a.size - b.size).abs() <= REPEAT_SIZE * a.size.max(b.size)
+            alike(&self.parts[self.new], &self.parts[o])
                 && (hops >= 2 || self.graph.share_a_joint(self.new, o))
         });
         let noise = p
@@ -516,7 +577,7 @@ impl Inference<'_, '_> {
         if !self.settings.enabled(p.kind) {
             return false;
         }
-        let Some(closeness) = closeness(p.kind, &self.members(&p), self.settings) else {
+        let Some(closeness) = closeness(p.kind, &self.members(&p), &self.settings_for(&p)) else {
             return false;
         };
         let evidence = self.evidence(&p, closeness);
@@ -964,6 +1025,45 @@ mod tests {
         assert_eq!(
             on.features,
             vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)]
+        );
+    }
+
+    #[test]
+    fn alike_parts_of_one_object_are_related_however_many_joints_apart() {
+        // A stack along one axis: a small cup, a long rod, a wide disc, a long rod, and
+        // a second small cup four joints from the first. Nothing between the cups is
+        // alike them; the cups are alike.
+        let axis = TILT.normalize();
+        let mut parts = Vec::new();
+        let mut at = 0.0;
+        for (length, radius) in [
+            (20.0, 10.0),
+            (120.0, 3.0),
+            (8.0, 30.0),
+            (110.0, 3.5),
+            (20.5, 10.2),
+        ] {
+            parts.push(Primitive::Cylinder(Cylinder {
+                center: axis * (at + length / 2.0),
+                axis,
+                length,
+                radius,
+            }));
+            at += length;
+        }
+        let found = place_all_found(&parts);
+        let cups: Vec<&Found> = found
+            .iter()
+            .filter(|f| f.proposal.members.contains(&0) && f.proposal.members.contains(&4))
+            .collect();
+        assert!(
+            cups.iter()
+                .any(|f| f.proposal.kind == RelationKind::EqualLength),
+            "{found:#?}"
+        );
+        assert!(
+            cups.iter().all(|f| f.inferred.evidence.repeated),
+            "{cups:#?}"
         );
     }
 }

@@ -207,7 +207,19 @@ pub struct InferenceSettings {
     length: f64,
     hard_confidence: f64,
     suggest_confidence: f64,
+    /// The drawing's noise for the members of the relation in hand (sketch units; 0
+    /// outside inference): set per candidate by [`InferenceSettings::for_members`].
+    #[serde(skip_serializing)]
+    noise: f64,
+    /// How many times the position tolerance an end may lie from the other along their
+    /// common axis (1 outside a joint): set per candidate.
+    #[serde(skip_serializing)]
+    axial_slack: f64,
 }
+
+/// The noise of a rough drawing widens a position threshold at most this many times:
+/// beyond it, centres are visibly apart in any drawing of the parts' size.
+const NOISE_WIDENING: f64 = 2.5;
 
 /// The fields of [`InferenceSettings`] as stored, before they are checked.
 #[derive(Deserialize)]
@@ -256,6 +268,8 @@ impl Default for InferenceSettings {
             length: 0.03,
             hard_confidence: 0.6,
             suggest_confidence: 0.3,
+            noise: 0.0,
+            axial_slack: 1.0,
         }
     }
 }
@@ -302,8 +316,7 @@ impl InferenceSettings {
             distance,
             radius,
             length,
-            hard_confidence: d.hard_confidence,
-            suggest_confidence: d.suggest_confidence,
+            ..d
         })
     }
 
@@ -355,8 +368,57 @@ impl InferenceSettings {
             distance: self.distance * s,
             radius: self.radius * s,
             length: self.length * s,
+            noise: self.noise * s,
             ..self.clone()
         }
+    }
+
+    /// These settings for one candidate: `noise` is the drawing's noise for its members
+    /// (sketch units: how far their snapped curves lie from their strokes, combined), and
+    /// `axial_slack` how many times the position tolerance stacked ends may lie apart
+    /// along their common axis (1 for none).
+    ///
+    /// A drawing cannot place anything more exactly than its own noise, so positions,
+    /// radii and lengths within [`evidence::NOISE_ERRORS`] times it hold where the
+    /// relative thresholds are tighter (up to [`NOISE_WIDENING`] times them): on a rough
+    /// drawing a threshold relative to small ends would otherwise ask more than the
+    /// strokes show. Where one end sits on another in
+    /// the drawing, where the end stops along its axis is what a snap pins least (a
+    /// stroke's end, an overshoot, a gap where the parts join: the part's length), while
+    /// its place across the axis is pinned by both silhouettes; the slack lets the
+    /// former go further.
+    pub(crate) fn for_members(&self, noise: f64, axial_slack: f64) -> Self {
+        Self {
+            noise: if noise.is_finite() {
+                noise.max(0.0)
+            } else {
+                0.0
+            },
+            axial_slack: axial_slack.max(1.0),
+            ..self.clone()
+        }
+    }
+
+    /// The largest offset between positions taken as the same, where the sizes
+    /// involved sum to `s`: the relative threshold, or the drawing's noise where that
+    /// is more, up to [`NOISE_WIDENING`] times the threshold (thin parts drawn roughly
+    /// would otherwise be centred on every neighbour).
+    fn position_tolerance(&self, s: f64) -> f64 {
+        self.tolerance(self.distance, s)
+    }
+
+    /// The largest difference taken as none for a threshold `relative` to sizes
+    /// summing to `s`: `relative`·s, or the drawing's noise where that is more, up to
+    /// [`NOISE_WIDENING`] times `relative`·s.
+    fn tolerance(&self, relative: f64, s: f64) -> f64 {
+        let noise = (evidence::NOISE_ERRORS * self.noise).min(NOISE_WIDENING * relative * s);
+        (relative * s).max(noise)
+    }
+
+    /// Whether sizes `a` and `b` (radii, lengths) are the same within `relative` of
+    /// their sum, or within the drawing's noise ([`InferenceSettings::tolerance`]).
+    fn same_size(&self, a: f64, b: f64, relative: f64) -> bool {
+        (a - b).abs() <= self.tolerance(relative, a + b)
     }
 
     /// The kinds inferred (default: all).

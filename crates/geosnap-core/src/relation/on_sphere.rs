@@ -32,7 +32,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
         return false;
     };
     let d = offset_2d(centre, c);
-    if d.length() > radius + settings.distance * (radius + r) {
+    if d.length() > radius + settings.position_tolerance(radius + r) {
         return false;
     }
     let axis = glam::DVec2::new(n.x, n.y);
@@ -44,7 +44,8 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     // distance threshold. A ball is drawn with few strokes, and its centre is the least
     // certain of the positions inference compares.
     let across = axis.normalize().perp_dot(d).abs();
-    across <= settings.sin_angle() * d.length() || across <= 2.0 * settings.distance * (radius + r)
+    across <= settings.sin_angle() * d.length()
+        || across <= 2.0 * settings.position_tolerance(radius + r)
 }
 
 #[cfg(test)]

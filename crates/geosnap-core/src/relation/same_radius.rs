@@ -13,7 +13,10 @@ pub(super) fn residuals<T: Real>(m: &[Member<'_, T>]) -> Result<Vec<T>, Relation
 }
 
 pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool {
-    residuals(m).is_ok_and(|r| r[0].abs() <= settings.radius)
+    let (Ok((_, _, r1)), Ok((_, _, r2))) = (circle(KIND, m, 0), circle(KIND, m, 1)) else {
+        return false;
+    };
+    settings.same_size(r1, r2, settings.radius)
 }
 
 #[cfg(test)]
