@@ -142,6 +142,11 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
     // A joint (an end on the other part) is designed; outlines that merely cross may be
     // parts drawn one behind the other, and count no more than parts apart.
     let joint = hops <= 1 && contact.is_joint();
+    if hops > super::infer::MAX_HOPS {
+        // Only alike parts are compared this far apart: repetition alone, across the
+        // object (or across objects that touch in the drawing), is worth a suggestion.
+        return if repeated { FAR_REPEATED } else { 0.0 };
+    }
     match kind {
         RelationKind::Parallel if repeated => 0.9,
         RelationKind::Parallel if joint => 0.85,
@@ -165,6 +170,10 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
         RelationKind::CollinearCenters => 0.4,
     }
 }
+
+/// The prior of a relation between alike parts further apart than
+/// [`super::infer::MAX_HOPS`] joints: under the hard tier, over the suggestion tier.
+const FAR_REPEATED: f64 = 0.5;
 
 /// The relative error a drawing of this `noise` leaves a relation that holds exactly
 /// in the design: twice the noise.

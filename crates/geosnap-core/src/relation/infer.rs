@@ -4,8 +4,8 @@
 //!
 //! **Candidates come from the contact graph** ([`super::contact`]): the new part is
 //! compared only with the parts a few joints away from it ([`MAX_HOPS`]), and with the
-//! parts of its own object that repeat it (one kind and size: candles, legs, prongs)
-//! however many joints away, nearest first, so parts of different objects are never
+//! parts that repeat it (one kind and size: candles, legs, prongs) a few more
+//! ([`ALIKE_HOPS`]), nearest first, so parts of different objects are never
 //! related and the work grows with the contacts, not with the square of the parts.
 //! Where a candidate is judged against the drawing, the drawing's own noise for its
 //! parts (their fit RMS) widens every position, radius and length threshold it is
@@ -47,6 +47,12 @@ use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKi
 /// and 3 leaves one part to spare between them (a collar on the stem, a foot under a
 /// leg).
 pub const MAX_HOPS: u32 = 3;
+
+/// How many joints apart alike parts (one kind and size) are still compared: twice
+/// [`MAX_HOPS`]. Repeated parts sit symmetrically about what joins them (candles across
+/// a menorah's arms, legs across a table's top), seldom further; in a busy drawing,
+/// parts of other objects touching this one are further still.
+pub const ALIKE_HOPS: u32 = 2 * MAX_HOPS;
 
 /// Parts of one kind whose sizes differ by less than this fraction repeat one another
 /// (when they are of one object but not stacked on each other).
@@ -353,18 +359,16 @@ pub fn infer_in(
 
 /// How many joints apart each part is from `from` (as [`ContactGraph::hops_avoiding`],
 /// without part `avoid`), for the parts inference compares with it: those within
-/// [`MAX_HOPS`], and beyond them the parts of the same object (joined to it through any
-/// number of joints) that repeat it ([`alike`]). A menorah's candles are many joints
-/// apart across its arms, and alike by design; parts of another object are never
-/// reached.
+/// [`MAX_HOPS`], and beyond them, up to [`ALIKE_HOPS`], the parts that repeat it
+/// ([`alike`]). A menorah's candles are four joints apart across its arms, and alike by
+/// design.
 fn within_reach(
     graph: &ContactGraph,
     parts: &[Part<'_>],
     from: usize,
     avoid: usize,
 ) -> Vec<Option<u32>> {
-    let limit = u32::try_from(parts.len()).unwrap_or(u32::MAX);
-    let object = graph.hops_avoiding(from, limit, avoid);
+    let object = graph.hops_avoiding(from, ALIKE_HOPS, avoid);
     object
         .iter()
         .enumerate()
@@ -577,7 +581,13 @@ impl Inference<'_, '_> {
         if !self.settings.enabled(p.kind) {
             return false;
         }
-        let Some(closeness) = closeness(p.kind, &self.members(&p), &self.settings_for(&p)) else {
+        let members = self.members(&p);
+        // One that holds only within the drawing's noise or the axial slack, not within
+        // the thresholds, is at their edge: the drawing does not show it exact, so it is
+        // at most a suggestion.
+        let Some(closeness) = closeness(p.kind, &members, self.settings)
+            .or_else(|| holds(p.kind, &members, &self.settings_for(&p)).then_some(1.0))
+        else {
             return false;
         };
         let evidence = self.evidence(&p, closeness);
@@ -1029,7 +1039,7 @@ mod tests {
     }
 
     #[test]
-    fn alike_parts_of_one_object_are_related_however_many_joints_apart() {
+    fn alike_parts_are_related_a_few_joints_further_than_others() {
         // A stack along one axis: a small cup, a long rod, a wide disc, a long rod, and
         // a second small cup four joints from the first. Nothing between the cups is
         // alike them; the cups are alike.
