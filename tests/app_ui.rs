@@ -17,7 +17,10 @@
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
 //! - the standard views turn the 3D camera, which stays above the grid, and Home works
-//!   on an empty model.
+//!   on an empty model;
+//! - Tab during a drag shows the other poses the snap found, the release places the
+//!   pose shown, and Tab on the placed part places it in the next pose, undoably;
+//! - a part placed freely (Alt + drop) is related to the others all the same.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -971,11 +974,8 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
     let app = harness.state();
     let legend = app.drag_legend(&ctx);
     let gestures: Vec<&str> = legend.iter().map(|(g, _)| g.as_str()).collect();
-    assert_eq!(
-        gestures,
-        ["Wheel", "Shift + wheel", "Release", "Alt + release", "Esc"],
-        "{legend:?}"
-    );
+    let controls = "Wheel, Shift + wheel, Release, Alt + release, Tab, Esc";
+    assert_eq!(gestures.join(", "), controls, "{legend:?}");
     assert!(legend.iter().any(|(_, what)| what == "Turn the axis"));
     let hint = app.canvas_hint();
     assert!(
@@ -1119,4 +1119,181 @@ fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
         "{again:?} vs {home:?}"
     );
     assert!((again.target - home.target).length() < 1e-3);
+}
+
+/// How far apart two parts' visible outlines are as drawn: the mean distance from a
+/// point of one to the nearest point of the other, the larger way, over the larger
+/// size (0 for parts that look the same).
+fn apart(a: &geosnap::core::primitive::Primitive, b: &geosnap::core::primitive::Primitive) -> f64 {
+    let points = |p: &geosnap::core::primitive::Primitive| -> Vec<DVec2> {
+        p.current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .flat_map(|c| c.curve.points(64))
+            .collect()
+    };
+    let (pa, pb) = (points(a), points(b));
+    let one_way = |from: &[DVec2], to: &[DVec2]| {
+        from.iter()
+            .map(|p| {
+                to.iter()
+                    .map(|q| p.distance(*q))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum::<f64>()
+            / from.len().max(1) as f64
+    };
+    one_way(&pa, &pb).max(one_way(&pb, &pa)) / a.size().max(b.size())
+}
+
+#[test]
+fn tab_cycles_the_poses_the_snap_found_and_the_release_places_the_one_shown() {
+    let dir = scratch("poses");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/box.svg")));
+    // On the box's top face the drawing reads as two boxes (which face is on top).
+    let to = drag_over(&mut harness, "Box", DVec2::new(597.0, 353.0));
+    let drag = harness.state().drag().expect("dragging");
+    let (shown, count) = drag.pose();
+    assert!(count >= 2, "the snap found other poses: {count}");
+    assert_eq!(shown, 1, "its own choice first");
+    let first = drag.preview().expect("a preview").primitive.clone();
+    assert!(
+        harness
+            .state()
+            .canvas_hint()
+            .contains("Tab: next pose (1 of"),
+        "{}",
+        harness.state().canvas_hint()
+    );
+    let ctx = harness.ctx.clone();
+    assert!(harness
+        .state()
+        .drag_legend(&ctx)
+        .iter()
+        .any(|(g, what)| g == "Tab" && what.contains(&format!("1 of {count}"))));
+
+    press(&mut harness, Modifiers::NONE, Key::Tab);
+    let drag = harness.state().drag().expect("still dragging");
+    assert_eq!(drag.pose(), (2, count), "Tab shows the next pose");
+    let second = drag.preview().expect("a preview").primitive.clone();
+    assert!(apart(&first, &second) > 0.03, "another pose is shown");
+    // Around the cycle and back to the second.
+    for _ in 0..count {
+        press(&mut harness, Modifiers::NONE, Key::Tab);
+    }
+    let drag = harness.state().drag().expect("still dragging");
+    assert_eq!(drag.pose(), (2, count), "Tab cycles");
+    assert_eq!(drag.preview().map(|p| &p.primitive), Some(&second));
+
+    // The release places the pose shown, not the snap's own choice.
+    harness.drop_at(to);
+    harness.step();
+    step_until(&mut harness, "the placement", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the part is selected");
+    let placed = app
+        .editor()
+        .document()
+        .get(id)
+        .expect("placed")
+        .primitive
+        .clone();
+    assert!(
+        apart(&second, &placed) < apart(&first, &placed),
+        "placed as shown: {placed:?}, shown {second:?}, other {first:?}"
+    );
+    assert_eq!(app.part_poses(id), Some((2, count)));
+    let placed_id = id;
+    assert!(
+        harness
+            .query_by_label_contains(&format!("Pose 2 of {count}"))
+            .is_some(),
+        "the properties offer the chooser"
+    );
+
+    // Tab on the selected part places it in the next pose: one undo step.
+    press(&mut harness, Modifiers::NONE, Key::Tab);
+    step_until(&mut harness, "the new pose", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the part is selected");
+    let next = app
+        .editor()
+        .document()
+        .get(id)
+        .expect("placed")
+        .primitive
+        .clone();
+    assert_eq!(app.editor().document().len(), 1, "in place of the part");
+    assert_eq!(app.part_poses(id), Some((2 % count + 1, count)));
+    assert!(apart(&second, &next) > 0.03, "another pose: {next:?}");
+    assert!(
+        app.editor()
+            .undo_label()
+            .is_some_and(|l| l.contains("pose")),
+        "{:?}",
+        app.editor().undo_label()
+    );
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    let back = harness
+        .state()
+        .editor()
+        .document()
+        .get(placed_id)
+        .expect("undo brings the part back")
+        .primitive
+        .clone();
+    assert!(
+        apart(&placed, &back) < 1e-9,
+        "undo goes back to the pose before"
+    );
+}
+
+#[test]
+fn a_part_placed_freely_is_related_to_the_others() {
+    let dir = scratch("free-relations");
+    let mut harness = stand(&dir);
+    // The cap again, Alt-dropped where the script drops it: unsnapped, but on the post.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = load_script(root.join("sketches/stand.script.json")).expect("the script");
+    let Some(geosnap::core::model::Step::Place { kind, placement }) = script.steps.last() else {
+        panic!("the stand's last step places the cap");
+    };
+    let cap = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .last()
+        .map(|(id, _)| id)
+        .expect("the cap");
+    harness.state_mut().select(Some(cap));
+    press(&mut harness, Modifiers::NONE, Key::Delete);
+    harness.state_mut().begin_drag(*kind);
+    harness.state_mut().place_drag(placement.clone());
+    harness.state_mut().end_drag_freely();
+    harness.step();
+    step_until(&mut harness, "the free drop", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the new part is selected");
+    let document = app.editor().document();
+    assert!(
+        document.get(id).expect("placed").fit.strokes.is_empty(),
+        "placed freely"
+    );
+    let related: Vec<_> = document
+        .relations()
+        .iter()
+        .filter(|r| r.members.contains(&id))
+        .collect();
+    assert!(
+        !related.is_empty(),
+        "a free part is related to the others; messages {:?}",
+        app.messages()
+    );
+    assert!(
+        related.iter().all(|r| r.inferred.is_some()),
+        "inferred, with their confidence"
+    );
 }

@@ -603,9 +603,13 @@ impl GeosnapApp {
     pub fn canvas_hint(&self) -> String {
         if let Some(drag) = &self.drag {
             let noun = words::kind_noun(drag.kind());
-            return match drag.replacing {
+            let what = match drag.replacing {
                 Some(id) => format!("Moving #{}: release on its strokes to snap it there", id.0),
                 None => format!("Placing a {noun}: release on its strokes to place it"),
+            };
+            return match drag.pose() {
+                (k, n) if n > 1 => format!("{what}; Tab: next pose ({k} of {n})"),
+                _ => format!("{what}; Tab: next pose"),
             };
         }
         match self.canvas.tool {

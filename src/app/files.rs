@@ -161,6 +161,7 @@ impl GeosnapApp {
         match after {
             After::New => {
                 self.cancel_job();
+                self.readings.clear();
                 self.editor
                     .replace(Sketch::default(), None, Document::default());
                 self.canvas.image_mut().clear(false);
@@ -279,6 +280,7 @@ impl GeosnapApp {
 
     fn after_replace(&mut self, ctx: &egui::Context) {
         self.selection = None;
+        self.readings.clear();
         self.hovered_relation = None;
         self.drag = None;
         self.canvas.image_mut().clear(true);

@@ -30,6 +30,7 @@ pub(crate) enum Action {
     SideView,
     IsometricView,
     HomeView,
+    NextPose,
     Help,
 }
 
@@ -157,6 +158,11 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
         action: Action::HomeView,
         keys: &[key(NONE, Key::Home)],
         what: "Home 3D view: the starting angle, fitted (also with an empty model)",
+    },
+    Shortcut {
+        action: Action::NextPose,
+        keys: &[key(NONE, Key::Tab)],
+        what: "Next pose the snap found: while dragging, or for the selected part",
     },
     Shortcut {
         action: Action::Help,
@@ -326,6 +332,10 @@ fn mouse_table(ui: &mut Ui) {
                     ui.end_row();
                 }
                 if place == Place::Drag {
+                    let tab = keys_text(ui.ctx(), Action::NextPose);
+                    ui.label(RichText::new(tab).strong());
+                    ui.label("Show the next pose the snap found");
+                    ui.end_row();
                     let esc = keys_text(ui.ctx(), Action::Cancel);
                     ui.label(RichText::new(esc).strong());
                     ui.label("Cancel the drag");
@@ -394,6 +404,11 @@ impl GeosnapApp {
             Action::SideView => self.view3d.standard(Standard::Side),
             Action::IsometricView => self.view3d.standard(Standard::Isometric),
             Action::HomeView => self.view3d.standard(Standard::Home),
+            Action::NextPose => {
+                self.next_pose();
+                // Tab is the pose key here, not a move of the keyboard focus.
+                ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            }
             Action::Help => self.help.shortcuts_open = !self.help.shortcuts_open,
         }
     }
@@ -446,6 +461,13 @@ impl GeosnapApp {
             .filter(|c| c.place == Place::Drag && c.gesture != "Move")
             .map(|c| (c.gesture.to_owned(), c.what.to_owned()))
             .collect();
+        let tab = keys_text(ctx, Action::NextPose);
+        let pose = match self.drag.as_ref().map(super::Drag::pose) {
+            Some((k, n)) if n > 1 => format!("Next pose the snap found ({k} of {n})"),
+            Some((_, 1)) => "Next pose (this drop has one)".to_owned(),
+            _ => "Next pose the snap found".to_owned(),
+        };
+        rows.push((tab, pose));
         rows.push((keys_text(ctx, Action::Cancel), "Cancel".to_owned()));
         rows
     }
@@ -516,7 +538,8 @@ impl GeosnapApp {
                          placed when you release.",
                     );
                     ui.label(
-                        "While dragging: wheel to size, Shift + wheel to turn, Esc to cancel.",
+                        "While dragging: wheel to size, Shift + wheel to turn, Tab for another \
+                         pose, Alt + release to place without snapping, Esc to cancel.",
                     );
                     ui.label(format!("{help_keys} lists every shortcut (Help menu)."));
                     if ui.button("Got it").clicked() {

@@ -30,6 +30,7 @@ mod view3d;
 mod words;
 pub mod worker;
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -117,6 +118,9 @@ pub struct GeosnapApp {
     selection: Option<PrimitiveId>,
     /// The relation under the cursor in the relations panel.
     hovered_relation: Option<RelationId>,
+    /// The poses the snap found for parts placed this session, for Tab on a selected
+    /// part (not saved: a reopened session has none).
+    readings: BTreeMap<PrimitiveId, worker::Readings>,
     canvas: Canvas,
     view3d: View3d,
     panels: Panels,
@@ -177,6 +181,7 @@ impl GeosnapApp {
             drag: None,
             selection: None,
             hovered_relation: None,
+            readings: BTreeMap::new(),
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
@@ -362,6 +367,12 @@ impl GeosnapApp {
             self.editor.apply_document(label, document);
             if let Some(id) = output.placed {
                 self.selection = Some(id);
+                // Ids come back after an undo: a part without a choice drops any
+                // readings an earlier part of its id left.
+                match output.readings {
+                    Some(readings) => self.readings.insert(id, readings),
+                    None => self.readings.remove(&id),
+                };
             }
         } else if output.messages.is_empty() {
             self.warn(format!("{label}: nothing changed."));

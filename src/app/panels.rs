@@ -451,6 +451,23 @@ impl GeosnapApp {
                 ui.label(RichText::new(format!("Why: {reason}.")).weak());
             }
         }
+        if let Some((k, n)) = self.part_poses(id) {
+            ui.horizontal(|ui| {
+                ui.label(format!("Pose {k} of {n} the drawing allows"));
+                let next = egui::Button::new("Next pose")
+                    .shortcut_text(keys_text(ui.ctx(), Action::NextPose));
+                if ui
+                    .add_enabled(!self.busy(), next)
+                    .on_hover_text(
+                        "Place it in the next pose the snap found (another reading of its \
+                         strokes); undo goes back",
+                    )
+                    .clicked()
+                {
+                    self.next_pose();
+                }
+            });
+        }
         let fixed: Vec<(Quantity, f64)> = self
             .editor
             .document()
