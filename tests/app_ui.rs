@@ -16,8 +16,9 @@
 //! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
-//! - the standard views turn the 3D camera, which stays above the grid, and Home works
-//!   on an empty model;
+//! - the 3D view opens on the view from the drawing (its camera, orthographic, framed
+//!   on the strokes) and 0 or Home comes back to it, also on an empty model; the
+//!   standard views turn the camera, which stays above the grid;
 //! - Tab during a drag shows the other poses the snap found, the release places the
 //!   pose shown, and Tab on the placed part places it in the next pose, undoably;
 //! - a part placed freely (Alt + drop) is related to the others all the same.
@@ -930,7 +931,14 @@ fn f1_lists_every_shortcut_and_the_first_run_hint_is_dismissed() {
             "the window lists “{what}”"
         );
     }
-    for keys in ["Ctrl+Z", "Ctrl+Shift+Z or Ctrl+Y", "F1", "Home", "Esc"] {
+    for keys in [
+        "Ctrl+Z",
+        "Ctrl+Shift+Z or Ctrl+Y",
+        "F1",
+        "0 or Home",
+        "Tab",
+        "Esc",
+    ] {
         assert!(
             harness.query_all_by_label(keys).next().is_some(),
             "keys “{keys}”"
@@ -1058,17 +1066,40 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
 }
 
 #[test]
-fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
+fn the_3d_view_opens_from_the_drawing_and_standard_views_stay_above_the_grid() {
     let dir = scratch("views");
     let mut harness = app(&dir, None);
     assert!(harness.state().editor().document().is_empty());
     let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
     let home = harness.state().camera_3d();
     assert!(home.distance.is_finite() && home.distance > 0.0);
+    // It opens on the view from the drawing: the drawing's camera (from the front,
+    // orthographic), looking at the middle of the strokes.
+    assert!(harness.state().view_from_drawing());
+    assert!(
+        home.ortho && close(home.yaw, 0.0) && close(home.pitch, 0.0),
+        "{home:?}"
+    );
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let middle = (lo + hi) / 2.0;
+    assert!(
+        (f64::from(home.target.x) - middle.x).abs() < 1.0
+            && (f64::from(home.target.y) + middle.y).abs() < 1.0,
+        "the drawing's middle, (u, v) seen at (u, −v): {home:?} for {middle}"
+    );
+    assert!(harness
+        .query_by_label_contains("View from drawing")
+        .is_none());
 
     press(&mut harness, Modifiers::NONE, Key::Num2);
     let top = harness.state().camera_3d();
     assert!(top.pitch > 1.5, "top view looks down: {top:?}");
+    assert!(!top.ortho && !harness.state().view_from_drawing());
+    // One key back to the drawing's view.
+    press(&mut harness, Modifiers::NONE, Key::Num0);
+    assert!(harness.state().view_from_drawing());
+    assert_eq!(harness.state().camera_3d(), home, "the same view again");
+    press(&mut harness, Modifiers::NONE, Key::Num2);
     press(&mut harness, Modifiers::NONE, Key::Num1);
     let front = harness.state().camera_3d();
     assert!(
@@ -1109,9 +1140,11 @@ fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
         orbited.pitch >= 0.0,
         "the camera stays above the grid: {orbited:?}"
     );
+    assert!(!orbited.ortho, "an orbit is in perspective");
     assert!(orbited.pitch < iso.pitch, "the drag orbited: {orbited:?}");
-    // Home, with the model still empty, resets the angle and frames the grid again.
+    // Home, with the model still empty, goes back to the drawing's view, framed again.
     press(&mut harness, Modifiers::NONE, Key::Home);
+    assert!(harness.state().view_from_drawing());
     let again = harness.state().camera_3d();
     assert!(close(again.yaw, home.yaw) && close(again.pitch, home.pitch));
     assert!(

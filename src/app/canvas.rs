@@ -186,6 +186,13 @@ impl ReferenceImage {
         self.shown.is_some()
     }
 
+    /// The texture shown, its size in pixels and its opacity.
+    pub(crate) fn texture(&self) -> Option<(egui::TextureId, [usize; 2], f32)> {
+        self.shown
+            .as_ref()
+            .map(|(_, texture, size)| (texture.id(), *size, self.opacity))
+    }
+
     /// The opacity, to show or set.
     pub(crate) fn opacity_mut(&mut self) -> &mut f32 {
         &mut self.opacity
@@ -259,6 +266,17 @@ impl Default for CanvasView {
 }
 
 impl CanvasView {
+    /// A view showing sketch point `center` at the middle of `rect`, `zoom` screen
+    /// points per sketch unit.
+    pub(crate) fn looking_at(center: DVec2, zoom: f64, rect: Rect) -> Self {
+        Self {
+            center,
+            zoom,
+            fit_pending: false,
+            rect,
+        }
+    }
+
     /// Fits the drawing at the next frame.
     pub fn request_fit(&mut self) {
         self.fit_pending = true;

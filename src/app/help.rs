@@ -137,7 +137,7 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
     Shortcut {
         action: Action::FrontView,
         keys: &[key(NONE, Key::Num1)],
-        what: "3D view from the front (as the drawing is seen)",
+        what: "3D view from the front, in perspective",
     },
     Shortcut {
         action: Action::TopView,
@@ -156,8 +156,9 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
     },
     Shortcut {
         action: Action::HomeView,
-        keys: &[key(NONE, Key::Home)],
-        what: "Home 3D view: the starting angle, fitted (also with an empty model)",
+        keys: &[key(NONE, Key::Num0), key(NONE, Key::Home)],
+        what: "3D view from the drawing (home): its camera, the strokes and image behind the \
+               model, fitted (also with an empty model)",
     },
     Shortcut {
         action: Action::NextPose,
@@ -260,7 +261,11 @@ pub(crate) const MOUSE: &[MouseControl] = &[
         "Drop a file on the window",
         "Open it (drawing, SVG, image or session)",
     ),
-    mouse(Place::View3d, "Drag", "Orbit (stays above the grid)"),
+    mouse(
+        Place::View3d,
+        "Drag",
+        "Orbit (stays above the grid; leaves the view from the drawing)",
+    ),
     mouse(Place::View3d, "Right or middle drag, Shift + drag", "Pan"),
     mouse(Place::View3d, "Wheel", "Zoom"),
     mouse(Place::View3d, "Double-click", "Fit the model"),
@@ -403,7 +408,7 @@ impl GeosnapApp {
             Action::TopView => self.view3d.standard(Standard::Top),
             Action::SideView => self.view3d.standard(Standard::Side),
             Action::IsometricView => self.view3d.standard(Standard::Isometric),
-            Action::HomeView => self.view3d.standard(Standard::Home),
+            Action::HomeView => self.view3d.drawing_view(),
             Action::NextPose => {
                 self.next_pose();
                 // Tab is the pose key here, not a move of the keyboard focus.

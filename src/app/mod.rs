@@ -279,6 +279,12 @@ impl GeosnapApp {
         self.view3d.camera
     }
 
+    /// Whether the 3D view is the view from the drawing (its default: the drawing's
+    /// camera, the strokes and image behind the model).
+    pub fn view_from_drawing(&self) -> bool {
+        self.view3d.is_drawing_view()
+    }
+
     /// The running snap-and-solve or re-solve.
     pub fn job(&self) -> Option<&Job> {
         self.workers.job()
@@ -550,14 +556,18 @@ impl eframe::App for GeosnapApp {
                             .as_ref()
                             .and_then(|d| d.preview().map(|p| p.primitive.clone()));
                         let emphasis = self.emphasis();
-                        self.view3d.show(
-                            ui,
-                            frame,
-                            self.editor.document(),
-                            self.editor.revision(),
-                            preview.as_ref(),
-                            &emphasis,
-                        );
+                        let image = self.canvas.image();
+                        let content = view3d::Content {
+                            document: self.editor.document(),
+                            revision: self.editor.revision(),
+                            preview: preview.as_ref(),
+                            emphasis: &emphasis,
+                            backdrop: view3d::Backdrop {
+                                strokes: &self.editor.sketch().strokes,
+                                image: image.texture(),
+                            },
+                        };
+                        self.view3d.show(ui, frame, &content);
                     });
             });
         egui::CentralPanel::default()

@@ -155,11 +155,11 @@ impl GeosnapApp {
                     ui.menu_button("View", |ui| {
                         for (text, action) in [
                             ("Fit", Action::Fit),
-                            ("Front (as drawn)", Action::FrontView),
+                            ("View from drawing", Action::HomeView),
+                            ("Front", Action::FrontView),
                             ("Top", Action::TopView),
                             ("Side", Action::SideView),
                             ("Isometric", Action::IsometricView),
-                            ("Home", Action::HomeView),
                         ] {
                             let button =
                                 egui::Button::new(text).shortcut_text(keys_text(&ctx, action));
