@@ -21,7 +21,9 @@
 //!   standard views turn the camera, which stays above the grid;
 //! - Tab during a drag shows the other poses the snap found, the release places the
 //!   pose shown, and Tab on the placed part places it in the next pose, undoably;
-//! - a part placed freely (Alt + drop) is related to the others all the same.
+//! - a part placed freely (Alt + drop) is related to the others all the same;
+//! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
+//!   frames keep coming.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -54,6 +56,10 @@ fn app(dir: &Path, file: Option<PathBuf>) -> Harness<'static, GeosnapApp> {
         .with_max_steps(10_000)
         .build_eframe(move |cc| GeosnapApp::new(cc, options));
     harness.run_steps(3);
+    // A file is read off the UI thread: wait until it is open.
+    step_until(&mut harness, "the file to open", |app| {
+        app.loading().is_none()
+    });
     harness
 }
 
@@ -695,7 +701,9 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
         let ctx = harness.ctx.clone();
         let messages = harness.state().messages().len();
         harness.state_mut().open_path(&ctx, file);
-        harness.step();
+        step_until(&mut harness, "the file's reading", |app| {
+            app.loading().is_none()
+        });
         harness.step();
         let app = harness.state();
         let new: Vec<&str> = app.messages()[messages..]
@@ -1329,4 +1337,79 @@ fn a_part_placed_freely_is_related_to_the_others() {
         related.iter().all(|r| r.inferred.is_some()),
         "inferred, with their confidence"
     );
+}
+
+/// An SVG of `count` hand-drawn-like strokes (wavy polylines of 40 points) spread over
+/// a 4000 × 3000 page, none a copy of another.
+fn big_drawing(path: &Path, count: usize) {
+    use std::fmt::Write as _;
+    let mut svg =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4000 3000">"#);
+    for k in 0..count {
+        let (x0, y0) = ((k * 37 % 3800) as f64, (k * 53 % 2900) as f64);
+        let turn = k as f64 * 0.7;
+        let mut d = format!("M{x0:.1} {y0:.1}");
+        for i in 1..40 {
+            let t = f64::from(i);
+            let (x, y) = (
+                x0 + t * 3.0 * turn.cos() + (t * 0.5).sin() * 2.0,
+                y0 + t * 3.0 * turn.sin() + (t * 0.3).cos() * 2.0,
+            );
+            write!(d, " L{x:.1} {y:.1}").expect("a string");
+        }
+        write!(svg, r#"<path d="{d}" stroke="black" fill="none"/>"#).expect("a string");
+    }
+    svg.push_str("</svg>");
+    std::fs::write(path, svg).expect("write the drawing");
+}
+
+#[test]
+fn a_large_drawing_opens_off_the_ui_thread_while_frames_keep_coming() {
+    let dir = scratch("large");
+    let big = dir.join("big.svg");
+    big_drawing(&big, 3000);
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let ctx = harness.ctx.clone();
+    harness.state_mut().open_path(&ctx, &big);
+    assert!(
+        harness.state().loading().is_some(),
+        "the drawing is read on a thread of its own"
+    );
+    let mut frames = 0;
+    let mut slowest = Duration::ZERO;
+    let mut said = false;
+    let start = Instant::now();
+    while harness.state().loading().is_some() {
+        assert!(start.elapsed() < Duration::from_mins(3), "it opens");
+        let frame = Instant::now();
+        harness.step();
+        slowest = slowest.max(frame.elapsed());
+        frames += 1;
+        // The status bar and the canvas say what is being done.
+        said |= harness
+            .query_all_by_label_contains("Opening big.svg")
+            .count()
+            >= 2;
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(frames >= 2, "frames kept coming while it loaded: {frames}");
+    assert!(said, "the progress was shown");
+    assert!(
+        slowest < Duration::from_millis(500),
+        "no frame waited for the loading: the slowest took {slowest:?}"
+    );
+    harness.run_steps(2);
+    let app = harness.state();
+    assert_eq!(
+        app.editor().sketch().strokes.len(),
+        3000,
+        "{:?}",
+        app.messages()
+    );
+    assert!(app
+        .messages()
+        .iter()
+        .any(|m| m.text.contains("Opened") && m.text.contains("big.svg")));
 }

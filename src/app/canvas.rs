@@ -135,6 +135,12 @@ impl Canvas {
             .map(|n| n.text.as_str())
     }
 
+    /// Takes the strokes' classes found elsewhere (off the UI thread) for the strokes
+    /// of `revision`.
+    pub(crate) fn set_classes(&mut self, revision: u64, classes: Vec<(StrokeId, StrokeClass)>) {
+        self.classes = Some((revision, classes));
+    }
+
     /// The reference image.
     pub(crate) fn image(&self) -> &ReferenceImage {
         &self.image
@@ -573,6 +579,32 @@ impl GeosnapApp {
         self.paint_drag_legend(&painter, rect);
         self.show_drop_note(ui, rect);
         self.first_run_hint(ui, rect);
+        self.show_loading(ui, rect);
+    }
+
+    /// While a file is being opened: what is being done, in the middle of the canvas.
+    fn show_loading(&mut self, ui: &Ui, rect: Rect) {
+        let Some(text) = self.loading() else {
+            return;
+        };
+        let mut cancel = false;
+        egui::Area::new(egui::Id::unique("loading"))
+            .order(egui::Order::Foreground)
+            .pivot(egui::Align2::CENTER_CENTER)
+            .fixed_pos(rect.center())
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label(egui::RichText::new(text).strong());
+                    });
+                    ui.label("The window stays usable; the drawing shows when it is ready.");
+                    cancel = ui.button("Cancel opening").clicked();
+                });
+            });
+        if cancel {
+            self.cancel_loading();
+        }
     }
 
     /// The note of a failed drop, at the drop point, until it times out.

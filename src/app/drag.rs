@@ -221,7 +221,7 @@ impl GeosnapApp {
 
     /// Starts dragging a new primitive of `kind` (from the palette).
     pub fn begin_drag(&mut self, kind: PrimitiveKind) {
-        if self.busy() {
+        if self.busy() || self.loading.is_some() {
             return;
         }
         self.drag = Some(Drag::new(kind, Placement::at(DVec2::ZERO)));
@@ -229,7 +229,7 @@ impl GeosnapApp {
 
     /// Starts re-dragging a placed part.
     pub fn begin_redrag(&mut self, id: PrimitiveId, at: DVec2) {
-        if self.busy() {
+        if self.busy() || self.loading.is_some() {
             return;
         }
         let Some(placed) = self.editor.document().get(id) else {

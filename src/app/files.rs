@@ -5,18 +5,20 @@
 //! Every failure is a message; the current work is never touched by a file that cannot
 //! be read.
 
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context as _};
 
 use super::autosave::{Autosave, Recovery, Work};
+use super::loader::{Content, Loaded, Loading};
 use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings};
-use crate::io::session::{load_session, parse_session, save_session, Session};
-use crate::io::sketch_file::load_sketch;
+use crate::io::session::{load_session, save_session, Session};
 
 /// The most recent files remembered.
 const MAX_RECENT: usize = 10;
@@ -207,75 +209,152 @@ impl GeosnapApp {
     }
 
     /// Opens a session, sketch (native or SVG) or reference image. On failure the work
-    /// stays as it was and the reason is shown.
+    /// stays as it was and the reason is shown. Drawings and sessions are read and
+    /// prepared off the UI thread ([`super::loader`]): the work is replaced when they
+    /// are ready.
     pub fn open_path(&mut self, ctx: &egui::Context, path: &Path) {
         if self.busy() {
             self.warn("Wait for the running solve to finish (or press Esc) before opening a file.");
             return;
         }
+        if let Some(loading) = &self.loading {
+            let text = format!(
+                "Wait for {} to open (or press Esc) before opening another file.",
+                loading.path.display()
+            );
+            self.warn(text);
+            return;
+        }
         match self.try_open(ctx, path) {
-            Ok(note) => {
+            Ok(Some(note)) => {
                 self.files.remember(path);
                 self.say(note);
             }
-            Err(error) => {
-                let text = format!("Could not open {}: {error:#}", path.display());
-                self.warn(text.clone());
-                self.files.prompt = Some(Prompt::Error(text));
-            }
+            Ok(None) => {}
+            Err(error) => self.open_failed(path, &error),
         }
     }
 
-    fn try_open(&mut self, ctx: &egui::Context, path: &Path) -> anyhow::Result<String> {
-        let head = std::fs::read(path).with_context(|| "the file cannot be read".to_owned())?;
+    fn open_failed(&mut self, path: &Path, error: &anyhow::Error) {
+        let text = format!("Could not open {}: {error:#}", path.display());
+        self.warn(text.clone());
+        self.files.prompt = Some(Prompt::Error(text));
+    }
+
+    /// Shows an image at once; starts reading a drawing or session (`None`).
+    fn try_open(&mut self, ctx: &egui::Context, path: &Path) -> anyhow::Result<Option<String>> {
+        let head = read_head(path).with_context(|| "the file cannot be read".to_owned())?;
         let kind = file_kind(path, &head).ok_or_else(|| {
             anyhow!("not a geosnap session, sketch, SVG drawing or PNG/JPEG image")
         })?;
-        match kind {
-            FileKind::Image => {
-                let texture = load_texture(ctx, path, &head)?;
-                let size = texture.size();
-                self.canvas.image_mut().show(path.to_owned(), texture);
-                self.editor.set_image(Some(path.to_owned()));
-                self.canvas.request_fit();
-                Ok(format!(
-                    "Reference image {} ({}×{} px) under the strokes.",
-                    path.display(),
-                    size[0],
-                    size[1]
-                ))
+        if kind != FileKind::Image {
+            let wake = self.workers.wake();
+            self.loading = Some(Loading::start(path, kind == FileKind::Session, wake));
+            return Ok(None);
+        }
+        let bytes = std::fs::read(path).with_context(|| "the file cannot be read".to_owned())?;
+        let texture = load_texture(ctx, path, &bytes)?;
+        let size = texture.size();
+        self.canvas.image_mut().show(path.to_owned(), texture);
+        self.editor.set_image(Some(path.to_owned()));
+        self.canvas.request_fit();
+        Ok(Some(format!(
+            "Reference image {} ({}×{} px) under the strokes.",
+            path.display(),
+            size[0],
+            size[1]
+        )))
+    }
+
+    /// Takes in the file being opened, once it is ready: it replaces the work.
+    pub(crate) fn poll_loading(&mut self, ctx: &egui::Context) {
+        let Some(loading) = &self.loading else {
+            return;
+        };
+        let Some(result) = loading.try_result() else {
+            // The step shown changes when the thread wakes the UI; this keeps the
+            // spinner turning between steps.
+            ctx.request_repaint_after(Duration::from_millis(100));
+            return;
+        };
+        let Some(loading) = self.loading.take() else {
+            return;
+        };
+        let path = loading.path;
+        match result {
+            Ok(loaded) => {
+                let note = self.take_loaded(ctx, &path, loaded);
+                self.files.remember(&path);
+                self.say(note);
             }
-            FileKind::Sketch => {
-                let loaded = load_sketch(path)?;
-                if loaded.sketch.strokes.is_empty() {
-                    return Err(anyhow!("it has no strokes to snap to"));
-                }
-                let strokes = loaded.sketch.strokes.len();
-                let warnings = loaded.warnings.clone();
-                self.editor
-                    .replace(loaded.sketch, loaded.image, Document::default());
+            Err(error) => self.open_failed(&path, &error),
+        }
+    }
+
+    /// Replaces the work by what `path` held; says what was opened.
+    fn take_loaded(&mut self, ctx: &egui::Context, path: &Path, loaded: Loaded) -> String {
+        let Loaded {
+            content,
+            classes,
+            context,
+        } = loaded;
+        let note = match content {
+            Content::Drawing {
+                sketch,
+                image,
+                warnings,
+            } => {
+                let strokes = sketch.strokes.len();
+                self.editor.replace(sketch, image, Document::default());
                 self.editor.set_origin(path.to_owned());
                 self.after_replace(ctx);
                 for w in warnings {
                     self.warn(w);
                 }
-                Ok(format!("Opened {} ({strokes} strokes).", path.display()))
+                format!("Opened {} ({strokes} strokes).", path.display())
             }
-            FileKind::Session => {
-                let session = parse_session(&head)
-                    .or_else(|_| load_session(path))
-                    .map_err(|e| anyhow!("{e}"))?;
+            Content::Session(session) => {
                 let parts = session.document.len();
                 self.editor
                     .replace(session.sketch, session.image, session.document);
                 self.editor.mark_saved(path.to_owned());
                 self.after_replace(ctx);
-                Ok(format!(
-                    "Opened the session {} ({parts} parts).",
-                    path.display()
-                ))
+                format!("Opened the session {} ({parts} parts).", path.display())
             }
-        }
+        };
+        // What the thread prepared, for the strokes as they now are.
+        let revision = self.editor.strokes_revision();
+        self.workers.set_context(Arc::new(context), revision);
+        self.canvas.set_classes(revision, classes);
+        note
+    }
+
+    /// Stops opening the file being read; whether one was.
+    pub(crate) fn cancel_loading(&mut self) -> bool {
+        let Some(loading) = self.loading.take() else {
+            return false;
+        };
+        self.say(format!(
+            "Opening {} was cancelled; the work is as it was.",
+            loading.path.display()
+        ));
+        true
+    }
+
+    /// The file being opened and the step it is at, in words, while one is.
+    pub fn loading(&self) -> Option<String> {
+        self.loading.as_ref().map(|l| {
+            let name = l.path.file_name().map_or_else(
+                || l.path.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            let seconds = l.elapsed().as_secs();
+            if seconds >= 1 {
+                format!("Opening {name}: {}… ({seconds} s)", l.phase().text())
+            } else {
+                format!("Opening {name}: {}…", l.phase().text())
+            }
+        })
     }
 
     fn after_replace(&mut self, ctx: &egui::Context) {
@@ -624,6 +703,15 @@ impl GeosnapApp {
 /// window then takes its place.
 fn no_dialog(asked: Instant) -> bool {
     asked.elapsed() < Duration::from_millis(400)
+}
+
+/// The start of a file, enough to tell what it holds ([`file_kind`]).
+fn read_head(path: &Path) -> std::io::Result<Vec<u8>> {
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)?
+        .take(4096)
+        .read_to_end(&mut head)?;
+    Ok(head)
 }
 
 fn is_image(path: &Path) -> bool {

@@ -418,15 +418,15 @@ impl GeosnapApp {
         }
     }
 
-    /// Esc: cancels the drag, else the running solve, else the stroke being drawn, else
-    /// the selection.
+    /// Esc: cancels the drag, else the running solve, else the file being opened, else
+    /// the stroke being drawn, else the selection.
     fn escape(&mut self) {
         if self.drag.is_some() {
             self.cancel_drag();
             self.say("Drag cancelled.");
         } else if self.busy() {
             self.cancel_job();
-        } else if !self.canvas.cancel_stroke() {
+        } else if !self.cancel_loading() && !self.canvas.cancel_stroke() {
             self.selection = None;
         }
     }

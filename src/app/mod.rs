@@ -24,6 +24,7 @@ mod drag;
 pub mod editor;
 mod files;
 mod help;
+mod loader;
 mod panels;
 mod status;
 mod view3d;
@@ -118,6 +119,8 @@ pub struct GeosnapApp {
     selection: Option<PrimitiveId>,
     /// The relation under the cursor in the relations panel.
     hovered_relation: Option<RelationId>,
+    /// The file being opened (read and prepared off the UI thread).
+    loading: Option<loader::Loading>,
     /// The poses the snap found for parts placed this session, for Tab on a selected
     /// part (not saved: a reopened session has none).
     readings: BTreeMap<PrimitiveId, worker::Readings>,
@@ -182,6 +185,7 @@ impl GeosnapApp {
             selection: None,
             hovered_relation: None,
             readings: BTreeMap::new(),
+            loading: None,
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
@@ -526,6 +530,7 @@ impl eframe::App for GeosnapApp {
         let started = Instant::now();
         let ctx = ui.ctx().clone();
         self.poll_workers();
+        self.poll_loading(&ctx);
         self.files_dropped(&ctx);
         self.sync_image(&ctx);
         self.shortcuts(&ctx);

@@ -197,6 +197,17 @@ impl Workers {
         }
     }
 
+    /// The callback that wakes the UI (for other threads of the app).
+    pub(crate) fn wake(&self) -> Wake {
+        Arc::clone(&self.wake)
+    }
+
+    /// Takes a snapping context prepared elsewhere (off the UI thread) for the strokes
+    /// of `revision`.
+    pub(crate) fn set_context(&mut self, context: Arc<SnapContext>, revision: u64) {
+        self.context = (context, revision);
+    }
+
     /// The running job.
     pub(crate) fn job(&self) -> Option<&Job> {
         self.job.as_ref()
