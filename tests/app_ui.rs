@@ -771,9 +771,11 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_ti
         .len(),
         "the sample is open until the work is recovered"
     );
-    // The prompt names the drawing and when the work was autosaved.
+    // The prompt names the drawing and when the work was autosaved; the welcome hint
+    // waits (one thing at a time).
     next.get_by_label_contains("Unsaved work on stand.svg from ");
     next.get_by_label_contains("(just now)");
+    assert!(next.query_by_label("Welcome to geosnap").is_none());
     next.get_by_label("Recover").click();
     next.step();
     next.step();
@@ -786,6 +788,19 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_ti
         next.state().editor().is_dirty(),
         "recovered work is unsaved until saved"
     );
+    next.run_steps(2);
+    assert!(
+        next.query_by_label("Welcome to geosnap").is_none(),
+        "no welcome to the sample over recovered work"
+    );
+    // Another crash, and this time the autosave is discarded: the welcome comes then.
+    next.state_mut().autosave_now();
+    drop(next);
+    let mut last = app(&dir, None);
+    assert!(last.query_by_label("Welcome to geosnap").is_none());
+    last.get_by_label("Discard").click();
+    last.run_steps(3);
+    assert!(last.query_by_label("Welcome to geosnap").is_some());
 }
 
 #[test]

@@ -164,6 +164,7 @@ impl GeosnapApp {
             After::New => {
                 self.cancel_job();
                 self.readings.clear();
+                self.help.first_run_hint = false;
                 self.editor
                     .replace(Sketch::default(), None, Document::default());
                 self.canvas.image_mut().clear(false);
@@ -357,7 +358,14 @@ impl GeosnapApp {
         })
     }
 
+    /// Whether a question is being asked in a modal window.
+    pub(crate) fn asking(&self) -> bool {
+        self.files.prompt.is_some()
+    }
+
     fn after_replace(&mut self, ctx: &egui::Context) {
+        // The welcome is about the sample, which is no longer open.
+        self.help.first_run_hint = false;
         self.selection = None;
         self.readings.clear();
         self.hovered_relation = None;

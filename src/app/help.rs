@@ -526,7 +526,13 @@ impl GeosnapApp {
     /// The first-run hint on the built-in sample, in the canvas's upper right corner,
     /// until "Got it" (remembered in the settings when the app has them).
     pub(crate) fn first_run_hint(&mut self, ui: &Ui, rect: egui::Rect) {
-        if !self.help.first_run_hint || self.help.shortcuts_open {
+        // One thing at a time: not over a question (the recovery prompt), the shortcuts
+        // window or a file being opened.
+        if !self.help.first_run_hint
+            || self.help.shortcuts_open
+            || self.asking()
+            || self.loading.is_some()
+        {
             return;
         }
         let help_keys = keys_text(ui.ctx(), Action::Help);
