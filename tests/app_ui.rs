@@ -22,6 +22,7 @@
 //! - Tab during a drag shows the other poses the snap found, the release places the
 //!   pose shown, and Tab on the placed part places it in the next pose, undoably;
 //! - a part placed freely (Alt + drop) is related to the others all the same;
+//! - a part's centre and axis are typed in the properties panel;
 //! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
 //!   frames keep coming.
 
@@ -1051,10 +1052,10 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
             .is_some(),
         "the properties name the kind"
     );
-    assert!(harness.query_by_label_contains("Centre at").is_some());
+    assert!(harness.query_by_label("Centre").is_some());
     assert!(
-        harness.query_by_label_contains(") mm").is_some(),
-        "the centre in mm"
+        harness.query_all_by_label("mm").count() >= 2,
+        "the centre and the sizes in mm"
     );
     assert!(
         harness.query_by_label_contains("mm on average").is_some(),
@@ -1427,4 +1428,83 @@ fn a_large_drawing_opens_off_the_ui_thread_while_frames_keep_coming() {
         .messages()
         .iter()
         .any(|m| m.text.contains("Opened") && m.text.contains("big.svg")));
+}
+
+/// Types `text` into the text field labelled `label` and presses Enter.
+fn type_into(harness: &mut Harness<'static, GeosnapApp>, label: &str, text: &str) {
+    harness
+        .get_by_role_and_label(Role::TextInput, label)
+        .focus();
+    harness.step();
+    press(harness, Modifiers::COMMAND, Key::A);
+    harness
+        .get_by_role_and_label(Role::TextInput, label)
+        .type_text(text);
+    harness.step();
+    press(harness, Modifiers::NONE, Key::Enter);
+}
+
+#[test]
+fn a_part_is_placed_and_turned_by_typed_numbers() {
+    let dir = scratch("pose");
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
+    let id = harness.state().selection().expect("the part is selected");
+    let part = |h: &Harness<'static, GeosnapApp>| {
+        h.state()
+            .editor()
+            .document()
+            .get(id)
+            .expect("the part keeps its id")
+            .clone()
+    };
+    let before = part(&harness).primitive.center();
+    let x = (before.x + 40.0).round();
+    type_into(&mut harness, "X", &x.to_string());
+    step_until(&mut harness, "the move's solve", |app| app.job().is_none());
+    let moved = part(&harness);
+    assert!(
+        (moved.primitive.center().x - x).abs() < 1e-6,
+        "at the typed X: {:?}",
+        moved.primitive.center()
+    );
+    assert!(
+        (moved.primitive.center().y - before.y).abs() < 1e-6,
+        "the rest stays"
+    );
+    assert!(
+        moved.fit.strokes.is_empty(),
+        "off its strokes: placed freely"
+    );
+    assert!(
+        harness
+            .state()
+            .editor()
+            .undo_label()
+            .is_some_and(|l| l.starts_with(&format!("#{} placed at", id.0))),
+        "one undo step"
+    );
+
+    type_into(&mut harness, "tilt from up", "20");
+    step_until(&mut harness, "the turn's solve", |app| app.job().is_none());
+    let geosnap::core::primitive::Primitive::Sgc(profile) = part(&harness).primitive else {
+        panic!("a profile");
+    };
+    let tilt = profile.axis.y.acos().to_degrees();
+    assert!(
+        (tilt - 20.0).abs() < 1e-6 || (tilt - 160.0).abs() < 1e-6,
+        "tilted: {tilt}"
+    );
+
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    let back = part(&harness);
+    assert!(
+        (back.primitive.center() - before).length() < 1e-9,
+        "undo puts it back"
+    );
+    assert!(!back.fit.strokes.is_empty(), "on its strokes again");
 }

@@ -26,6 +26,7 @@ mod files;
 mod help;
 mod loader;
 mod panels;
+mod pose;
 mod status;
 mod view3d;
 mod words;
@@ -461,6 +462,35 @@ impl GeosnapApp {
             &format!("Relation {index} {}", mode_name(mode)),
             document,
             Some(members),
+        );
+    }
+
+    /// Places part `id` exactly as `primitive` (typed in the properties): off its
+    /// strokes, its relations and dimensions kept, and solved in the background as one
+    /// undo step.
+    pub fn place_exactly(&mut self, id: PrimitiveId, primitive: crate::core::primitive::Primitive) {
+        if !primitive.is_finite() {
+            self.warn("That position or angle gives no valid part.");
+            return;
+        }
+        let Some(document) = pose::placed_exactly(self.editor.document(), id, primitive) else {
+            return;
+        };
+        let c = document
+            .get(id)
+            .map(|p| p.primitive.center())
+            .unwrap_or_default();
+        self.resolve_in_background(
+            &format!(
+                "#{} placed at ({:.1}, {:.1}, {:.1}) {}",
+                id.0,
+                c.x,
+                c.y,
+                c.z,
+                words::UNIT
+            ),
+            document,
+            Some(vec![id]),
         );
     }
 

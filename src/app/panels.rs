@@ -9,7 +9,7 @@ use super::files::{After, PathAction};
 use super::help::{keys_text, Action};
 use super::{mode_name, words, GeosnapApp, Tool};
 use crate::core::model::Quantity;
-use crate::core::primitive::PrimitiveKind;
+use crate::core::primitive::{Primitive, PrimitiveKind};
 use crate::core::relation::{Mode, RelationKind};
 
 /// The panels' own state: the dimension values being typed, and whether the settings
@@ -420,14 +420,7 @@ impl GeosnapApp {
         let p = &placed.primitive;
         ui.label(RichText::new(format!("#{} {}", id.0, words::kind_title(p.kind()))).strong())
             .on_hover_text(words::kind_long(p.kind()));
-        let c = p.center();
-        ui.label(format!(
-            "Centre at ({:.1}, {:.1}, {:.1}) {}",
-            c.x,
-            c.y,
-            c.z,
-            words::UNIT
-        ));
+        self.pose_fields(ui, id, p);
         if placed.fit.strokes.is_empty() {
             ui.label("Placed freely: not snapped to any strokes")
                 .on_hover_text("Drag it onto its strokes to snap it");
@@ -559,6 +552,86 @@ impl GeosnapApp {
                 self.delete_selected();
             }
         });
+    }
+
+    /// A number typed in a field of its own, shown as `value` while not edited; the
+    /// typed number once Enter is pressed in it.
+    fn number_field(
+        &mut self,
+        ui: &mut Ui,
+        (key, name): (String, egui::Id),
+        value: f64,
+        hover: &str,
+    ) -> Option<f64> {
+        let text = self
+            .panels
+            .typed
+            .entry(key)
+            .or_insert_with(|| format!("{value:.2}"));
+        let edit = ui
+            .add(egui::TextEdit::singleline(text).desired_width(64.0))
+            .labelled_by(name)
+            .on_hover_text(hover);
+        let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if !edit.has_focus() && !entered {
+            *text = format!("{value:.2}");
+        }
+        if !entered {
+            return None;
+        }
+        let typed = text.trim().to_owned();
+        match typed.parse::<f64>() {
+            Ok(v) if v.is_finite() => Some(v),
+            _ => {
+                self.status
+                    .push(format!("“{typed}” is not a number."), true);
+                None
+            }
+        }
+    }
+
+    /// The part's centre and orientation, each typed in a field: Enter places the part
+    /// exactly there ([`super::pose`]) and solves its relations (one undo step).
+    fn pose_fields(&mut self, ui: &mut Ui, id: crate::core::model::PrimitiveId, p: &Primitive) {
+        let centre = p.center();
+        let mut moved = None;
+        ui.horizontal(|ui| {
+            ui.label("Centre");
+            let mut at = centre;
+            for (k, axis) in ["X", "Y", "Z"].into_iter().enumerate() {
+                let name = ui.label(axis).id;
+                let hover = format!(
+                    "The centre's {axis} in {}; Enter places the part there exactly \
+                     (off its strokes) and solves its relations",
+                    words::UNIT
+                );
+                let key = (format!("{}:centre:{k}", id.0), name);
+                if let Some(v) = self.number_field(ui, key, centre[k], &hover) {
+                    at[k] = v;
+                    moved = Some(super::pose::with_center(p, at));
+                }
+            }
+            ui.label(words::UNIT);
+        });
+        let angles = super::pose::angles(p);
+        if !angles.is_empty() {
+            ui.horizontal(|ui| {
+                let mut degrees: Vec<f64> = angles.iter().map(|(_, a)| *a).collect();
+                for (k, (name, value)) in angles.iter().enumerate() {
+                    let label = ui.label(*name).id;
+                    let hover = format!("The part's {name} in degrees; Enter turns it exactly so");
+                    let key = (format!("{}:angle:{k}", id.0), label);
+                    if let Some(v) = self.number_field(ui, key, *value, &hover) {
+                        degrees[k] = v;
+                        moved = super::pose::with_angles(p, &degrees);
+                    }
+                    ui.label("°");
+                }
+            });
+        }
+        if let Some(primitive) = moved {
+            self.place_exactly(id, primitive);
+        }
     }
 
     pub(crate) fn settings_window(&mut self, ctx: &egui::Context) {
