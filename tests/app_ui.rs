@@ -22,7 +22,8 @@
 //! - Tab during a drag shows the other poses the snap found, the release places the
 //!   pose shown, and Tab on the placed part places it in the next pose, undoably;
 //! - a part placed freely (Alt + drop) is related to the others all the same;
-//! - a part's centre and axis are typed in the properties panel;
+//! - a part's centre and axis are typed in the properties panel; the outliner selects,
+//!   hides and deletes parts;
 //! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
 //!   frames keep coming.
 
@@ -1507,4 +1508,63 @@ fn a_part_is_placed_and_turned_by_typed_numbers() {
         "undo puts it back"
     );
     assert!(!back.fit.strokes.is_empty(), "on its strokes again");
+}
+
+#[test]
+fn the_outliner_selects_hides_and_deletes_parts() {
+    let dir = scratch("outliner");
+    let mut harness = stand(&dir);
+    harness.state_mut().select(None);
+    harness.run_steps(2);
+    assert!(harness.query_by_label("Parts (3)").is_some());
+    let ids: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    harness
+        .get_by_label(&format!("Cylinder {}", ids[1].0))
+        .click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().selection(), Some(ids[1]), "a click selects");
+
+    // Hiding the first part takes it off the canvas (its id label) and the 3D view.
+    let labels = harness.state().canvas_labels().len();
+    harness
+        .get_all_by_role(Role::CheckBox)
+        .next()
+        .expect("the first part's eye")
+        .click();
+    harness.run_steps(2);
+    assert!(harness.state().is_hidden(ids[0]));
+    assert!(
+        harness.state().canvas_labels().len() < labels,
+        "its id is no longer drawn"
+    );
+    assert_eq!(
+        harness.state().editor().document().len(),
+        3,
+        "hidden, not deleted"
+    );
+    harness
+        .get_all_by_role(Role::CheckBox)
+        .next()
+        .expect("the first part's eye")
+        .click();
+    harness.run_steps(2);
+    assert!(!harness.state().is_hidden(ids[0]), "shown again");
+
+    // Its delete button deletes it, undoably.
+    harness
+        .get_all_by_label("Remove")
+        .nth(2)
+        .expect("the last part's delete button")
+        .click();
+    harness.run_steps(2);
+    assert!(harness.state().editor().document().get(ids[2]).is_none());
+    assert!(harness.query_by_label("Parts (2)").is_some());
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    assert!(harness.state().editor().document().get(ids[2]).is_some());
 }

@@ -484,6 +484,7 @@ impl GeosnapApp {
         self.editor
             .document()
             .primitives()
+            .filter(|(id, _)| !self.hidden.contains(id))
             .filter_map(|(id, placed)| {
                 let lines = outlines(&placed.primitive);
                 let d = lines
@@ -728,7 +729,9 @@ impl GeosnapApp {
     fn paint_parts(&self, painter: &egui::Painter) {
         let related = self.emphasis().related;
         for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
-            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id))
+                || self.hidden.contains(&id)
+            {
                 continue;
             }
             let selected = self.selection == Some(id);
@@ -759,7 +762,9 @@ impl GeosnapApp {
         self.canvas.labels.clear();
         let related = self.emphasis().related;
         for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
-            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id))
+                || self.hidden.contains(&id)
+            {
                 continue;
             }
             let selected = self.selection == Some(id);

@@ -164,6 +164,7 @@ impl GeosnapApp {
             After::New => {
                 self.cancel_job();
                 self.readings.clear();
+                self.hidden.clear();
                 self.help.first_run_hint = false;
                 self.editor
                     .replace(Sketch::default(), None, Document::default());
@@ -368,6 +369,7 @@ impl GeosnapApp {
         self.help.first_run_hint = false;
         self.selection = None;
         self.readings.clear();
+        self.hidden.clear();
         self.hovered_relation = None;
         self.drag = None;
         self.canvas.image_mut().clear(true);

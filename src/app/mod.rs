@@ -120,6 +120,9 @@ pub struct GeosnapApp {
     selection: Option<PrimitiveId>,
     /// The relation under the cursor in the relations panel.
     hovered_relation: Option<RelationId>,
+    /// Parts hidden in the outliner (on the canvas and in the 3D view; a view setting,
+    /// not part of the work).
+    hidden: std::collections::BTreeSet<PrimitiveId>,
     /// The file being opened (read and prepared off the UI thread).
     loading: Option<loader::Loading>,
     /// The poses the snap found for parts placed this session, for Tab on a selected
@@ -187,6 +190,7 @@ impl GeosnapApp {
             hovered_relation: None,
             readings: BTreeMap::new(),
             loading: None,
+            hidden: std::collections::BTreeSet::new(),
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
@@ -254,6 +258,11 @@ impl GeosnapApp {
     /// Selects a part (or nothing).
     pub fn select(&mut self, id: Option<PrimitiveId>) {
         self.selection = id;
+    }
+
+    /// Whether part `id` is hidden (outliner).
+    pub fn is_hidden(&self, id: PrimitiveId) -> bool {
+        self.hidden.contains(&id)
     }
 
     /// Sets how long unsaved work waits before it is autosaved (30 s unless set; tests
@@ -522,6 +531,7 @@ impl GeosnapApp {
                 .and_then(|id| self.editor.document().relation(id))
                 .map(|r| r.members.clone())
                 .unwrap_or_default(),
+            hidden: self.hidden.iter().copied().collect(),
         }
     }
 

@@ -298,6 +298,12 @@ impl GeosnapApp {
                     .id_salt("inspector_scroll")
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
+                        egui::CollapsingHeader::new(format!(
+                            "Parts ({})",
+                            self.editor.document().len()
+                        ))
+                        .default_open(true)
+                        .show(ui, |ui| self.outliner(ui));
                         egui::CollapsingHeader::new("Properties")
                             .default_open(true)
                             .show(ui, |ui| self.properties(ui));
@@ -309,6 +315,69 @@ impl GeosnapApp {
                         .show(ui, |ui| self.relations(ui));
                     });
             });
+    }
+
+    /// The parts, one a row: shown or hidden, its name (click selects it) with how its
+    /// snap was judged, and a button that deletes it.
+    fn outliner(&mut self, ui: &mut Ui) {
+        let document = self.editor.document();
+        if document.is_empty() {
+            ui.label(RichText::new("No parts yet: drag one from the palette.").weak());
+            return;
+        }
+        let busy = self.busy();
+        let mut select = None;
+        let mut toggle = None;
+        let mut delete = None;
+        for (index, (id, placed)) in document.primitives().enumerate() {
+            ui.horizontal(|ui| {
+                let mut shown = !self.hidden.contains(&id);
+                if ui
+                    .add(egui::Checkbox::without_text(&mut shown))
+                    .on_hover_text("Show or hide it on the drawing and in the 3D view")
+                    .changed()
+                {
+                    toggle = Some(id);
+                }
+                let (swatch, _) =
+                    ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+                ui.painter()
+                    .rect_filled(swatch, 2.0, super::view3d::part_color(index));
+                let name = words::part_name(document, id);
+                let state = match (placed.fit.strokes.is_empty(), placed.fit.verdict) {
+                    (true, _) => " · placed freely",
+                    (false, Some(crate::core::snap::Verdict::Doubtful)) => " · doubtful",
+                    _ => "",
+                };
+                let selected = self.selection == Some(id);
+                if ui
+                    .selectable_label(selected, format!("{name}{state}"))
+                    .on_hover_text("Select it")
+                    .clicked()
+                {
+                    select = Some(id);
+                }
+                if ui
+                    .add_enabled(!busy, egui::Button::new("Remove").small())
+                    .on_hover_text(format!("Delete {name}"))
+                    .clicked()
+                {
+                    delete = Some(id);
+                }
+            });
+        }
+        if let Some(id) = select {
+            self.selection = Some(id);
+        }
+        if let Some(id) = toggle {
+            if !self.hidden.remove(&id) {
+                self.hidden.insert(id);
+            }
+        }
+        if let Some(id) = delete {
+            self.selection = Some(id);
+            self.delete_selected();
+        }
     }
 
     fn relations(&mut self, ui: &mut Ui) {

@@ -48,6 +48,8 @@ pub(crate) struct Emphasis {
     pub selected: Option<PrimitiveId>,
     /// Members of the hovered relation.
     pub related: Vec<PrimitiveId>,
+    /// Parts hidden in the outliner.
+    pub hidden: Vec<PrimitiveId>,
 }
 
 /// What the view from the drawing shows behind the model: the strokes and the
@@ -225,6 +227,9 @@ impl View3d {
         }
         let mut scene = Scene::default();
         for (index, (id, placed)) in document.primitives().enumerate() {
+            if emphasis.hidden.contains(&id) {
+                continue;
+            }
             let mut color = part_color(index);
             if emphasis.selected == Some(id) {
                 color = color.lerp_to_gamma(Color32::WHITE, 0.35);
