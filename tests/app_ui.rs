@@ -23,7 +23,8 @@
 //!   pose shown, and Tab on the placed part places it in the next pose, undoably;
 //! - a part placed freely (Alt + drop) is related to the others all the same;
 //! - a part's centre and axis are typed in the properties panel; the outliner selects,
-//!   hides and deletes parts;
+//!   hides and deletes parts; the export dialog sets the unit (shown in the panels
+//!   too), the segments and the format;
 //! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
 //!   frames keep coming.
 
@@ -1567,4 +1568,65 @@ fn the_outliner_selects_hides_and_deletes_parts() {
     assert!(harness.query_by_label("Parts (2)").is_some());
     press(&mut harness, Modifiers::COMMAND, Key::Z);
     assert!(harness.state().editor().document().get(ids[2]).is_some());
+}
+
+#[test]
+fn the_export_dialog_offers_the_unit_the_segments_and_the_format() {
+    let dir = scratch("export");
+    let mut harness = stand(&dir);
+    press(&mut harness, Modifiers::COMMAND, Key::E);
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label("Export glTF").is_some(),
+        "the dialog"
+    );
+    assert!(harness.query_by_label("Segments around circles").is_some());
+    // Centimetres, written as text glTF.
+    harness
+        .get_by_role_and_label(Role::ComboBox, "One drawing unit is one")
+        .click();
+    harness.run_steps(2);
+    harness.get_by_label("centimetres").click();
+    harness.run_steps(2);
+    harness.get_by_label(".gltf (text, for reading)").click();
+    harness.run_steps(2);
+    assert!(harness
+        .query_by_label_contains("1 cm of the drawing becomes 0.01 m")
+        .is_some());
+    harness.get_by_label("Export to path…").click();
+    harness.run_steps(2);
+    let path = dir.join("stand-model");
+    // The path field has the keyboard: replace the suggested path.
+    press(&mut harness, Modifiers::COMMAND, Key::A);
+    harness
+        .get_all_by_role(Role::TextInput)
+        .find(egui_kittest::Node::is_focused)
+        .expect("the path field")
+        .type_text(&path.display().to_string());
+    harness.step();
+    press(&mut harness, Modifiers::NONE, Key::Enter);
+    harness.run_steps(2);
+    let written = dir.join("stand-model.gltf");
+    assert!(written.is_file(), "{:?}", harness.state().messages());
+    let text = std::fs::read_to_string(&written).expect("text glTF");
+    assert!(text.trim_start().starts_with('{'), "JSON");
+    assert!(
+        harness
+            .state()
+            .messages()
+            .iter()
+            .any(|m| m.text.contains("one cm of the drawing is 0.01 m")),
+        "{:?}",
+        harness.state().messages()
+    );
+    // The unit is the document's: the panels show it too.
+    harness
+        .state_mut()
+        .select(Some(geosnap::core::model::PrimitiveId(0)));
+    harness.run_steps(2);
+    assert!(
+        harness.query_all_by_label("cm").count() >= 2,
+        "lengths in cm"
+    );
+    assert!(harness.query_all_by_label("mm").next().is_none());
 }

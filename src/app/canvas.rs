@@ -904,7 +904,7 @@ impl GeosnapApp {
             (Some(p), _) => format!(
                 "{title}: {} strokes, {} off on average",
                 p.assignment.stroke_ids().len(),
-                words::mm(p.rms)
+                words::length(p.rms, self.panels.unit)
             ),
             (None, Some(e)) => format!("{title}: {}", words::snap_error(e, self.status.developer)),
             (None, None) => format!("{title}…"),

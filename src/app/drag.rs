@@ -390,10 +390,18 @@ impl GeosnapApp {
             Some(id) => format!("Move #{}", id.0),
             None => format!("Place {noun}"),
         };
+        let unit = self.panels.unit;
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {
                 worker::place(
-                    document, &context, &start, readings, replacing, &settings, cancel, observe,
+                    document,
+                    &context,
+                    &start,
+                    readings,
+                    replacing,
+                    (&settings, unit),
+                    cancel,
+                    observe,
                 )
             });
     }
@@ -423,6 +431,7 @@ impl GeosnapApp {
             readings.poses.len()
         );
         let dropped = readings.dropped.clone();
+        let unit = self.panels.unit;
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {
                 worker::place(
@@ -431,7 +440,7 @@ impl GeosnapApp {
                     &dropped,
                     Some(readings),
                     Some(id),
-                    &settings,
+                    (&settings, unit),
                     cancel,
                     observe,
                 )

@@ -17,7 +17,7 @@ use super::loader::{Content, Loaded, Loading};
 use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
-use crate::io::gltf::{export_gltf, ExportSettings};
+use crate::io::gltf::{export_gltf, ExportSettings, Origin};
 use crate::io::session::{load_session, save_session, Session};
 
 /// The most recent files remembered.
@@ -36,6 +36,43 @@ pub(crate) enum Prompt {
     Image(PathBuf),
     /// An error to acknowledge.
     Error(String),
+    /// The export options, before asking where.
+    Export,
+}
+
+/// The export dialog's options (kept for the next export in this run).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ExportOptions {
+    /// A factor on top of the unit (a model drawn at 1:10, say).
+    pub scale: f64,
+    /// Segments around each circle.
+    pub segments: usize,
+    /// Whether the model stands centred on the ground (else: the drawing's origin).
+    pub on_ground: bool,
+    /// `.glb` (else `.gltf`).
+    pub binary: bool,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        Self {
+            scale: 1.0,
+            segments: crate::io::gltf::DEFAULT_SEGMENTS,
+            on_ground: true,
+            binary: true,
+        }
+    }
+}
+
+impl ExportOptions {
+    /// The chosen format's file extension.
+    pub(crate) fn extension(&self) -> &'static str {
+        if self.binary {
+            "glb"
+        } else {
+            "gltf"
+        }
+    }
 }
 
 /// What follows an unsaved-changes prompt.
@@ -67,6 +104,8 @@ pub(crate) struct Files {
     allow_quit: bool,
     /// The typed-path prompt takes the keyboard at its next frame.
     focus_path: bool,
+    /// The export dialog's options.
+    export: ExportOptions,
 }
 
 impl Files {
@@ -85,6 +124,7 @@ impl Files {
             autosave,
             allow_quit: false,
             focus_path: false,
+            export: ExportOptions::default(),
         }
     }
 
@@ -453,13 +493,39 @@ impl GeosnapApp {
         }
     }
 
-    /// Asks for a glTF path and exports.
+    /// Opens the export dialog: the unit and scale, the segments, the origin and the
+    /// format, then where to write the file.
     pub fn export_dialog(&mut self) {
+        if self.editor.document().is_empty() {
+            self.warn("There is nothing to export yet: place a primitive first.");
+            return;
+        }
+        self.files.prompt = Some(Prompt::Export);
+    }
+
+    /// The export settings the dialog's options give.
+    fn export_settings(&self) -> anyhow::Result<ExportSettings> {
+        let options = &self.files.export;
+        let origin = if options.on_ground {
+            Origin::Ground
+        } else {
+            Origin::Model
+        };
+        Ok(ExportSettings::new(
+            self.panels.unit.metres() * options.scale,
+            options.segments,
+            origin,
+        )?)
+    }
+
+    /// Asks where to write the file (native dialog, or a typed path), in the format the
+    /// dialog chose.
+    fn export_where(&mut self) {
+        let ext = self.files.export.extension();
         let asked = Instant::now();
         let picked = rfd::FileDialog::new()
-            .add_filter("glTF binary", &["glb"])
-            .add_filter("glTF", &["gltf"])
-            .set_file_name("model.glb")
+            .add_filter(if ext == "glb" { "glTF binary" } else { "glTF" }, &[ext])
+            .set_file_name(format!("model.{ext}"))
             .save_file();
         match picked {
             Some(path) => self.export_to(&path),
@@ -470,26 +536,110 @@ impl GeosnapApp {
         }
     }
 
-    /// Exports the model as glTF 2.0 (`.glb` or `.gltf`).
+    /// Exports the model as glTF 2.0 with the dialog's options: `.glb` or `.gltf` as the
+    /// path ends (the chosen format's extension is added to a path with neither).
     pub fn export_to(&mut self, path: &Path) {
         if self.editor.document().is_empty() {
             self.warn("There is nothing to export yet: place a primitive first.");
             return;
         }
-        let settings = ExportSettings::default();
-        match export_gltf(self.editor.document(), path, &settings) {
-            Ok(_) => self.say(format!(
-                "Exported {} (in metres: one {} of the drawing is {} m).",
+        let path = if crate::io::gltf::GltfFormat::from_path(path).is_some() {
+            path.to_owned()
+        } else {
+            let mut named = path.as_os_str().to_owned();
+            named.push(format!(".{}", self.files.export.extension()));
+            PathBuf::from(named)
+        };
+        let exported = self.export_settings().and_then(|settings| {
+            export_gltf(self.editor.document(), &path, &settings)?;
+            Ok(settings)
+        });
+        match exported {
+            Ok(settings) => self.say(format!(
+                "Exported {} (in metres: one {} of the drawing is {} m; {} segments around \
+                 circles).",
                 path.display(),
-                super::words::UNIT,
-                settings.metres_per_unit()
+                self.panels.unit.symbol(),
+                settings.metres_per_unit(),
+                settings.segments()
             )),
             Err(error) => {
-                let text = format!("Could not export {}: {error}", path.display());
+                let text = format!("Could not export {}: {error:#}", path.display());
                 self.warn(text.clone());
                 self.files.prompt = Some(Prompt::Error(text));
             }
         }
+    }
+
+    /// The export dialog's options and buttons.
+    fn export_prompt(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Export glTF");
+        let mut unit = self.panels.unit;
+        egui::Grid::new("export_options")
+            .num_columns(2)
+            .show(ui, |ui| {
+                let label = ui.label("One drawing unit is one").id;
+                egui::ComboBox::from_id_salt("export_unit")
+                    .selected_text(unit.name())
+                    .show_ui(ui, |ui| {
+                        for u in super::words::Unit::ALL {
+                            ui.selectable_value(&mut unit, u, u.name());
+                        }
+                    })
+                    .response
+                    .labelled_by(label);
+                ui.end_row();
+                let options = &mut self.files.export;
+                ui.label("Scale");
+                ui.add(
+                    egui::DragValue::new(&mut options.scale)
+                        .range(0.001..=1000.0)
+                        .speed(0.01)
+                        .prefix("× "),
+                );
+                ui.end_row();
+                ui.label("Segments around circles");
+                ui.add(egui::Slider::new(
+                    &mut options.segments,
+                    8..=crate::io::gltf::MAX_SEGMENTS.min(256),
+                ));
+                ui.end_row();
+                ui.label("Origin");
+                ui.vertical(|ui| {
+                    ui.radio_value(&mut options.on_ground, true, "On the ground, centred");
+                    ui.radio_value(&mut options.on_ground, false, "The drawing's own origin");
+                });
+                ui.end_row();
+                ui.label("Format");
+                ui.vertical(|ui| {
+                    ui.radio_value(&mut options.binary, true, ".glb (one binary file)");
+                    ui.radio_value(&mut options.binary, false, ".gltf (text, for reading)");
+                });
+                ui.end_row();
+            });
+        if unit != self.panels.unit {
+            self.panels.unit = unit;
+        }
+        let metres = self.panels.unit.metres() * self.files.export.scale;
+        ui.label(
+            egui::RichText::new(format!(
+                "Lengths are written in metres: 1 {} of the drawing becomes {metres} m.",
+                self.panels.unit.symbol()
+            ))
+            .weak(),
+        );
+        ui.horizontal(|ui| {
+            if ui.button("Export…").clicked() {
+                self.files.prompt = None;
+                self.export_where();
+            }
+            if ui.button("Export to path…").clicked() {
+                self.ask_path(PathAction::Export);
+            }
+            if ui.button("Cancel").clicked() {
+                self.files.prompt = None;
+            }
+        });
     }
 
     /// Asks for a path to `action` in a window, suggesting one.
@@ -497,7 +647,7 @@ impl GeosnapApp {
         let suggested = match action {
             PathAction::Open => String::new(),
             PathAction::SaveAs => self.suggested_path("geosnap.json"),
-            PathAction::Export => self.suggested_path("glb"),
+            PathAction::Export => self.suggested_path(self.files.export.extension()),
         };
         self.files.prompt = Some(Prompt::Path(action, suggested));
         self.files.focus_path = true;
@@ -662,6 +812,7 @@ impl GeosnapApp {
                     });
                 }
                 Prompt::Image(path) => self.image_prompt(ui, &path),
+                Prompt::Export => self.export_prompt(ui),
                 Prompt::Error(text) => {
                     ui.heading("Problem");
                     ui.label(text);
@@ -674,7 +825,7 @@ impl GeosnapApp {
         if modal.should_close()
             && matches!(
                 self.files.prompt,
-                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_))
+                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_) | Prompt::Export)
             )
         {
             self.files.prompt = None;

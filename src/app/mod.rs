@@ -208,6 +208,13 @@ impl GeosnapApp {
             title: String::new(),
         };
         app.status.developer = developer;
+        if let Some(unit) = cc
+            .storage
+            .and_then(|s| eframe::get_value::<String>(s, "unit"))
+            .and_then(|u| words::Unit::from_symbol(&u))
+        {
+            app.panels.unit = unit;
+        }
         if let Some(script) = &options.play {
             match crate::io::script::load_script(script) {
                 Ok(script) => {
@@ -496,7 +503,7 @@ impl GeosnapApp {
                 c.x,
                 c.y,
                 c.z,
-                words::UNIT
+                self.panels.unit.symbol()
             ),
             document,
             Some(vec![id]),
@@ -649,6 +656,7 @@ impl eframe::App for GeosnapApp {
         );
         eframe::set_value(storage, help::HINT_SEEN_KEY, &self.help.hint_seen);
         eframe::set_value(storage, status::DEVELOPER_KEY, &self.status.developer);
+        eframe::set_value(storage, "unit", &self.panels.unit.symbol());
     }
 
     fn on_exit(&mut self) {

@@ -20,6 +20,8 @@ pub(crate) struct Panels {
     /// quantity.
     typed: BTreeMap<String, String>,
     show_settings: bool,
+    /// The document's unit (a preference: what one sketch unit is).
+    pub(crate) unit: words::Unit,
 }
 
 impl GeosnapApp {
@@ -479,6 +481,7 @@ impl GeosnapApp {
 
     #[expect(clippy::too_many_lines, reason = "one panel, read top to bottom")]
     fn properties(&mut self, ui: &mut Ui) {
+        let unit = self.panels.unit;
         let Some(id) = self.selection else {
             ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
             return;
@@ -497,7 +500,7 @@ impl GeosnapApp {
             ui.label(format!(
                 "Fits its {} strokes to {} on average",
                 placed.fit.strokes.len(),
-                words::mm(placed.fit.rms)
+                words::length(placed.fit.rms, self.panels.unit)
             ))
             .on_hover_text("The root mean square distance from the strokes to the part's outlines");
         }
@@ -561,7 +564,7 @@ impl GeosnapApp {
                 let edit = edit.labelled_by(name.id).on_hover_text(format!(
                     "Type an exact {} in {} and press Enter: it becomes a hard constraint",
                     words::quantity_name(*quantity),
-                    words::UNIT
+                    unit.symbol()
                 ));
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 if !edit.has_focus() && !entered {
@@ -576,7 +579,7 @@ impl GeosnapApp {
                     }
                 }
                 ui.horizontal(|ui| {
-                    ui.label(words::UNIT);
+                    ui.label(unit.symbol());
                     if is_fixed.is_some()
                         && ui
                             .button("free")
@@ -596,7 +599,7 @@ impl GeosnapApp {
                         "#{} {} = {value} {}",
                         id.0,
                         words::quantity_name(quantity),
-                        words::UNIT
+                        unit.symbol()
                     ),
                     document,
                     Some(vec![id]),
@@ -662,6 +665,7 @@ impl GeosnapApp {
     /// The part's centre and orientation, each typed in a field: Enter places the part
     /// exactly there ([`super::pose`]) and solves its relations (one undo step).
     fn pose_fields(&mut self, ui: &mut Ui, id: crate::core::model::PrimitiveId, p: &Primitive) {
+        let unit = self.panels.unit;
         let centre = p.center();
         let mut moved = None;
         ui.horizontal(|ui| {
@@ -672,7 +676,7 @@ impl GeosnapApp {
                 let hover = format!(
                     "The centre's {axis} in {}; Enter places the part there exactly \
                      (off its strokes) and solves its relations",
-                    words::UNIT
+                    unit.symbol()
                 );
                 let key = (format!("{}:centre:{k}", id.0), name);
                 if let Some(v) = self.number_field(ui, key, centre[k], &hover) {
@@ -680,7 +684,7 @@ impl GeosnapApp {
                     moved = Some(super::pose::with_center(p, at));
                 }
             }
-            ui.label(words::UNIT);
+            ui.label(unit.symbol());
         });
         let angles = super::pose::angles(p);
         if !angles.is_empty() {
@@ -709,6 +713,24 @@ impl GeosnapApp {
             .open(&mut open)
             .resizable(false)
             .show(ctx, |ui| {
+                ui.heading("Document");
+                let unit = &mut self.panels.unit;
+                ui.horizontal(|ui| {
+                    ui.label("Lengths are in");
+                    egui::ComboBox::from_id_salt("document_unit")
+                        .selected_text(unit.name())
+                        .show_ui(ui, |ui| {
+                            for u in words::Unit::ALL {
+                                ui.selectable_value(unit, u, u.name());
+                            }
+                        });
+                })
+                .response
+                .on_hover_text(
+                    "What one unit of the drawing is: every length is shown in it, and the \
+                     export converts it to metres",
+                );
+                ui.separator();
                 ui.heading("Relation inference");
                 let inference = &mut self.editor.settings_mut().inference;
                 let mut enabled = inference.enabled_kinds().to_vec();

@@ -464,13 +464,13 @@ impl Job {
     clippy::too_many_arguments,
     reason = "a job's inputs, moved to its thread"
 )]
-pub fn place(
+pub(crate) fn place(
     mut document: Document,
     context: &SnapContext,
     dragged: &Primitive,
     readings: Option<Readings>,
     replacing: Option<PrimitiveId>,
-    settings: &SessionSettings,
+    (settings, unit): (&SessionSettings, super::words::Unit),
     cancel: &CancelFlag,
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
@@ -535,7 +535,7 @@ pub fn place(
         output.messages.push(format!(
             "{name} snapped to {} strokes, {} off on average.",
             placed.fit.strokes.len(),
-            super::words::mm(placed.fit.rms)
+            super::words::length(placed.fit.rms, unit)
         ));
         if let Some(reason) = &placed.fit.reason {
             output
@@ -790,7 +790,7 @@ mod tests {
                         &dragged,
                         None,
                         None,
-                        &settings,
+                        (&settings, crate::app::words::Unit::default()),
                         cancel,
                         observe,
                     )
@@ -814,7 +814,7 @@ mod tests {
                     &dragged,
                     None,
                     None,
-                    &settings,
+                    (&settings, crate::app::words::Unit::default()),
                     cancel,
                     observe,
                 )
