@@ -24,7 +24,7 @@
 //! - a part placed freely (Alt + drop) is related to the others all the same;
 //! - a part's centre and axis are typed in the properties panel; the outliner selects,
 //!   hides and deletes parts; the export dialog sets the unit (shown in the panels
-//!   too), the segments and the format;
+//!   too), the segments and the format; a relation is made by hand;
 //! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
 //!   frames keep coming.
 
@@ -1629,4 +1629,54 @@ fn the_export_dialog_offers_the_unit_the_segments_and_the_format() {
         "lengths in cm"
     );
     assert!(harness.query_all_by_label("mm").next().is_none());
+}
+
+#[test]
+fn a_relation_is_made_by_hand_between_two_parts() {
+    let dir = scratch("relate");
+    let mut harness = stand(&dir);
+    let ids: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    let before = harness.state().editor().document().relations().len();
+    // The selected part is the first; the second is another one.
+    harness.state_mut().select(Some(ids[2]));
+    harness.run_steps(2);
+    harness
+        .get_by_label("Relate two parts by hand")
+        .click_accesskit();
+    harness.run_steps(2);
+    scroll_column_to(&mut harness, "Add relation");
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Relation")
+        .click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("parallel").click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("Add relation").click_accesskit();
+    harness.step();
+    step_until(&mut harness, "the relation's solve", |app| {
+        app.job().is_none()
+    });
+    let document = harness.state().editor().document();
+    assert_eq!(
+        document.relations().len(),
+        before + 1,
+        "{:?}",
+        harness.state().messages()
+    );
+    let made = document.relations().last().expect("the new relation");
+    assert_eq!(made.kind, geosnap::core::relation::RelationKind::Parallel);
+    assert_eq!(made.members, [ids[2], ids[0]]);
+    assert_eq!(made.mode, Mode::Hard);
+    assert!(made.inferred.is_none(), "made by hand");
+    assert!(harness
+        .state()
+        .editor()
+        .undo_label()
+        .is_some_and(|l| l.starts_with("Relate by hand")));
 }

@@ -8,7 +8,7 @@ use egui::{Color32, RichText, Ui};
 use super::files::{After, PathAction};
 use super::help::{keys_text, Action};
 use super::{mode_name, words, GeosnapApp, Tool};
-use crate::core::model::Quantity;
+use crate::core::model::{PrimitiveId, Quantity};
 use crate::core::primitive::{Primitive, PrimitiveKind};
 use crate::core::relation::{Mode, RelationKind};
 
@@ -19,6 +19,8 @@ pub(crate) struct Panels {
     /// Typed dimension values being edited in the properties panel, by part and
     /// quantity.
     typed: BTreeMap<String, String>,
+    /// The relation being made by hand.
+    relate: Relate,
     show_settings: bool,
     /// The document's unit (a preference: what one sketch unit is).
     pub(crate) unit: words::Unit,
@@ -315,6 +317,9 @@ impl GeosnapApp {
                         ))
                         .default_open(true)
                         .show(ui, |ui| self.relations(ui));
+                        egui::CollapsingHeader::new("Relate two parts by hand")
+                            .default_open(false)
+                            .show(ui, |ui| self.relate_ui(ui));
                     });
             });
     }
@@ -379,6 +384,124 @@ impl GeosnapApp {
         if let Some(id) = delete {
             self.selection = Some(id);
             self.delete_selected();
+        }
+    }
+
+    /// Makes a relation by hand: two parts (the first is the selected one), the feature
+    /// of each (or the kind's usual one), the kind; added as a hard relation and solved.
+    fn relate_ui(&mut self, ui: &mut Ui) {
+        let document = self.editor.document();
+        if document.len() < 2 {
+            ui.label(RichText::new("Place two parts to relate them.").weak());
+            return;
+        }
+        let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();
+        let relate = &mut self.panels.relate;
+        if relate.parts[0].is_none_or(|id| document.get(id).is_none()) {
+            relate.parts[0] = self.selection.or(ids.first().copied());
+        }
+        if relate.parts[1]
+            .is_none_or(|id| document.get(id).is_none() || Some(id) == relate.parts[0])
+        {
+            relate.parts[1] = ids.iter().copied().find(|id| Some(*id) != relate.parts[0]);
+        }
+        egui::Grid::new("relate").num_columns(2).show(ui, |ui| {
+            for (k, which) in ["First part", "Second part"].into_iter().enumerate() {
+                let label = ui.label(which).id;
+                ui.horizontal(|ui| {
+                    let name = |id: Option<PrimitiveId>| {
+                        id.map_or_else(String::new, |id| words::part_name(document, id))
+                    };
+                    let before = relate.parts[k];
+                    egui::ComboBox::from_id_salt(("relate_part", k))
+                        .selected_text(name(relate.parts[k]))
+                        .show_ui(ui, |ui| {
+                            for id in &ids {
+                                ui.selectable_value(
+                                    &mut relate.parts[k],
+                                    Some(*id),
+                                    name(Some(*id)),
+                                );
+                            }
+                        })
+                        .response
+                        .labelled_by(label);
+                    if relate.parts[k] != before {
+                        relate.features[k] = None;
+                    }
+                    let features = relate.parts[k]
+                        .and_then(|id| document.get(id))
+                        .map(|p| p.primitive.features())
+                        .unwrap_or_default();
+                    if !features.is_empty() {
+                        let feature_name = |f: Option<crate::core::primitive::Feature>| {
+                            f.map_or("usual feature", crate::core::primitive::Feature::name)
+                        };
+                        egui::ComboBox::from_id_salt(("relate_feature", k))
+                            .selected_text(feature_name(relate.features[k]))
+                            .show_ui(ui, |ui| {
+                                ui.selectable_value(&mut relate.features[k], None, "usual feature");
+                                for f in features {
+                                    ui.selectable_value(
+                                        &mut relate.features[k],
+                                        Some(*f),
+                                        f.name(),
+                                    );
+                                }
+                            });
+                    }
+                });
+                ui.end_row();
+                if k == 0 {
+                    let label = ui.label("Relation").id;
+                    egui::ComboBox::from_id_salt("relate_kind")
+                        .selected_text(words::relation_kind_name(relate.kind))
+                        .show_ui(ui, |ui| {
+                            for kind in RelationKind::ALL.into_iter().filter(|k| k.arity() == 2) {
+                                ui.selectable_value(
+                                    &mut relate.kind,
+                                    kind,
+                                    words::relation_kind_name(kind),
+                                );
+                            }
+                        })
+                        .response
+                        .labelled_by(label);
+                    ui.end_row();
+                }
+            }
+        });
+        let add = ui
+            .add_enabled(!self.busy(), egui::Button::new("Add relation"))
+            .on_hover_text("Add it as a hard relation and solve the two parts");
+        if add.clicked() {
+            self.add_relation_by_hand();
+        }
+    }
+
+    /// Adds the relation of the "relate by hand" section, hard, and solves its parts.
+    fn add_relation_by_hand(&mut self) {
+        let relate = &self.panels.relate;
+        let (Some(a), Some(b)) = (relate.parts[0], relate.parts[1]) else {
+            return;
+        };
+        let kind = relate.kind;
+        let features = relate.features.to_vec();
+        let mut document = self.editor.document().clone();
+        let relation = crate::core::model::Relation::new(kind, vec![a, b], features, Mode::Hard);
+        match document.add_relation(relation) {
+            Ok(id) => {
+                let sentence = document
+                    .relation(id)
+                    .map(|r| words::relation_sentence(&document, r))
+                    .unwrap_or_default();
+                self.resolve_in_background(
+                    &format!("Relate by hand: {sentence}"),
+                    document,
+                    Some(vec![a, b]),
+                );
+            }
+            Err(error) => self.warn(format!("That relation cannot be made: {error}.")),
         }
     }
 
@@ -664,7 +787,7 @@ impl GeosnapApp {
 
     /// The part's centre and orientation, each typed in a field: Enter places the part
     /// exactly there ([`super::pose`]) and solves its relations (one undo step).
-    fn pose_fields(&mut self, ui: &mut Ui, id: crate::core::model::PrimitiveId, p: &Primitive) {
+    fn pose_fields(&mut self, ui: &mut Ui, id: PrimitiveId, p: &Primitive) {
         let unit = self.panels.unit;
         let centre = p.center();
         let mut moved = None;
@@ -799,6 +922,25 @@ impl GeosnapApp {
                 }
             });
         self.panels.show_settings = open;
+    }
+}
+
+/// A relation being made by hand: its two parts, the feature of each (`None`: the
+/// kind's usual one), its kind.
+#[derive(Debug)]
+struct Relate {
+    parts: [Option<PrimitiveId>; 2],
+    features: [Option<crate::core::primitive::Feature>; 2],
+    kind: RelationKind,
+}
+
+impl Default for Relate {
+    fn default() -> Self {
+        Self {
+            parts: [None; 2],
+            features: [None; 2],
+            kind: RelationKind::Coaxial,
+        }
     }
 }
 
