@@ -791,7 +791,7 @@ impl GeosnapApp {
         let unit = self.panels.unit;
         let centre = p.center();
         let mut moved = None;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("Centre");
             let mut at = centre;
             for (k, axis) in ["X", "Y", "Z"].into_iter().enumerate() {
@@ -811,7 +811,7 @@ impl GeosnapApp {
         });
         let angles = super::pose::angles(p);
         if !angles.is_empty() {
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 let mut degrees: Vec<f64> = angles.iter().map(|(_, a)| *a).collect();
                 for (k, (name, value)) in angles.iter().enumerate() {
                     let label = ui.label(*name).id;
