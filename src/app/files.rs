@@ -252,7 +252,7 @@ impl GeosnapApp {
 
     /// Opens a session, sketch (native or SVG) or reference image. On failure the work
     /// stays as it was and the reason is shown. Drawings and sessions are read and
-    /// prepared off the UI thread ([`super::loader`]): the work is replaced when they
+    /// prepared off the UI thread (`app/loader.rs`): the work is replaced when they
     /// are ready.
     pub fn open_path(&mut self, ctx: &egui::Context, path: &Path) {
         if self.busy() {
