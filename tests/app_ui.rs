@@ -16,8 +16,17 @@
 //! - F1 lists every shortcut of the app's one table; the welcome hint is dismissed;
 //! - a palette drag shows its controls and the status bar names it, in plain words,
 //!   with lengths in mm and developer figures hidden until asked for;
-//! - the standard views turn the 3D camera, which stays above the grid, and Home works
-//!   on an empty model.
+//! - the 3D view opens on the view from the drawing (its camera, orthographic, framed
+//!   on the strokes) and 0 or Home comes back to it, also on an empty model; the
+//!   standard views turn the camera, which stays above the grid;
+//! - Tab during a drag shows the other poses the snap found, the release places the
+//!   pose shown, and Tab on the placed part places it in the next pose, undoably;
+//! - a part placed freely (Alt + drop) is related to the others all the same;
+//! - a part's centre and axis are typed in the properties panel; the outliner selects,
+//!   hides and deletes parts; the export dialog sets the unit (shown in the panels
+//!   too), the segments and the format; a relation is made by hand;
+//! - a 3,000-stroke drawing is read off the UI thread, with its progress shown, while
+//!   frames keep coming.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -50,6 +59,10 @@ fn app(dir: &Path, file: Option<PathBuf>) -> Harness<'static, GeosnapApp> {
         .with_max_steps(10_000)
         .build_eframe(move |cc| GeosnapApp::new(cc, options));
     harness.run_steps(3);
+    // A file is read off the UI thread: wait until it is open.
+    step_until(&mut harness, "the file to open", |app| {
+        app.loading().is_none()
+    });
     harness
 }
 
@@ -691,7 +704,9 @@ fn bad_files_give_a_message_and_leave_the_work_untouched() {
         let ctx = harness.ctx.clone();
         let messages = harness.state().messages().len();
         harness.state_mut().open_path(&ctx, file);
-        harness.step();
+        step_until(&mut harness, "the file's reading", |app| {
+            app.loading().is_none()
+        });
         harness.step();
         let app = harness.state();
         let new: Vec<&str> = app.messages()[messages..]
@@ -759,9 +774,11 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_ti
         .len(),
         "the sample is open until the work is recovered"
     );
-    // The prompt names the drawing and when the work was autosaved.
+    // The prompt names the drawing and when the work was autosaved; the welcome hint
+    // waits (one thing at a time).
     next.get_by_label_contains("Unsaved work on stand.svg from ");
     next.get_by_label_contains("(just now)");
+    assert!(next.query_by_label("Welcome to geosnap").is_none());
     next.get_by_label("Recover").click();
     next.step();
     next.step();
@@ -774,6 +791,19 @@ fn unsaved_work_is_autosaved_and_offered_back_after_a_crash_with_its_file_and_ti
         next.state().editor().is_dirty(),
         "recovered work is unsaved until saved"
     );
+    next.run_steps(2);
+    assert!(
+        next.query_by_label("Welcome to geosnap").is_none(),
+        "no welcome to the sample over recovered work"
+    );
+    // Another crash, and this time the autosave is discarded: the welcome comes then.
+    next.state_mut().autosave_now();
+    drop(next);
+    let mut last = app(&dir, None);
+    assert!(last.query_by_label("Welcome to geosnap").is_none());
+    last.get_by_label("Discard").click();
+    last.run_steps(3);
+    assert!(last.query_by_label("Welcome to geosnap").is_some());
 }
 
 #[test]
@@ -927,7 +957,14 @@ fn f1_lists_every_shortcut_and_the_first_run_hint_is_dismissed() {
             "the window lists “{what}”"
         );
     }
-    for keys in ["Ctrl+Z", "Ctrl+Shift+Z or Ctrl+Y", "F1", "Home", "Esc"] {
+    for keys in [
+        "Ctrl+Z",
+        "Ctrl+Shift+Z or Ctrl+Y",
+        "F1",
+        "0 or Home",
+        "Tab",
+        "Esc",
+    ] {
         assert!(
             harness.query_all_by_label(keys).next().is_some(),
             "keys “{keys}”"
@@ -971,11 +1008,8 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
     let app = harness.state();
     let legend = app.drag_legend(&ctx);
     let gestures: Vec<&str> = legend.iter().map(|(g, _)| g.as_str()).collect();
-    assert_eq!(
-        gestures,
-        ["Wheel", "Shift + wheel", "Release", "Alt + release", "Esc"],
-        "{legend:?}"
-    );
+    let controls = "Wheel, Shift + wheel, Release, Alt + release, Tab, Esc";
+    assert_eq!(gestures.join(", "), controls, "{legend:?}");
     assert!(legend.iter().any(|(_, what)| what == "Turn the axis"));
     let hint = app.canvas_hint();
     assert!(
@@ -1020,10 +1054,10 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
             .is_some(),
         "the properties name the kind"
     );
-    assert!(harness.query_by_label_contains("Centre at").is_some());
+    assert!(harness.query_by_label("Centre").is_some());
     assert!(
-        harness.query_by_label_contains(") mm").is_some(),
-        "the centre in mm"
+        harness.query_all_by_label("mm").count() >= 2,
+        "the centre and the sizes in mm"
     );
     assert!(
         harness.query_by_label_contains("mm on average").is_some(),
@@ -1058,17 +1092,40 @@ fn a_palette_drag_shows_its_controls_and_the_status_names_it_in_plain_words() {
 }
 
 #[test]
-fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
+fn the_3d_view_opens_from_the_drawing_and_standard_views_stay_above_the_grid() {
     let dir = scratch("views");
     let mut harness = app(&dir, None);
     assert!(harness.state().editor().document().is_empty());
     let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
     let home = harness.state().camera_3d();
     assert!(home.distance.is_finite() && home.distance > 0.0);
+    // It opens on the view from the drawing: the drawing's camera (from the front,
+    // orthographic), looking at the middle of the strokes.
+    assert!(harness.state().view_from_drawing());
+    assert!(
+        home.ortho && close(home.yaw, 0.0) && close(home.pitch, 0.0),
+        "{home:?}"
+    );
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    let middle = (lo + hi) / 2.0;
+    assert!(
+        (f64::from(home.target.x) - middle.x).abs() < 1.0
+            && (f64::from(home.target.y) + middle.y).abs() < 1.0,
+        "the drawing's middle, (u, v) seen at (u, −v): {home:?} for {middle}"
+    );
+    assert!(harness
+        .query_by_label_contains("View from drawing")
+        .is_none());
 
     press(&mut harness, Modifiers::NONE, Key::Num2);
     let top = harness.state().camera_3d();
     assert!(top.pitch > 1.5, "top view looks down: {top:?}");
+    assert!(!top.ortho && !harness.state().view_from_drawing());
+    // One key back to the drawing's view.
+    press(&mut harness, Modifiers::NONE, Key::Num0);
+    assert!(harness.state().view_from_drawing());
+    assert_eq!(harness.state().camera_3d(), home, "the same view again");
+    press(&mut harness, Modifiers::NONE, Key::Num2);
     press(&mut harness, Modifiers::NONE, Key::Num1);
     let front = harness.state().camera_3d();
     assert!(
@@ -1109,9 +1166,11 @@ fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
         orbited.pitch >= 0.0,
         "the camera stays above the grid: {orbited:?}"
     );
+    assert!(!orbited.ortho, "an orbit is in perspective");
     assert!(orbited.pitch < iso.pitch, "the drag orbited: {orbited:?}");
-    // Home, with the model still empty, resets the angle and frames the grid again.
+    // Home, with the model still empty, goes back to the drawing's view, framed again.
     press(&mut harness, Modifiers::NONE, Key::Home);
+    assert!(harness.state().view_from_drawing());
     let again = harness.state().camera_3d();
     assert!(close(again.yaw, home.yaw) && close(again.pitch, home.pitch));
     assert!(
@@ -1119,4 +1178,505 @@ fn standard_views_turn_the_3d_camera_which_stays_above_the_grid() {
         "{again:?} vs {home:?}"
     );
     assert!((again.target - home.target).length() < 1e-3);
+}
+
+/// How far apart two parts' visible outlines are as drawn: the mean distance from a
+/// point of one to the nearest point of the other, the larger way, over the larger
+/// size (0 for parts that look the same).
+fn apart(a: &geosnap::core::primitive::Primitive, b: &geosnap::core::primitive::Primitive) -> f64 {
+    let points = |p: &geosnap::core::primitive::Primitive| -> Vec<DVec2> {
+        p.current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .flat_map(|c| c.curve.points(64))
+            .collect()
+    };
+    let (pa, pb) = (points(a), points(b));
+    let one_way = |from: &[DVec2], to: &[DVec2]| {
+        from.iter()
+            .map(|p| {
+                to.iter()
+                    .map(|q| p.distance(*q))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum::<f64>()
+            / from.len().max(1) as f64
+    };
+    one_way(&pa, &pb).max(one_way(&pb, &pa)) / a.size().max(b.size())
+}
+
+#[test]
+fn tab_cycles_the_poses_the_snap_found_and_the_release_places_the_one_shown() {
+    let dir = scratch("poses");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut harness = app(&dir, Some(root.join("sketches/box.svg")));
+    // On the box's top face the drawing reads as two boxes (which face is on top).
+    let to = drag_over(&mut harness, "Box", DVec2::new(597.0, 353.0));
+    let drag = harness.state().drag().expect("dragging");
+    let (shown, count) = drag.pose();
+    assert!(count >= 2, "the snap found other poses: {count}");
+    assert_eq!(shown, 1, "its own choice first");
+    let first = drag.preview().expect("a preview").primitive.clone();
+    assert!(
+        harness
+            .state()
+            .canvas_hint()
+            .contains("Tab: next pose (1 of"),
+        "{}",
+        harness.state().canvas_hint()
+    );
+    let ctx = harness.ctx.clone();
+    assert!(harness
+        .state()
+        .drag_legend(&ctx)
+        .iter()
+        .any(|(g, what)| g == "Tab" && what.contains(&format!("1 of {count}"))));
+
+    press(&mut harness, Modifiers::NONE, Key::Tab);
+    let drag = harness.state().drag().expect("still dragging");
+    assert_eq!(drag.pose(), (2, count), "Tab shows the next pose");
+    let second = drag.preview().expect("a preview").primitive.clone();
+    assert!(apart(&first, &second) > 0.03, "another pose is shown");
+    // Around the cycle and back to the second.
+    for _ in 0..count {
+        press(&mut harness, Modifiers::NONE, Key::Tab);
+    }
+    let drag = harness.state().drag().expect("still dragging");
+    assert_eq!(drag.pose(), (2, count), "Tab cycles");
+    assert_eq!(drag.preview().map(|p| &p.primitive), Some(&second));
+
+    // The release places the pose shown, not the snap's own choice.
+    harness.drop_at(to);
+    harness.step();
+    step_until(&mut harness, "the placement", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the part is selected");
+    let placed = app
+        .editor()
+        .document()
+        .get(id)
+        .expect("placed")
+        .primitive
+        .clone();
+    assert!(
+        apart(&second, &placed) < apart(&first, &placed),
+        "placed as shown: {placed:?}, shown {second:?}, other {first:?}"
+    );
+    assert_eq!(app.part_poses(id), Some((2, count)));
+    let placed_id = id;
+    assert!(
+        harness
+            .query_by_label_contains(&format!("Pose 2 of {count}"))
+            .is_some(),
+        "the properties offer the chooser"
+    );
+
+    // Tab on the selected part places it in the next pose: one undo step.
+    press(&mut harness, Modifiers::NONE, Key::Tab);
+    step_until(&mut harness, "the new pose", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the part is selected");
+    let next = app
+        .editor()
+        .document()
+        .get(id)
+        .expect("placed")
+        .primitive
+        .clone();
+    assert_eq!(app.editor().document().len(), 1, "in place of the part");
+    assert_eq!(app.part_poses(id), Some((2 % count + 1, count)));
+    assert!(apart(&second, &next) > 0.03, "another pose: {next:?}");
+    assert!(
+        app.editor()
+            .undo_label()
+            .is_some_and(|l| l.contains("pose")),
+        "{:?}",
+        app.editor().undo_label()
+    );
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    let back = harness
+        .state()
+        .editor()
+        .document()
+        .get(placed_id)
+        .expect("undo brings the part back")
+        .primitive
+        .clone();
+    assert!(
+        apart(&placed, &back) < 1e-9,
+        "undo goes back to the pose before"
+    );
+}
+
+#[test]
+fn a_part_placed_freely_is_related_to_the_others() {
+    let dir = scratch("free-relations");
+    let mut harness = stand(&dir);
+    // The cap again, Alt-dropped where the script drops it: unsnapped, but on the post.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = load_script(root.join("sketches/stand.script.json")).expect("the script");
+    let Some(geosnap::core::model::Step::Place { kind, placement }) = script.steps.last() else {
+        panic!("the stand's last step places the cap");
+    };
+    let cap = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .last()
+        .map(|(id, _)| id)
+        .expect("the cap");
+    harness.state_mut().select(Some(cap));
+    press(&mut harness, Modifiers::NONE, Key::Delete);
+    harness.state_mut().begin_drag(*kind);
+    harness.state_mut().place_drag(placement.clone());
+    harness.state_mut().end_drag_freely();
+    harness.step();
+    step_until(&mut harness, "the free drop", |app| app.job().is_none());
+    let app = harness.state();
+    let id = app.selection().expect("the new part is selected");
+    let document = app.editor().document();
+    assert!(
+        document.get(id).expect("placed").fit.strokes.is_empty(),
+        "placed freely"
+    );
+    let related: Vec<_> = document
+        .relations()
+        .iter()
+        .filter(|r| r.members.contains(&id))
+        .collect();
+    assert!(
+        !related.is_empty(),
+        "a free part is related to the others; messages {:?}",
+        app.messages()
+    );
+    assert!(
+        related.iter().all(|r| r.inferred.is_some()),
+        "inferred, with their confidence"
+    );
+}
+
+/// An SVG of `count` hand-drawn-like strokes (wavy polylines of 40 points) spread over
+/// a 4000 × 3000 page, none a copy of another.
+fn big_drawing(path: &Path, count: usize) {
+    use std::fmt::Write as _;
+    let mut svg =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4000 3000">"#);
+    for k in 0..count {
+        let (x0, y0) = ((k * 37 % 3800) as f64, (k * 53 % 2900) as f64);
+        let turn = k as f64 * 0.7;
+        let mut d = format!("M{x0:.1} {y0:.1}");
+        for i in 1..40 {
+            let t = f64::from(i);
+            let (x, y) = (
+                x0 + t * 3.0 * turn.cos() + (t * 0.5).sin() * 2.0,
+                y0 + t * 3.0 * turn.sin() + (t * 0.3).cos() * 2.0,
+            );
+            write!(d, " L{x:.1} {y:.1}").expect("a string");
+        }
+        write!(svg, r#"<path d="{d}" stroke="black" fill="none"/>"#).expect("a string");
+    }
+    svg.push_str("</svg>");
+    std::fs::write(path, svg).expect("write the drawing");
+}
+
+#[test]
+fn a_large_drawing_opens_off_the_ui_thread_while_frames_keep_coming() {
+    let dir = scratch("large");
+    let big = dir.join("big.svg");
+    big_drawing(&big, 3000);
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let ctx = harness.ctx.clone();
+    harness.state_mut().open_path(&ctx, &big);
+    assert!(
+        harness.state().loading().is_some(),
+        "the drawing is read on a thread of its own"
+    );
+    let mut frames = 0;
+    let mut slowest = Duration::ZERO;
+    let mut said = false;
+    let start = Instant::now();
+    while harness.state().loading().is_some() {
+        assert!(start.elapsed() < Duration::from_mins(3), "it opens");
+        let frame = Instant::now();
+        harness.step();
+        slowest = slowest.max(frame.elapsed());
+        frames += 1;
+        // The status bar and the canvas say what is being done.
+        said |= harness
+            .query_all_by_label_contains("Opening big.svg")
+            .count()
+            >= 2;
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(frames >= 2, "frames kept coming while it loaded: {frames}");
+    assert!(said, "the progress was shown");
+    assert!(
+        slowest < Duration::from_millis(500),
+        "no frame waited for the loading: the slowest took {slowest:?}"
+    );
+    harness.run_steps(2);
+    let app = harness.state();
+    assert_eq!(
+        app.editor().sketch().strokes.len(),
+        3000,
+        "{:?}",
+        app.messages()
+    );
+    assert!(app
+        .messages()
+        .iter()
+        .any(|m| m.text.contains("Opened") && m.text.contains("big.svg")));
+}
+
+/// Types `text` into the text field labelled `label` and presses Enter.
+fn type_into(harness: &mut Harness<'static, GeosnapApp>, label: &str, text: &str) {
+    harness
+        .get_by_role_and_label(Role::TextInput, label)
+        .focus();
+    harness.step();
+    press(harness, Modifiers::COMMAND, Key::A);
+    harness
+        .get_by_role_and_label(Role::TextInput, label)
+        .type_text(text);
+    harness.step();
+    press(harness, Modifiers::NONE, Key::Enter);
+}
+
+#[test]
+fn a_part_is_placed_and_turned_by_typed_numbers() {
+    let dir = scratch("pose");
+    let mut harness = app(&dir, None);
+    harness.get_by_label("Got it").click();
+    harness.step();
+    let (lo, hi) = harness.state().editor().sketch().bounds().expect("strokes");
+    drag_from_palette(&mut harness, "Profile", (lo + hi) / 2.0);
+    let id = harness.state().selection().expect("the part is selected");
+    let part = |h: &Harness<'static, GeosnapApp>| {
+        h.state()
+            .editor()
+            .document()
+            .get(id)
+            .expect("the part keeps its id")
+            .clone()
+    };
+    let before = part(&harness).primitive.center();
+    let x = (before.x + 40.0).round();
+    type_into(&mut harness, "X", &x.to_string());
+    step_until(&mut harness, "the move's solve", |app| app.job().is_none());
+    let moved = part(&harness);
+    assert!(
+        (moved.primitive.center().x - x).abs() < 1e-6,
+        "at the typed X: {:?}",
+        moved.primitive.center()
+    );
+    assert!(
+        (moved.primitive.center().y - before.y).abs() < 1e-6,
+        "the rest stays"
+    );
+    assert!(
+        moved.fit.strokes.is_empty(),
+        "off its strokes: placed freely"
+    );
+    assert!(
+        harness
+            .state()
+            .editor()
+            .undo_label()
+            .is_some_and(|l| l.starts_with(&format!("#{} placed at", id.0))),
+        "one undo step"
+    );
+
+    type_into(&mut harness, "tilt from up", "20");
+    step_until(&mut harness, "the turn's solve", |app| app.job().is_none());
+    let geosnap::core::primitive::Primitive::Sgc(profile) = part(&harness).primitive else {
+        panic!("a profile");
+    };
+    let tilt = profile.axis.y.acos().to_degrees();
+    assert!(
+        (tilt - 20.0).abs() < 1e-6 || (tilt - 160.0).abs() < 1e-6,
+        "tilted: {tilt}"
+    );
+
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    let back = part(&harness);
+    assert!(
+        (back.primitive.center() - before).length() < 1e-9,
+        "undo puts it back"
+    );
+    assert!(!back.fit.strokes.is_empty(), "on its strokes again");
+}
+
+#[test]
+fn the_outliner_selects_hides_and_deletes_parts() {
+    let dir = scratch("outliner");
+    let mut harness = stand(&dir);
+    harness.state_mut().select(None);
+    harness.run_steps(2);
+    assert!(harness.query_by_label("Parts (3)").is_some());
+    let ids: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    harness
+        .get_by_label(&format!("Cylinder {}", ids[1].0))
+        .click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().selection(), Some(ids[1]), "a click selects");
+
+    // Hiding the first part takes it off the canvas (its id label) and the 3D view.
+    let labels = harness.state().canvas_labels().len();
+    harness
+        .get_all_by_role(Role::CheckBox)
+        .next()
+        .expect("the first part's eye")
+        .click();
+    harness.run_steps(2);
+    assert!(harness.state().is_hidden(ids[0]));
+    assert!(
+        harness.state().canvas_labels().len() < labels,
+        "its id is no longer drawn"
+    );
+    assert_eq!(
+        harness.state().editor().document().len(),
+        3,
+        "hidden, not deleted"
+    );
+    harness
+        .get_all_by_role(Role::CheckBox)
+        .next()
+        .expect("the first part's eye")
+        .click();
+    harness.run_steps(2);
+    assert!(!harness.state().is_hidden(ids[0]), "shown again");
+
+    // Its delete button deletes it, undoably.
+    harness
+        .get_all_by_label("Remove")
+        .nth(2)
+        .expect("the last part's delete button")
+        .click();
+    harness.run_steps(2);
+    assert!(harness.state().editor().document().get(ids[2]).is_none());
+    assert!(harness.query_by_label("Parts (2)").is_some());
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    assert!(harness.state().editor().document().get(ids[2]).is_some());
+}
+
+#[test]
+fn the_export_dialog_offers_the_unit_the_segments_and_the_format() {
+    let dir = scratch("export");
+    let mut harness = stand(&dir);
+    press(&mut harness, Modifiers::COMMAND, Key::E);
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label("Export glTF").is_some(),
+        "the dialog"
+    );
+    assert!(harness.query_by_label("Segments around circles").is_some());
+    // Centimetres, written as text glTF.
+    harness
+        .get_by_role_and_label(Role::ComboBox, "One drawing unit is one")
+        .click();
+    harness.run_steps(2);
+    harness.get_by_label("centimetres").click();
+    harness.run_steps(2);
+    harness.get_by_label(".gltf (text, for reading)").click();
+    harness.run_steps(2);
+    assert!(harness
+        .query_by_label_contains("1 cm of the drawing becomes 0.01 m")
+        .is_some());
+    harness.get_by_label("Export to path…").click();
+    harness.run_steps(2);
+    let path = dir.join("stand-model");
+    // The path field has the keyboard: replace the suggested path.
+    press(&mut harness, Modifiers::COMMAND, Key::A);
+    harness
+        .get_all_by_role(Role::TextInput)
+        .find(egui_kittest::Node::is_focused)
+        .expect("the path field")
+        .type_text(&path.display().to_string());
+    harness.step();
+    press(&mut harness, Modifiers::NONE, Key::Enter);
+    harness.run_steps(2);
+    let written = dir.join("stand-model.gltf");
+    assert!(written.is_file(), "{:?}", harness.state().messages());
+    let text = std::fs::read_to_string(&written).expect("text glTF");
+    assert!(text.trim_start().starts_with('{'), "JSON");
+    assert!(
+        harness
+            .state()
+            .messages()
+            .iter()
+            .any(|m| m.text.contains("one cm of the drawing is 0.01 m")),
+        "{:?}",
+        harness.state().messages()
+    );
+    // The unit is the document's: the panels show it too.
+    harness
+        .state_mut()
+        .select(Some(geosnap::core::model::PrimitiveId(0)));
+    harness.run_steps(2);
+    assert!(
+        harness.query_all_by_label("cm").count() >= 2,
+        "lengths in cm"
+    );
+    assert!(harness.query_all_by_label("mm").next().is_none());
+}
+
+#[test]
+fn a_relation_is_made_by_hand_between_two_parts() {
+    let dir = scratch("relate");
+    let mut harness = stand(&dir);
+    let ids: Vec<_> = harness
+        .state()
+        .editor()
+        .document()
+        .primitives()
+        .map(|(id, _)| id)
+        .collect();
+    let before = harness.state().editor().document().relations().len();
+    // The selected part is the first; the second is another one.
+    harness.state_mut().select(Some(ids[2]));
+    harness.run_steps(2);
+    harness
+        .get_by_label("Relate two parts by hand")
+        .click_accesskit();
+    harness.run_steps(2);
+    scroll_column_to(&mut harness, "Add relation");
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Relation")
+        .click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("parallel").click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("Add relation").click_accesskit();
+    harness.step();
+    step_until(&mut harness, "the relation's solve", |app| {
+        app.job().is_none()
+    });
+    let document = harness.state().editor().document();
+    assert_eq!(
+        document.relations().len(),
+        before + 1,
+        "{:?}",
+        harness.state().messages()
+    );
+    let made = document.relations().last().expect("the new relation");
+    assert_eq!(made.kind, geosnap::core::relation::RelationKind::Parallel);
+    assert_eq!(made.members, [ids[2], ids[0]]);
+    assert_eq!(made.mode, Mode::Hard);
+    assert!(made.inferred.is_none(), "made by hand");
+    assert!(harness
+        .state()
+        .editor()
+        .undo_label()
+        .is_some_and(|l| l.starts_with("Relate by hand")));
 }

@@ -3,7 +3,7 @@
 # (Mesa's lavapipe Vulkan, or llvmpipe GL with WGPU_BACKEND=gl), for a screenshot or the
 # live-drag frame-time measurement.
 #
-#   tools/headless.sh screenshot [OUT.png]   the two-cone sample played as drags,
+#   tools/headless.sh screenshot [OUT.png]   the stand sample played as drags,
 #                                            a part selected; default docs/screenshot.png
 #   tools/headless.sh frames [OUT.json] [N]  a palette drag over sketches/sheet.svg
 #                                            (63 strokes) for N frames (default 600)
@@ -65,7 +65,7 @@ export HOME="$(mktemp -d)" XDG_DATA_HOME= XDG_CONFIG_HOME=
 case "$mode" in
   screenshot)
     out="$(realpath -m "${2:-docs/screenshot.png}")"
-    target/release/geosnap --play sketches/cones.script.json --screenshot "$out"
+    target/release/geosnap --play sketches/stand.script.json --screenshot "$out"
     echo "screenshot: $out"
     ;;
   frames)

@@ -86,7 +86,7 @@ fn percentile(values: &[Duration], q: f64) -> f64 {
 impl GeosnapApp {
     /// Drops the next scripted placement once the previous one has been solved.
     pub(crate) fn play_step(&mut self) {
-        if self.busy() || self.drag.is_some() {
+        if self.busy() || self.drag.is_some() || self.loading.is_some() {
             return;
         }
         let Some(step) = self.automation.play.pop_front() else {
@@ -102,6 +102,10 @@ impl GeosnapApp {
     /// The frame-time measurement: a cylinder dragged over the drawing along a slow
     /// figure-eight, one step per frame, then the figures written and the app closed.
     pub(crate) fn benchmark_step(&mut self, ctx: &egui::Context) {
+        if self.loading.is_some() {
+            // The drawing is still being read: the measurement starts on it.
+            return;
+        }
         let Some(mut bench) = self.automation.benchmark.take() else {
             return;
         };
@@ -174,7 +178,10 @@ impl GeosnapApp {
         }
         // Wait until the work has settled (no drag, no job, nothing left to play) and a
         // few frames have shown it.
-        let settled = !self.busy() && self.drag.is_none() && self.automation.play.is_empty();
+        let settled = !self.busy()
+            && self.drag.is_none()
+            && self.loading.is_none()
+            && self.automation.play.is_empty();
         shot.settled = if settled { shot.settled + 1 } else { 0 };
         if shot.settled == 30 {
             if self.selection.is_none() {

@@ -3,7 +3,7 @@
 //! the work is saved, discarded or closed cleanly, so finding it at start means the
 //! last run did not end well, and the recovery prompt names the work and its time.
 //!
-//! The UI hands each new revision of unsaved work to the thread ([`Autosave::update`]);
+//! The UI hands each new revision of unsaved work to the thread ([`Autosave::hand`]);
 //! the thread writes the newest one once [`AUTOSAVE_EVERY`] has passed since the first
 //! change it has not written. A small file beside it names the file the work came from.
 

@@ -135,6 +135,12 @@ impl Canvas {
             .map(|n| n.text.as_str())
     }
 
+    /// Takes the strokes' classes found elsewhere (off the UI thread) for the strokes
+    /// of `revision`.
+    pub(crate) fn set_classes(&mut self, revision: u64, classes: Vec<(StrokeId, StrokeClass)>) {
+        self.classes = Some((revision, classes));
+    }
+
     /// The reference image.
     pub(crate) fn image(&self) -> &ReferenceImage {
         &self.image
@@ -184,6 +190,13 @@ impl ReferenceImage {
     /// Whether an image is shown.
     pub(crate) fn is_shown(&self) -> bool {
         self.shown.is_some()
+    }
+
+    /// The texture shown, its size in pixels and its opacity.
+    pub(crate) fn texture(&self) -> Option<(egui::TextureId, [usize; 2], f32)> {
+        self.shown
+            .as_ref()
+            .map(|(_, texture, size)| (texture.id(), *size, self.opacity))
     }
 
     /// The opacity, to show or set.
@@ -259,6 +272,17 @@ impl Default for CanvasView {
 }
 
 impl CanvasView {
+    /// A view showing sketch point `center` at the middle of `rect`, `zoom` screen
+    /// points per sketch unit.
+    pub(crate) fn looking_at(center: DVec2, zoom: f64, rect: Rect) -> Self {
+        Self {
+            center,
+            zoom,
+            fit_pending: false,
+            rect,
+        }
+    }
+
     /// Fits the drawing at the next frame.
     pub fn request_fit(&mut self) {
         self.fit_pending = true;
@@ -460,6 +484,7 @@ impl GeosnapApp {
         self.editor
             .document()
             .primitives()
+            .filter(|(id, _)| !self.hidden.contains(id))
             .filter_map(|(id, placed)| {
                 let lines = outlines(&placed.primitive);
                 let d = lines
@@ -555,6 +580,32 @@ impl GeosnapApp {
         self.paint_drag_legend(&painter, rect);
         self.show_drop_note(ui, rect);
         self.first_run_hint(ui, rect);
+        self.show_loading(ui, rect);
+    }
+
+    /// While a file is being opened: what is being done, in the middle of the canvas.
+    fn show_loading(&mut self, ui: &Ui, rect: Rect) {
+        let Some(text) = self.loading() else {
+            return;
+        };
+        let mut cancel = false;
+        egui::Area::new(egui::Id::unique("loading"))
+            .order(egui::Order::Foreground)
+            .pivot(egui::Align2::CENTER_CENTER)
+            .fixed_pos(rect.center())
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label(egui::RichText::new(text).strong());
+                    });
+                    ui.label("The window stays usable; the drawing shows when it is ready.");
+                    cancel = ui.button("Cancel opening").clicked();
+                });
+            });
+        if cancel {
+            self.cancel_loading();
+        }
     }
 
     /// The note of a failed drop, at the drop point, until it times out.
@@ -603,9 +654,13 @@ impl GeosnapApp {
     pub fn canvas_hint(&self) -> String {
         if let Some(drag) = &self.drag {
             let noun = words::kind_noun(drag.kind());
-            return match drag.replacing {
+            let what = match drag.replacing {
                 Some(id) => format!("Moving #{}: release on its strokes to snap it there", id.0),
                 None => format!("Placing a {noun}: release on its strokes to place it"),
+            };
+            return match drag.pose() {
+                (k, n) if n > 1 => format!("{what}; Tab: next pose ({k} of {n})"),
+                _ => format!("{what}; Tab: next pose"),
             };
         }
         match self.canvas.tool {
@@ -674,7 +729,9 @@ impl GeosnapApp {
     fn paint_parts(&self, painter: &egui::Painter) {
         let related = self.emphasis().related;
         for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
-            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id))
+                || self.hidden.contains(&id)
+            {
                 continue;
             }
             let selected = self.selection == Some(id);
@@ -705,7 +762,9 @@ impl GeosnapApp {
         self.canvas.labels.clear();
         let related = self.emphasis().related;
         for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
-            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id)) {
+            if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id))
+                || self.hidden.contains(&id)
+            {
                 continue;
             }
             let selected = self.selection == Some(id);
@@ -845,7 +904,7 @@ impl GeosnapApp {
             (Some(p), _) => format!(
                 "{title}: {} strokes, {} off on average",
                 p.assignment.stroke_ids().len(),
-                words::mm(p.rms)
+                words::length(p.rms, self.panels.unit)
             ),
             (None, Some(e)) => format!("{title}: {}", words::snap_error(e, self.status.developer)),
             (None, None) => format!("{title}…"),

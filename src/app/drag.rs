@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use glam::DVec2;
 
-use super::worker::{self, PreviewRequest, PreviewResult};
+use super::worker::{self, Free, PreviewRequest, PreviewResult, Readings};
 use super::GeosnapApp;
 use crate::core::model::PrimitiveId;
 use crate::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
@@ -41,6 +41,12 @@ pub struct Drag {
     /// The request the newest preview answers (equal to `generation` when it is up to
     /// date).
     preview_generation: u64,
+    /// The poses the newest cold snap found (its choice, then the alternatives), for
+    /// Tab; empty before the first snap.
+    poses: Vec<SnapResult>,
+    /// The pose shown: 0 is the newest preview (a warm frame refines the cold snap's
+    /// choice); another is held until the strokes under the cursor change.
+    shown: usize,
 }
 
 impl Drag {
@@ -59,6 +65,8 @@ impl Drag {
             size: None,
             sized_at: None,
             preview_generation: 0,
+            poses: Vec::new(),
+            shown: 0,
         }
     }
 
@@ -78,9 +86,62 @@ impl Drag {
         self.preview_generation
     }
 
-    /// The newest snapped preview.
+    /// The snapped preview shown: the newest, or the pose Tab chose.
     pub fn preview(&self) -> Option<&SnapResult> {
-        self.preview.as_ref()
+        match self.shown {
+            0 => self.preview.as_ref(),
+            k => self.poses.get(k),
+        }
+    }
+
+    /// The pose shown and how many the snap found (Tab shows the next): `(1, 1)` when
+    /// it found one, `(0, 0)` before the first snap.
+    pub fn pose(&self) -> (usize, usize) {
+        if self.preview.is_none() {
+            return (0, 0);
+        }
+        (self.shown + 1, self.poses.len().max(1))
+    }
+
+    /// Shows the next pose the snap found (after the last, the first again); whether
+    /// there was another.
+    pub fn next_pose(&mut self) -> bool {
+        if self.preview.is_none() || self.poses.len() < 2 {
+            return false;
+        }
+        self.shown = (self.shown + 1) % self.poses.len();
+        true
+    }
+
+    /// The poses to release with, the shown one as the preview shows it, dropped as
+    /// `dropped`; `None` when the preview lags behind the cursor and no other pose was
+    /// chosen (the release then snaps afresh where it is).
+    fn readings(&self, dropped: Primitive) -> Option<Readings> {
+        let current = self.preview_generation == self.generation;
+        if self.preview.is_none() || (self.shown == 0 && !current) {
+            return None;
+        }
+        let mut poses = self.poses.clone();
+        if let (Some(first), Some(newest)) = (poses.first_mut(), self.preview.as_ref()) {
+            if self.shown == 0 {
+                // The newest frame as shown; a warm frame keeps the cold snap's rival
+                // readings, which the confidence compares it with.
+                let mut shown = newest.clone();
+                if shown.explained.is_none() {
+                    shown.explained = first.explained;
+                    shown.alternatives.clone_from(&first.alternatives);
+                }
+                *first = shown;
+            }
+        }
+        if poses.is_empty() {
+            poses.extend(self.preview.clone());
+        }
+        Some(Readings {
+            dropped,
+            poses,
+            shown: self.shown,
+        })
     }
 
     /// Why the newest frame did not snap.
@@ -102,12 +163,21 @@ impl Drag {
         self.preview_generation = result.generation;
         match result.result {
             Ok(snapped) => {
+                // A cold snap (other strokes under the cursor, a new size or axis) reads
+                // the drawing afresh: its poses replace the last ones. A warm frame
+                // confirms the choice and keeps them, and the pose Tab chose.
+                if snapped.explained.is_some() {
+                    self.poses = Readings::of(snapped.primitive.clone(), &snapped).poses;
+                    self.shown = 0;
+                }
                 self.preview = Some(snapped);
                 self.preview_error = None;
             }
             Err(error) => {
                 self.preview = None;
                 self.preview_error = Some(error);
+                self.poses.clear();
+                self.shown = 0;
             }
         }
     }
@@ -151,7 +221,7 @@ impl GeosnapApp {
 
     /// Starts dragging a new primitive of `kind` (from the palette).
     pub fn begin_drag(&mut self, kind: PrimitiveKind) {
-        if self.busy() {
+        if self.busy() || self.loading.is_some() {
             return;
         }
         self.drag = Some(Drag::new(kind, Placement::at(DVec2::ZERO)));
@@ -159,7 +229,7 @@ impl GeosnapApp {
 
     /// Starts re-dragging a placed part.
     pub fn begin_redrag(&mut self, id: PrimitiveId, at: DVec2) {
-        if self.busy() {
+        if self.busy() || self.loading.is_some() {
             return;
         }
         let Some(placed) = self.editor.document().get(id) else {
@@ -288,40 +358,99 @@ impl GeosnapApp {
         if !drag.over_canvas {
             return;
         }
-        if freely {
-            let label = match drag.replacing {
-                Some(id) => format!("Move #{} freely", id.0),
-                None => format!("Place {} freely", super::words::kind_noun(drag.kind)),
-            };
-            self.canvas.dropped(drag.placement.at);
-            let output = worker::place_freely(
-                self.editor.document().clone(),
-                &dragged,
-                drag.replacing,
-                "Alt was held",
-            );
-            self.finish_job(&label, self.editor.revision(), output);
-            return;
-        }
-        let start = drag
-            .preview
-            .as_ref()
-            .map_or(dragged, |p| p.primitive.clone());
         let (context, _) = self.workers.context(&self.editor);
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let replacing = drag.replacing;
         self.canvas.dropped(drag.placement.at);
+        let noun = super::words::kind_noun(drag.kind);
+        if freely {
+            let label = match replacing {
+                Some(id) => format!("Move #{} freely", id.0),
+                None => format!("Place {noun} freely"),
+            };
+            self.workers
+                .spawn(label, self.editor.revision(), move |cancel, observe| {
+                    let free = Free {
+                        replacing,
+                        why: "Alt was held",
+                    };
+                    worker::place_freely(document, &dragged, &free, &settings, cancel, observe)
+                });
+            return;
+        }
+        // The pose the preview shows is placed as it is; a preview behind the cursor is
+        // snapped afresh from where it shows the part.
+        let readings = drag.readings(dragged.clone());
+        let start = drag
+            .preview
+            .as_ref()
+            .map_or(dragged, |p| p.primitive.clone());
         let label = match replacing {
             Some(id) => format!("Move #{}", id.0),
-            None => format!("Place {}", super::words::kind_noun(drag.kind)),
+            None => format!("Place {noun}"),
         };
+        let unit = self.panels.unit;
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {
                 worker::place(
-                    document, &context, &start, replacing, &settings, cancel, observe,
+                    document,
+                    &context,
+                    &start,
+                    readings,
+                    replacing,
+                    (&settings, unit),
+                    cancel,
+                    observe,
                 )
             });
+    }
+
+    /// Tab: the next pose the snap found, for the drag, or else for the selected part
+    /// (placed again in that pose, inferred and solved: one undo step).
+    pub fn next_pose(&mut self) {
+        if let Some(drag) = self.drag.as_mut() {
+            // Shown at once by the preview, the hint and the legend.
+            drag.next_pose();
+            return;
+        }
+        let Some(id) = self.selection else { return };
+        if self.busy() {
+            return;
+        }
+        let Some(readings) = self.readings.get(&id).map(Readings::next) else {
+            return;
+        };
+        let (context, _) = self.workers.context(&self.editor);
+        let document = self.editor.document().clone();
+        let settings = self.editor.settings().clone();
+        let label = format!(
+            "#{} pose {} of {}",
+            id.0,
+            readings.shown + 1,
+            readings.poses.len()
+        );
+        let dropped = readings.dropped.clone();
+        let unit = self.panels.unit;
+        self.workers
+            .spawn(label, self.editor.revision(), move |cancel, observe| {
+                worker::place(
+                    document,
+                    &context,
+                    &dropped,
+                    Some(readings),
+                    Some(id),
+                    (&settings, unit),
+                    cancel,
+                    observe,
+                )
+            });
+    }
+
+    /// The poses the snap found for part `id` (placed this session), with the one it
+    /// shows; `None` when there was no choice.
+    pub fn part_poses(&self, id: PrimitiveId) -> Option<(usize, usize)> {
+        self.readings.get(&id).map(|r| (r.shown + 1, r.poses.len()))
     }
 
     /// Drops the drag without placing anything.

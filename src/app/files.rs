@@ -5,18 +5,20 @@
 //! Every failure is a message; the current work is never touched by a file that cannot
 //! be read.
 
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context as _};
 
 use super::autosave::{Autosave, Recovery, Work};
+use super::loader::{Content, Loaded, Loading};
 use super::GeosnapApp;
 use crate::core::model::Document;
 use crate::core::sketch::Sketch;
-use crate::io::gltf::{export_gltf, ExportSettings};
-use crate::io::session::{load_session, parse_session, save_session, Session};
-use crate::io::sketch_file::load_sketch;
+use crate::io::gltf::{export_gltf, ExportSettings, Origin};
+use crate::io::session::{load_session, save_session, Session};
 
 /// The most recent files remembered.
 const MAX_RECENT: usize = 10;
@@ -34,6 +36,43 @@ pub(crate) enum Prompt {
     Image(PathBuf),
     /// An error to acknowledge.
     Error(String),
+    /// The export options, before asking where.
+    Export,
+}
+
+/// The export dialog's options (kept for the next export in this run).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ExportOptions {
+    /// A factor on top of the unit (a model drawn at 1:10, say).
+    pub scale: f64,
+    /// Segments around each circle.
+    pub segments: usize,
+    /// Whether the model stands centred on the ground (else: the drawing's origin).
+    pub on_ground: bool,
+    /// `.glb` (else `.gltf`).
+    pub binary: bool,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        Self {
+            scale: 1.0,
+            segments: crate::io::gltf::DEFAULT_SEGMENTS,
+            on_ground: true,
+            binary: true,
+        }
+    }
+}
+
+impl ExportOptions {
+    /// The chosen format's file extension.
+    pub(crate) fn extension(&self) -> &'static str {
+        if self.binary {
+            "glb"
+        } else {
+            "gltf"
+        }
+    }
 }
 
 /// What follows an unsaved-changes prompt.
@@ -65,6 +104,8 @@ pub(crate) struct Files {
     allow_quit: bool,
     /// The typed-path prompt takes the keyboard at its next frame.
     focus_path: bool,
+    /// The export dialog's options.
+    export: ExportOptions,
 }
 
 impl Files {
@@ -83,6 +124,7 @@ impl Files {
             autosave,
             allow_quit: false,
             focus_path: false,
+            export: ExportOptions::default(),
         }
     }
 
@@ -161,6 +203,9 @@ impl GeosnapApp {
         match after {
             After::New => {
                 self.cancel_job();
+                self.readings.clear();
+                self.hidden.clear();
+                self.help.first_run_hint = false;
                 self.editor
                     .replace(Sketch::default(), None, Document::default());
                 self.canvas.image_mut().clear(false);
@@ -206,79 +251,165 @@ impl GeosnapApp {
     }
 
     /// Opens a session, sketch (native or SVG) or reference image. On failure the work
-    /// stays as it was and the reason is shown.
+    /// stays as it was and the reason is shown. Drawings and sessions are read and
+    /// prepared off the UI thread (`app/loader.rs`): the work is replaced when they
+    /// are ready.
     pub fn open_path(&mut self, ctx: &egui::Context, path: &Path) {
         if self.busy() {
             self.warn("Wait for the running solve to finish (or press Esc) before opening a file.");
             return;
         }
+        if let Some(loading) = &self.loading {
+            let text = format!(
+                "Wait for {} to open (or press Esc) before opening another file.",
+                loading.path.display()
+            );
+            self.warn(text);
+            return;
+        }
         match self.try_open(ctx, path) {
-            Ok(note) => {
+            Ok(Some(note)) => {
                 self.files.remember(path);
                 self.say(note);
             }
-            Err(error) => {
-                let text = format!("Could not open {}: {error:#}", path.display());
-                self.warn(text.clone());
-                self.files.prompt = Some(Prompt::Error(text));
-            }
+            Ok(None) => {}
+            Err(error) => self.open_failed(path, &error),
         }
     }
 
-    fn try_open(&mut self, ctx: &egui::Context, path: &Path) -> anyhow::Result<String> {
-        let head = std::fs::read(path).with_context(|| "the file cannot be read".to_owned())?;
+    fn open_failed(&mut self, path: &Path, error: &anyhow::Error) {
+        let text = format!("Could not open {}: {error:#}", path.display());
+        self.warn(text.clone());
+        self.files.prompt = Some(Prompt::Error(text));
+    }
+
+    /// Shows an image at once; starts reading a drawing or session (`None`).
+    fn try_open(&mut self, ctx: &egui::Context, path: &Path) -> anyhow::Result<Option<String>> {
+        let head = read_head(path).with_context(|| "the file cannot be read".to_owned())?;
         let kind = file_kind(path, &head).ok_or_else(|| {
             anyhow!("not a geosnap session, sketch, SVG drawing or PNG/JPEG image")
         })?;
-        match kind {
-            FileKind::Image => {
-                let texture = load_texture(ctx, path, &head)?;
-                let size = texture.size();
-                self.canvas.image_mut().show(path.to_owned(), texture);
-                self.editor.set_image(Some(path.to_owned()));
-                self.canvas.request_fit();
-                Ok(format!(
-                    "Reference image {} ({}×{} px) under the strokes.",
-                    path.display(),
-                    size[0],
-                    size[1]
-                ))
+        if kind != FileKind::Image {
+            let wake = self.workers.wake();
+            self.loading = Some(Loading::start(path, kind == FileKind::Session, wake));
+            return Ok(None);
+        }
+        let bytes = std::fs::read(path).with_context(|| "the file cannot be read".to_owned())?;
+        let texture = load_texture(ctx, path, &bytes)?;
+        let size = texture.size();
+        self.canvas.image_mut().show(path.to_owned(), texture);
+        self.editor.set_image(Some(path.to_owned()));
+        self.canvas.request_fit();
+        Ok(Some(format!(
+            "Reference image {} ({}×{} px) under the strokes.",
+            path.display(),
+            size[0],
+            size[1]
+        )))
+    }
+
+    /// Takes in the file being opened, once it is ready: it replaces the work.
+    pub(crate) fn poll_loading(&mut self, ctx: &egui::Context) {
+        let Some(loading) = &self.loading else {
+            return;
+        };
+        let Some(result) = loading.try_result() else {
+            // The step shown changes when the thread wakes the UI; this keeps the
+            // spinner turning between steps.
+            ctx.request_repaint_after(Duration::from_millis(100));
+            return;
+        };
+        let Some(loading) = self.loading.take() else {
+            return;
+        };
+        let path = loading.path;
+        match result {
+            Ok(loaded) => {
+                let note = self.take_loaded(ctx, &path, loaded);
+                self.files.remember(&path);
+                self.say(note);
             }
-            FileKind::Sketch => {
-                let loaded = load_sketch(path)?;
-                if loaded.sketch.strokes.is_empty() {
-                    return Err(anyhow!("it has no strokes to snap to"));
-                }
-                let strokes = loaded.sketch.strokes.len();
-                let warnings = loaded.warnings.clone();
-                self.editor
-                    .replace(loaded.sketch, loaded.image, Document::default());
+            Err(error) => self.open_failed(&path, &error),
+        }
+    }
+
+    /// Replaces the work by what `path` held; says what was opened.
+    fn take_loaded(&mut self, ctx: &egui::Context, path: &Path, loaded: Loaded) -> String {
+        let Loaded {
+            content,
+            classes,
+            context,
+        } = loaded;
+        let note = match content {
+            Content::Drawing {
+                sketch,
+                image,
+                warnings,
+            } => {
+                let strokes = sketch.strokes.len();
+                self.editor.replace(sketch, image, Document::default());
                 self.editor.set_origin(path.to_owned());
                 self.after_replace(ctx);
                 for w in warnings {
                     self.warn(w);
                 }
-                Ok(format!("Opened {} ({strokes} strokes).", path.display()))
+                format!("Opened {} ({strokes} strokes).", path.display())
             }
-            FileKind::Session => {
-                let session = parse_session(&head)
-                    .or_else(|_| load_session(path))
-                    .map_err(|e| anyhow!("{e}"))?;
+            Content::Session(session) => {
                 let parts = session.document.len();
                 self.editor
                     .replace(session.sketch, session.image, session.document);
                 self.editor.mark_saved(path.to_owned());
                 self.after_replace(ctx);
-                Ok(format!(
-                    "Opened the session {} ({parts} parts).",
-                    path.display()
-                ))
+                format!("Opened the session {} ({parts} parts).", path.display())
             }
-        }
+        };
+        // What the thread prepared, for the strokes as they now are.
+        let revision = self.editor.strokes_revision();
+        self.workers.set_context(Arc::new(context), revision);
+        self.canvas.set_classes(revision, classes);
+        note
+    }
+
+    /// Stops opening the file being read; whether one was.
+    pub(crate) fn cancel_loading(&mut self) -> bool {
+        let Some(loading) = self.loading.take() else {
+            return false;
+        };
+        self.say(format!(
+            "Opening {} was cancelled; the work is as it was.",
+            loading.path.display()
+        ));
+        true
+    }
+
+    /// The file being opened and the step it is at, in words, while one is.
+    pub fn loading(&self) -> Option<String> {
+        self.loading.as_ref().map(|l| {
+            let name = l.path.file_name().map_or_else(
+                || l.path.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            let seconds = l.elapsed().as_secs();
+            if seconds >= 1 {
+                format!("Opening {name}: {}… ({seconds} s)", l.phase().text())
+            } else {
+                format!("Opening {name}: {}…", l.phase().text())
+            }
+        })
+    }
+
+    /// Whether a question is being asked in a modal window.
+    pub(crate) fn asking(&self) -> bool {
+        self.files.prompt.is_some()
     }
 
     fn after_replace(&mut self, ctx: &egui::Context) {
+        // The welcome is about the sample, which is no longer open.
+        self.help.first_run_hint = false;
         self.selection = None;
+        self.readings.clear();
+        self.hidden.clear();
         self.hovered_relation = None;
         self.drag = None;
         self.canvas.image_mut().clear(true);
@@ -362,13 +493,39 @@ impl GeosnapApp {
         }
     }
 
-    /// Asks for a glTF path and exports.
+    /// Opens the export dialog: the unit and scale, the segments, the origin and the
+    /// format, then where to write the file.
     pub fn export_dialog(&mut self) {
+        if self.editor.document().is_empty() {
+            self.warn("There is nothing to export yet: place a primitive first.");
+            return;
+        }
+        self.files.prompt = Some(Prompt::Export);
+    }
+
+    /// The export settings the dialog's options give.
+    fn export_settings(&self) -> anyhow::Result<ExportSettings> {
+        let options = &self.files.export;
+        let origin = if options.on_ground {
+            Origin::Ground
+        } else {
+            Origin::Model
+        };
+        Ok(ExportSettings::new(
+            self.panels.unit.metres() * options.scale,
+            options.segments,
+            origin,
+        )?)
+    }
+
+    /// Asks where to write the file (native dialog, or a typed path), in the format the
+    /// dialog chose.
+    fn export_where(&mut self) {
+        let ext = self.files.export.extension();
         let asked = Instant::now();
         let picked = rfd::FileDialog::new()
-            .add_filter("glTF binary", &["glb"])
-            .add_filter("glTF", &["gltf"])
-            .set_file_name("model.glb")
+            .add_filter(if ext == "glb" { "glTF binary" } else { "glTF" }, &[ext])
+            .set_file_name(format!("model.{ext}"))
             .save_file();
         match picked {
             Some(path) => self.export_to(&path),
@@ -379,26 +536,110 @@ impl GeosnapApp {
         }
     }
 
-    /// Exports the model as glTF 2.0 (`.glb` or `.gltf`).
+    /// Exports the model as glTF 2.0 with the dialog's options: `.glb` or `.gltf` as the
+    /// path ends (the chosen format's extension is added to a path with neither).
     pub fn export_to(&mut self, path: &Path) {
         if self.editor.document().is_empty() {
             self.warn("There is nothing to export yet: place a primitive first.");
             return;
         }
-        let settings = ExportSettings::default();
-        match export_gltf(self.editor.document(), path, &settings) {
-            Ok(_) => self.say(format!(
-                "Exported {} (in metres: one {} of the drawing is {} m).",
+        let path = if crate::io::gltf::GltfFormat::from_path(path).is_some() {
+            path.to_owned()
+        } else {
+            let mut named = path.as_os_str().to_owned();
+            named.push(format!(".{}", self.files.export.extension()));
+            PathBuf::from(named)
+        };
+        let exported = self.export_settings().and_then(|settings| {
+            export_gltf(self.editor.document(), &path, &settings)?;
+            Ok(settings)
+        });
+        match exported {
+            Ok(settings) => self.say(format!(
+                "Exported {} (in metres: one {} of the drawing is {} m; {} segments around \
+                 circles).",
                 path.display(),
-                super::words::UNIT,
-                settings.metres_per_unit()
+                self.panels.unit.symbol(),
+                settings.metres_per_unit(),
+                settings.segments()
             )),
             Err(error) => {
-                let text = format!("Could not export {}: {error}", path.display());
+                let text = format!("Could not export {}: {error:#}", path.display());
                 self.warn(text.clone());
                 self.files.prompt = Some(Prompt::Error(text));
             }
         }
+    }
+
+    /// The export dialog's options and buttons.
+    fn export_prompt(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Export glTF");
+        let mut unit = self.panels.unit;
+        egui::Grid::new("export_options")
+            .num_columns(2)
+            .show(ui, |ui| {
+                let label = ui.label("One drawing unit is one").id;
+                egui::ComboBox::from_id_salt("export_unit")
+                    .selected_text(unit.name())
+                    .show_ui(ui, |ui| {
+                        for u in super::words::Unit::ALL {
+                            ui.selectable_value(&mut unit, u, u.name());
+                        }
+                    })
+                    .response
+                    .labelled_by(label);
+                ui.end_row();
+                let options = &mut self.files.export;
+                ui.label("Scale");
+                ui.add(
+                    egui::DragValue::new(&mut options.scale)
+                        .range(0.001..=1000.0)
+                        .speed(0.01)
+                        .prefix("× "),
+                );
+                ui.end_row();
+                ui.label("Segments around circles");
+                ui.add(egui::Slider::new(
+                    &mut options.segments,
+                    8..=crate::io::gltf::MAX_SEGMENTS.min(256),
+                ));
+                ui.end_row();
+                ui.label("Origin");
+                ui.vertical(|ui| {
+                    ui.radio_value(&mut options.on_ground, true, "On the ground, centred");
+                    ui.radio_value(&mut options.on_ground, false, "The drawing's own origin");
+                });
+                ui.end_row();
+                ui.label("Format");
+                ui.vertical(|ui| {
+                    ui.radio_value(&mut options.binary, true, ".glb (one binary file)");
+                    ui.radio_value(&mut options.binary, false, ".gltf (text, for reading)");
+                });
+                ui.end_row();
+            });
+        if unit != self.panels.unit {
+            self.panels.unit = unit;
+        }
+        let metres = self.panels.unit.metres() * self.files.export.scale;
+        ui.label(
+            egui::RichText::new(format!(
+                "Lengths are written in metres: 1 {} of the drawing becomes {metres} m.",
+                self.panels.unit.symbol()
+            ))
+            .weak(),
+        );
+        ui.horizontal(|ui| {
+            if ui.button("Export…").clicked() {
+                self.files.prompt = None;
+                self.export_where();
+            }
+            if ui.button("Export to path…").clicked() {
+                self.ask_path(PathAction::Export);
+            }
+            if ui.button("Cancel").clicked() {
+                self.files.prompt = None;
+            }
+        });
     }
 
     /// Asks for a path to `action` in a window, suggesting one.
@@ -406,7 +647,7 @@ impl GeosnapApp {
         let suggested = match action {
             PathAction::Open => String::new(),
             PathAction::SaveAs => self.suggested_path("geosnap.json"),
-            PathAction::Export => self.suggested_path("glb"),
+            PathAction::Export => self.suggested_path(self.files.export.extension()),
         };
         self.files.prompt = Some(Prompt::Path(action, suggested));
         self.files.focus_path = true;
@@ -571,6 +812,7 @@ impl GeosnapApp {
                     });
                 }
                 Prompt::Image(path) => self.image_prompt(ui, &path),
+                Prompt::Export => self.export_prompt(ui),
                 Prompt::Error(text) => {
                     ui.heading("Problem");
                     ui.label(text);
@@ -583,7 +825,7 @@ impl GeosnapApp {
         if modal.should_close()
             && matches!(
                 self.files.prompt,
-                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_))
+                Some(Prompt::Error(_) | Prompt::Path(..) | Prompt::Image(_) | Prompt::Export)
             )
         {
             self.files.prompt = None;
@@ -622,6 +864,15 @@ impl GeosnapApp {
 /// window then takes its place.
 fn no_dialog(asked: Instant) -> bool {
     asked.elapsed() < Duration::from_millis(400)
+}
+
+/// The start of a file, enough to tell what it holds ([`file_kind`]).
+fn read_head(path: &Path) -> std::io::Result<Vec<u8>> {
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)?
+        .take(4096)
+        .read_to_end(&mut head)?;
+    Ok(head)
 }
 
 fn is_image(path: &Path) -> bool {

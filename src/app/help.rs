@@ -30,6 +30,7 @@ pub(crate) enum Action {
     SideView,
     IsometricView,
     HomeView,
+    NextPose,
     Help,
 }
 
@@ -136,7 +137,7 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
     Shortcut {
         action: Action::FrontView,
         keys: &[key(NONE, Key::Num1)],
-        what: "3D view from the front (as the drawing is seen)",
+        what: "3D view from the front, in perspective",
     },
     Shortcut {
         action: Action::TopView,
@@ -155,8 +156,14 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
     },
     Shortcut {
         action: Action::HomeView,
-        keys: &[key(NONE, Key::Home)],
-        what: "Home 3D view: the starting angle, fitted (also with an empty model)",
+        keys: &[key(NONE, Key::Num0), key(NONE, Key::Home)],
+        what: "3D view from the drawing (home): its camera, the strokes and image behind the \
+               model, fitted (also with an empty model)",
+    },
+    Shortcut {
+        action: Action::NextPose,
+        keys: &[key(NONE, Key::Tab)],
+        what: "Next pose the snap found: while dragging, or for the selected part",
     },
     Shortcut {
         action: Action::Help,
@@ -254,7 +261,11 @@ pub(crate) const MOUSE: &[MouseControl] = &[
         "Drop a file on the window",
         "Open it (drawing, SVG, image or session)",
     ),
-    mouse(Place::View3d, "Drag", "Orbit (stays above the grid)"),
+    mouse(
+        Place::View3d,
+        "Drag",
+        "Orbit (stays above the grid; leaves the view from the drawing)",
+    ),
     mouse(Place::View3d, "Right or middle drag, Shift + drag", "Pan"),
     mouse(Place::View3d, "Wheel", "Zoom"),
     mouse(Place::View3d, "Double-click", "Fit the model"),
@@ -326,6 +337,10 @@ fn mouse_table(ui: &mut Ui) {
                     ui.end_row();
                 }
                 if place == Place::Drag {
+                    let tab = keys_text(ui.ctx(), Action::NextPose);
+                    ui.label(RichText::new(tab).strong());
+                    ui.label("Show the next pose the snap found");
+                    ui.end_row();
                     let esc = keys_text(ui.ctx(), Action::Cancel);
                     ui.label(RichText::new(esc).strong());
                     ui.label("Cancel the drag");
@@ -393,20 +408,25 @@ impl GeosnapApp {
             Action::TopView => self.view3d.standard(Standard::Top),
             Action::SideView => self.view3d.standard(Standard::Side),
             Action::IsometricView => self.view3d.standard(Standard::Isometric),
-            Action::HomeView => self.view3d.standard(Standard::Home),
+            Action::HomeView => self.view3d.drawing_view(),
+            Action::NextPose => {
+                self.next_pose();
+                // Tab is the pose key here, not a move of the keyboard focus.
+                ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            }
             Action::Help => self.help.shortcuts_open = !self.help.shortcuts_open,
         }
     }
 
-    /// Esc: cancels the drag, else the running solve, else the stroke being drawn, else
-    /// the selection.
+    /// Esc: cancels the drag, else the running solve, else the file being opened, else
+    /// the stroke being drawn, else the selection.
     fn escape(&mut self) {
         if self.drag.is_some() {
             self.cancel_drag();
             self.say("Drag cancelled.");
         } else if self.busy() {
             self.cancel_job();
-        } else if !self.canvas.cancel_stroke() {
+        } else if !self.cancel_loading() && !self.canvas.cancel_stroke() {
             self.selection = None;
         }
     }
@@ -446,6 +466,13 @@ impl GeosnapApp {
             .filter(|c| c.place == Place::Drag && c.gesture != "Move")
             .map(|c| (c.gesture.to_owned(), c.what.to_owned()))
             .collect();
+        let tab = keys_text(ctx, Action::NextPose);
+        let pose = match self.drag.as_ref().map(super::Drag::pose) {
+            Some((k, n)) if n > 1 => format!("Next pose the snap found ({k} of {n})"),
+            Some((_, 1)) => "Next pose (this drop has one)".to_owned(),
+            _ => "Next pose the snap found".to_owned(),
+        };
+        rows.push((tab, pose));
         rows.push((keys_text(ctx, Action::Cancel), "Cancel".to_owned()));
         rows
     }
@@ -499,7 +526,13 @@ impl GeosnapApp {
     /// The first-run hint on the built-in sample, in the canvas's upper right corner,
     /// until "Got it" (remembered in the settings when the app has them).
     pub(crate) fn first_run_hint(&mut self, ui: &Ui, rect: egui::Rect) {
-        if !self.help.first_run_hint || self.help.shortcuts_open {
+        // One thing at a time: not over a question (the recovery prompt), the shortcuts
+        // window or a file being opened.
+        if !self.help.first_run_hint
+            || self.help.shortcuts_open
+            || self.asking()
+            || self.loading.is_some()
+        {
             return;
         }
         let help_keys = keys_text(ui.ctx(), Action::Help);
@@ -516,7 +549,8 @@ impl GeosnapApp {
                          placed when you release.",
                     );
                     ui.label(
-                        "While dragging: wheel to size, Shift + wheel to turn, Esc to cancel.",
+                        "While dragging: wheel to size, Shift + wheel to turn, Tab for another \
+                         pose, Alt + release to place without snapping, Esc to cancel.",
                     );
                     ui.label(format!("{help_keys} lists every shortcut (Help menu)."));
                     if ui.button("Got it").clicked() {

@@ -24,12 +24,15 @@ mod drag;
 pub mod editor;
 mod files;
 mod help;
+mod loader;
 mod panels;
+mod pose;
 mod status;
 mod view3d;
 mod words;
 pub mod worker;
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -117,6 +120,14 @@ pub struct GeosnapApp {
     selection: Option<PrimitiveId>,
     /// The relation under the cursor in the relations panel.
     hovered_relation: Option<RelationId>,
+    /// Parts hidden in the outliner (on the canvas and in the 3D view; a view setting,
+    /// not part of the work).
+    hidden: std::collections::BTreeSet<PrimitiveId>,
+    /// The file being opened (read and prepared off the UI thread).
+    loading: Option<loader::Loading>,
+    /// The poses the snap found for parts placed this session, for Tab on a selected
+    /// part (not saved: a reopened session has none).
+    readings: BTreeMap<PrimitiveId, worker::Readings>,
     canvas: Canvas,
     view3d: View3d,
     panels: Panels,
@@ -177,6 +188,9 @@ impl GeosnapApp {
             drag: None,
             selection: None,
             hovered_relation: None,
+            readings: BTreeMap::new(),
+            loading: None,
+            hidden: std::collections::BTreeSet::new(),
             canvas: Canvas::default(),
             view3d: View3d::default(),
             panels: Panels::default(),
@@ -194,6 +208,13 @@ impl GeosnapApp {
             title: String::new(),
         };
         app.status.developer = developer;
+        if let Some(unit) = cc
+            .storage
+            .and_then(|s| eframe::get_value::<String>(s, "unit"))
+            .and_then(|u| words::Unit::from_symbol(&u))
+        {
+            app.panels.unit = unit;
+        }
         if let Some(script) = &options.play {
             match crate::io::script::load_script(script) {
                 Ok(script) => {
@@ -246,6 +267,11 @@ impl GeosnapApp {
         self.selection = id;
     }
 
+    /// Whether part `id` is hidden (outliner).
+    pub fn is_hidden(&self, id: PrimitiveId) -> bool {
+        self.hidden.contains(&id)
+    }
+
     /// Sets how long unsaved work waits before it is autosaved (30 s unless set; tests
     /// shorten it).
     pub fn set_autosave_delay(&mut self, delay: Duration) {
@@ -272,6 +298,12 @@ impl GeosnapApp {
     /// The 3D view's camera.
     pub fn camera_3d(&self) -> crate::render::OrbitCamera {
         self.view3d.camera
+    }
+
+    /// Whether the 3D view is the view from the drawing (its default: the drawing's
+    /// camera, the strokes and image behind the model).
+    pub fn view_from_drawing(&self) -> bool {
+        self.view3d.is_drawing_view()
     }
 
     /// The running snap-and-solve or re-solve.
@@ -362,6 +394,12 @@ impl GeosnapApp {
             self.editor.apply_document(label, document);
             if let Some(id) = output.placed {
                 self.selection = Some(id);
+                // Ids come back after an undo: a part without a choice drops any
+                // readings an earlier part of its id left.
+                match output.readings {
+                    Some(readings) => self.readings.insert(id, readings),
+                    None => self.readings.remove(&id),
+                };
             }
         } else if output.messages.is_empty() {
             self.warn(format!("{label}: nothing changed."));
@@ -443,6 +481,35 @@ impl GeosnapApp {
         );
     }
 
+    /// Places part `id` exactly as `primitive` (typed in the properties): off its
+    /// strokes, its relations and dimensions kept, and solved in the background as one
+    /// undo step.
+    pub fn place_exactly(&mut self, id: PrimitiveId, primitive: crate::core::primitive::Primitive) {
+        if !primitive.is_finite() {
+            self.warn("That position or angle gives no valid part.");
+            return;
+        }
+        let Some(document) = pose::placed_exactly(self.editor.document(), id, primitive) else {
+            return;
+        };
+        let c = document
+            .get(id)
+            .map(|p| p.primitive.center())
+            .unwrap_or_default();
+        self.resolve_in_background(
+            &format!(
+                "#{} placed at ({:.1}, {:.1}, {:.1}) {}",
+                id.0,
+                c.x,
+                c.y,
+                c.z,
+                self.panels.unit.symbol()
+            ),
+            document,
+            Some(vec![id]),
+        );
+    }
+
     /// Accepts every suggested relation (makes it hard) and re-solves the parts they
     /// relate, as one undoable step.
     pub fn accept_all_suggestions(&mut self) {
@@ -471,6 +538,7 @@ impl GeosnapApp {
                 .and_then(|id| self.editor.document().relation(id))
                 .map(|r| r.members.clone())
                 .unwrap_or_default(),
+            hidden: self.hidden.iter().copied().collect(),
         }
     }
 
@@ -509,6 +577,7 @@ impl eframe::App for GeosnapApp {
         let started = Instant::now();
         let ctx = ui.ctx().clone();
         self.poll_workers();
+        self.poll_loading(&ctx);
         self.files_dropped(&ctx);
         self.sync_image(&ctx);
         self.shortcuts(&ctx);
@@ -539,14 +608,18 @@ impl eframe::App for GeosnapApp {
                             .as_ref()
                             .and_then(|d| d.preview().map(|p| p.primitive.clone()));
                         let emphasis = self.emphasis();
-                        self.view3d.show(
-                            ui,
-                            frame,
-                            self.editor.document(),
-                            self.editor.revision(),
-                            preview.as_ref(),
-                            &emphasis,
-                        );
+                        let image = self.canvas.image();
+                        let content = view3d::Content {
+                            document: self.editor.document(),
+                            revision: self.editor.revision(),
+                            preview: preview.as_ref(),
+                            emphasis: &emphasis,
+                            backdrop: view3d::Backdrop {
+                                strokes: &self.editor.sketch().strokes,
+                                image: image.texture(),
+                            },
+                        };
+                        self.view3d.show(ui, frame, &content);
                     });
             });
         egui::CentralPanel::default()
@@ -583,6 +656,7 @@ impl eframe::App for GeosnapApp {
         );
         eframe::set_value(storage, help::HINT_SEEN_KEY, &self.help.hint_seen);
         eframe::set_value(storage, status::DEVELOPER_KEY, &self.status.developer);
+        eframe::set_value(storage, "unit", &self.panels.unit.symbol());
     }
 
     fn on_exit(&mut self) {

@@ -8,8 +8,8 @@ use egui::{Color32, RichText, Ui};
 use super::files::{After, PathAction};
 use super::help::{keys_text, Action};
 use super::{mode_name, words, GeosnapApp, Tool};
-use crate::core::model::Quantity;
-use crate::core::primitive::PrimitiveKind;
+use crate::core::model::{PrimitiveId, Quantity};
+use crate::core::primitive::{Primitive, PrimitiveKind};
 use crate::core::relation::{Mode, RelationKind};
 
 /// The panels' own state: the dimension values being typed, and whether the settings
@@ -19,7 +19,11 @@ pub(crate) struct Panels {
     /// Typed dimension values being edited in the properties panel, by part and
     /// quantity.
     typed: BTreeMap<String, String>,
+    /// The relation being made by hand.
+    relate: Relate,
     show_settings: bool,
+    /// The document's unit (a preference: what one sketch unit is).
+    pub(crate) unit: words::Unit,
 }
 
 impl GeosnapApp {
@@ -155,11 +159,11 @@ impl GeosnapApp {
                     ui.menu_button("View", |ui| {
                         for (text, action) in [
                             ("Fit", Action::Fit),
-                            ("Front (as drawn)", Action::FrontView),
+                            ("View from drawing", Action::HomeView),
+                            ("Front", Action::FrontView),
                             ("Top", Action::TopView),
                             ("Side", Action::SideView),
                             ("Isometric", Action::IsometricView),
-                            ("Home", Action::HomeView),
                         ] {
                             let button =
                                 egui::Button::new(text).shortcut_text(keys_text(&ctx, action));
@@ -298,6 +302,12 @@ impl GeosnapApp {
                     .id_salt("inspector_scroll")
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
+                        egui::CollapsingHeader::new(format!(
+                            "Parts ({})",
+                            self.editor.document().len()
+                        ))
+                        .default_open(true)
+                        .show(ui, |ui| self.outliner(ui));
                         egui::CollapsingHeader::new("Properties")
                             .default_open(true)
                             .show(ui, |ui| self.properties(ui));
@@ -307,8 +317,192 @@ impl GeosnapApp {
                         ))
                         .default_open(true)
                         .show(ui, |ui| self.relations(ui));
+                        egui::CollapsingHeader::new("Relate two parts by hand")
+                            .default_open(false)
+                            .show(ui, |ui| self.relate_ui(ui));
                     });
             });
+    }
+
+    /// The parts, one a row: shown or hidden, its name (click selects it) with how its
+    /// snap was judged, and a button that deletes it.
+    fn outliner(&mut self, ui: &mut Ui) {
+        let document = self.editor.document();
+        if document.is_empty() {
+            ui.label(RichText::new("No parts yet: drag one from the palette.").weak());
+            return;
+        }
+        let busy = self.busy();
+        let mut select = None;
+        let mut toggle = None;
+        let mut delete = None;
+        for (index, (id, placed)) in document.primitives().enumerate() {
+            ui.horizontal(|ui| {
+                let mut shown = !self.hidden.contains(&id);
+                if ui
+                    .add(egui::Checkbox::without_text(&mut shown))
+                    .on_hover_text("Show or hide it on the drawing and in the 3D view")
+                    .changed()
+                {
+                    toggle = Some(id);
+                }
+                let (swatch, _) =
+                    ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+                ui.painter()
+                    .rect_filled(swatch, 2.0, super::view3d::part_color(index));
+                let name = words::part_name(document, id);
+                let state = match (placed.fit.strokes.is_empty(), placed.fit.verdict) {
+                    (true, _) => " · placed freely",
+                    (false, Some(crate::core::snap::Verdict::Doubtful)) => " · doubtful",
+                    _ => "",
+                };
+                let selected = self.selection == Some(id);
+                if ui
+                    .selectable_label(selected, format!("{name}{state}"))
+                    .on_hover_text("Select it")
+                    .clicked()
+                {
+                    select = Some(id);
+                }
+                if ui
+                    .add_enabled(!busy, egui::Button::new("Remove").small())
+                    .on_hover_text(format!("Delete {name}"))
+                    .clicked()
+                {
+                    delete = Some(id);
+                }
+            });
+        }
+        if let Some(id) = select {
+            self.selection = Some(id);
+        }
+        if let Some(id) = toggle {
+            if !self.hidden.remove(&id) {
+                self.hidden.insert(id);
+            }
+        }
+        if let Some(id) = delete {
+            self.selection = Some(id);
+            self.delete_selected();
+        }
+    }
+
+    /// Makes a relation by hand: two parts (the first is the selected one), the feature
+    /// of each (or the kind's usual one), the kind; added as a hard relation and solved.
+    fn relate_ui(&mut self, ui: &mut Ui) {
+        let document = self.editor.document();
+        if document.len() < 2 {
+            ui.label(RichText::new("Place two parts to relate them.").weak());
+            return;
+        }
+        let ids: Vec<PrimitiveId> = document.primitives().map(|(id, _)| id).collect();
+        let relate = &mut self.panels.relate;
+        if relate.parts[0].is_none_or(|id| document.get(id).is_none()) {
+            relate.parts[0] = self.selection.or(ids.first().copied());
+        }
+        if relate.parts[1]
+            .is_none_or(|id| document.get(id).is_none() || Some(id) == relate.parts[0])
+        {
+            relate.parts[1] = ids.iter().copied().find(|id| Some(*id) != relate.parts[0]);
+        }
+        egui::Grid::new("relate").num_columns(2).show(ui, |ui| {
+            for (k, which) in ["First part", "Second part"].into_iter().enumerate() {
+                let label = ui.label(which).id;
+                ui.horizontal(|ui| {
+                    let name = |id: Option<PrimitiveId>| {
+                        id.map_or_else(String::new, |id| words::part_name(document, id))
+                    };
+                    let before = relate.parts[k];
+                    egui::ComboBox::from_id_salt(("relate_part", k))
+                        .selected_text(name(relate.parts[k]))
+                        .show_ui(ui, |ui| {
+                            for id in &ids {
+                                ui.selectable_value(
+                                    &mut relate.parts[k],
+                                    Some(*id),
+                                    name(Some(*id)),
+                                );
+                            }
+                        })
+                        .response
+                        .labelled_by(label);
+                    if relate.parts[k] != before {
+                        relate.features[k] = None;
+                    }
+                    let features = relate.parts[k]
+                        .and_then(|id| document.get(id))
+                        .map(|p| p.primitive.features())
+                        .unwrap_or_default();
+                    if !features.is_empty() {
+                        let feature_name = |f: Option<crate::core::primitive::Feature>| {
+                            f.map_or("usual feature", crate::core::primitive::Feature::name)
+                        };
+                        egui::ComboBox::from_id_salt(("relate_feature", k))
+                            .selected_text(feature_name(relate.features[k]))
+                            .show_ui(ui, |ui| {
+                                ui.selectable_value(&mut relate.features[k], None, "usual feature");
+                                for f in features {
+                                    ui.selectable_value(
+                                        &mut relate.features[k],
+                                        Some(*f),
+                                        f.name(),
+                                    );
+                                }
+                            });
+                    }
+                });
+                ui.end_row();
+                if k == 0 {
+                    let label = ui.label("Relation").id;
+                    egui::ComboBox::from_id_salt("relate_kind")
+                        .selected_text(words::relation_kind_name(relate.kind))
+                        .show_ui(ui, |ui| {
+                            for kind in RelationKind::ALL.into_iter().filter(|k| k.arity() == 2) {
+                                ui.selectable_value(
+                                    &mut relate.kind,
+                                    kind,
+                                    words::relation_kind_name(kind),
+                                );
+                            }
+                        })
+                        .response
+                        .labelled_by(label);
+                    ui.end_row();
+                }
+            }
+        });
+        let add = ui
+            .add_enabled(!self.busy(), egui::Button::new("Add relation"))
+            .on_hover_text("Add it as a hard relation and solve the two parts");
+        if add.clicked() {
+            self.add_relation_by_hand();
+        }
+    }
+
+    /// Adds the relation of the "relate by hand" section, hard, and solves its parts.
+    fn add_relation_by_hand(&mut self) {
+        let relate = &self.panels.relate;
+        let (Some(a), Some(b)) = (relate.parts[0], relate.parts[1]) else {
+            return;
+        };
+        let kind = relate.kind;
+        let features = relate.features.to_vec();
+        let mut document = self.editor.document().clone();
+        let relation = crate::core::model::Relation::new(kind, vec![a, b], features, Mode::Hard);
+        match document.add_relation(relation) {
+            Ok(id) => {
+                let sentence = document
+                    .relation(id)
+                    .map(|r| words::relation_sentence(&document, r))
+                    .unwrap_or_default();
+                self.resolve_in_background(
+                    &format!("Relate by hand: {sentence}"),
+                    document,
+                    Some(vec![a, b]),
+                );
+            }
+            Err(error) => self.warn(format!("That relation cannot be made: {error}.")),
+        }
     }
 
     fn relations(&mut self, ui: &mut Ui) {
@@ -410,6 +604,7 @@ impl GeosnapApp {
 
     #[expect(clippy::too_many_lines, reason = "one panel, read top to bottom")]
     fn properties(&mut self, ui: &mut Ui) {
+        let unit = self.panels.unit;
         let Some(id) = self.selection else {
             ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
             return;
@@ -420,14 +615,7 @@ impl GeosnapApp {
         let p = &placed.primitive;
         ui.label(RichText::new(format!("#{} {}", id.0, words::kind_title(p.kind()))).strong())
             .on_hover_text(words::kind_long(p.kind()));
-        let c = p.center();
-        ui.label(format!(
-            "Centre at ({:.1}, {:.1}, {:.1}) {}",
-            c.x,
-            c.y,
-            c.z,
-            words::UNIT
-        ));
+        self.pose_fields(ui, id, p);
         if placed.fit.strokes.is_empty() {
             ui.label("Placed freely: not snapped to any strokes")
                 .on_hover_text("Drag it onto its strokes to snap it");
@@ -435,7 +623,7 @@ impl GeosnapApp {
             ui.label(format!(
                 "Fits its {} strokes to {} on average",
                 placed.fit.strokes.len(),
-                words::mm(placed.fit.rms)
+                words::length(placed.fit.rms, self.panels.unit)
             ))
             .on_hover_text("The root mean square distance from the strokes to the part's outlines");
         }
@@ -450,6 +638,23 @@ impl GeosnapApp {
             if let Some(reason) = &placed.fit.reason {
                 ui.label(RichText::new(format!("Why: {reason}.")).weak());
             }
+        }
+        if let Some((k, n)) = self.part_poses(id) {
+            ui.horizontal(|ui| {
+                ui.label(format!("Pose {k} of {n} the drawing allows"));
+                let next = egui::Button::new("Next pose")
+                    .shortcut_text(keys_text(ui.ctx(), Action::NextPose));
+                if ui
+                    .add_enabled(!self.busy(), next)
+                    .on_hover_text(
+                        "Place it in the next pose the snap found (another reading of its \
+                         strokes); undo goes back",
+                    )
+                    .clicked()
+                {
+                    self.next_pose();
+                }
+            });
         }
         let fixed: Vec<(Quantity, f64)> = self
             .editor
@@ -482,7 +687,7 @@ impl GeosnapApp {
                 let edit = edit.labelled_by(name.id).on_hover_text(format!(
                     "Type an exact {} in {} and press Enter: it becomes a hard constraint",
                     words::quantity_name(*quantity),
-                    words::UNIT
+                    unit.symbol()
                 ));
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 if !edit.has_focus() && !entered {
@@ -497,7 +702,7 @@ impl GeosnapApp {
                     }
                 }
                 ui.horizontal(|ui| {
-                    ui.label(words::UNIT);
+                    ui.label(unit.symbol());
                     if is_fixed.is_some()
                         && ui
                             .button("free")
@@ -517,7 +722,7 @@ impl GeosnapApp {
                         "#{} {} = {value} {}",
                         id.0,
                         words::quantity_name(quantity),
-                        words::UNIT
+                        unit.symbol()
                     ),
                     document,
                     Some(vec![id]),
@@ -544,12 +749,111 @@ impl GeosnapApp {
         });
     }
 
+    /// A number typed in a field of its own, shown as `value` while not edited; the
+    /// typed number once Enter is pressed in it.
+    fn number_field(
+        &mut self,
+        ui: &mut Ui,
+        (key, name): (String, egui::Id),
+        value: f64,
+        hover: &str,
+    ) -> Option<f64> {
+        let text = self
+            .panels
+            .typed
+            .entry(key)
+            .or_insert_with(|| format!("{value:.2}"));
+        let edit = ui
+            .add(egui::TextEdit::singleline(text).desired_width(64.0))
+            .labelled_by(name)
+            .on_hover_text(hover);
+        let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if !edit.has_focus() && !entered {
+            *text = format!("{value:.2}");
+        }
+        if !entered {
+            return None;
+        }
+        let typed = text.trim().to_owned();
+        match typed.parse::<f64>() {
+            Ok(v) if v.is_finite() => Some(v),
+            _ => {
+                self.status
+                    .push(format!("“{typed}” is not a number."), true);
+                None
+            }
+        }
+    }
+
+    /// The part's centre and orientation, each typed in a field: Enter places the part
+    /// exactly there ([`super::pose`]) and solves its relations (one undo step).
+    fn pose_fields(&mut self, ui: &mut Ui, id: PrimitiveId, p: &Primitive) {
+        let unit = self.panels.unit;
+        let centre = p.center();
+        let mut moved = None;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Centre");
+            let mut at = centre;
+            for (k, axis) in ["X", "Y", "Z"].into_iter().enumerate() {
+                let name = ui.label(axis).id;
+                let hover = format!(
+                    "The centre's {axis} in {}; Enter places the part there exactly \
+                     (off its strokes) and solves its relations",
+                    unit.symbol()
+                );
+                let key = (format!("{}:centre:{k}", id.0), name);
+                if let Some(v) = self.number_field(ui, key, centre[k], &hover) {
+                    at[k] = v;
+                    moved = Some(super::pose::with_center(p, at));
+                }
+            }
+            ui.label(unit.symbol());
+        });
+        let angles = super::pose::angles(p);
+        if !angles.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                let mut degrees: Vec<f64> = angles.iter().map(|(_, a)| *a).collect();
+                for (k, (name, value)) in angles.iter().enumerate() {
+                    let label = ui.label(*name).id;
+                    let hover = format!("The part's {name} in degrees; Enter turns it exactly so");
+                    let key = (format!("{}:angle:{k}", id.0), label);
+                    if let Some(v) = self.number_field(ui, key, *value, &hover) {
+                        degrees[k] = v;
+                        moved = super::pose::with_angles(p, &degrees);
+                    }
+                    ui.label("°");
+                }
+            });
+        }
+        if let Some(primitive) = moved {
+            self.place_exactly(id, primitive);
+        }
+    }
+
     pub(crate) fn settings_window(&mut self, ctx: &egui::Context) {
         let mut open = self.panels.show_settings;
         egui::Window::new("Settings")
             .open(&mut open)
             .resizable(false)
             .show(ctx, |ui| {
+                ui.heading("Document");
+                let unit = &mut self.panels.unit;
+                ui.horizontal(|ui| {
+                    ui.label("Lengths are in");
+                    egui::ComboBox::from_id_salt("document_unit")
+                        .selected_text(unit.name())
+                        .show_ui(ui, |ui| {
+                            for u in words::Unit::ALL {
+                                ui.selectable_value(unit, u, u.name());
+                            }
+                        });
+                })
+                .response
+                .on_hover_text(
+                    "What one unit of the drawing is: every length is shown in it, and the \
+                     export converts it to metres",
+                );
+                ui.separator();
                 ui.heading("Relation inference");
                 let inference = &mut self.editor.settings_mut().inference;
                 let mut enabled = inference.enabled_kinds().to_vec();
@@ -618,6 +922,25 @@ impl GeosnapApp {
                 }
             });
         self.panels.show_settings = open;
+    }
+}
+
+/// A relation being made by hand: its two parts, the feature of each (`None`: the
+/// kind's usual one), its kind.
+#[derive(Debug)]
+struct Relate {
+    parts: [Option<PrimitiveId>; 2],
+    features: [Option<crate::core::primitive::Feature>; 2],
+    kind: RelationKind,
+}
+
+impl Default for Relate {
+    fn default() -> Self {
+        Self {
+            parts: [None; 2],
+            features: [None; 2],
+            kind: RelationKind::Coaxial,
+        }
     }
 }
 

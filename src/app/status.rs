@@ -229,15 +229,22 @@ impl GeosnapApp {
 
     pub(crate) fn status_bar(&mut self, ui: &mut Ui) {
         let action = self.action_text();
+        let loading = self.loading();
+        let mut cancel_loading = false;
         egui::Panel::bottom("status")
             .frame(super::unfilled(3.0))
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
-                    match &action {
-                        Some(action) => {
+                    match (&loading, &action) {
+                        (Some(loading), _) => {
+                            ui.spinner();
+                            ui.label(format!("{loading} (Esc cancels)"));
+                            cancel_loading = ui.button("Cancel").clicked();
+                        }
+                        (None, Some(action)) => {
                             ui.label(action);
                         }
-                        None => self.status.job_ui(ui, self.workers.job()),
+                        (None, None) => self.status.job_ui(ui, self.workers.job()),
                     }
                     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                         if self.status.developer {
@@ -270,5 +277,8 @@ impl GeosnapApp {
                     });
                 });
             });
+        if cancel_loading {
+            self.cancel_loading();
+        }
     }
 }

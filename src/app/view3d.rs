@@ -1,15 +1,21 @@
-//! The 3D view panel: orbit (left drag, kept above the horizon so the camera does not
-//! go under the grid), pan (right or middle drag, or Shift + left), zoom (wheel), fit
-//! (F or double-click), the standard views (front, top, side, isometric, home: see
+//! The 3D view panel. It opens on the view from the drawing: the drawing's own camera
+//! (orthographic along −z, see `core::geom::projection`), with the strokes and the
+//! reference image behind the model, framed as the canvas frames them, so each part can
+//! be checked against what was drawn; 0 (or Home) comes back to it. Orbit (left drag,
+//! kept above the horizon so the camera does not go under the grid) leaves it for a
+//! perspective view; pan (right or middle drag, or Shift + left), zoom (wheel), fit
+//! (F or double-click), the standard views (front, top, side, isometric: see
 //! [`Standard`]) and an axis gizmo in the lower left corner. Drawn by [`crate::render::Viewport3d`] on the
 //! GPU, or, without a wgpu device (the glow renderer, UI tests), painted in software:
 //! flat-shaded triangles sorted back to front.
 
 use egui::{Color32, Pos2, Rect, Sense, Ui};
-use glam::Vec3;
+use glam::{DVec2, Vec3};
 
+use super::canvas::CanvasView;
 use crate::core::model::{Document, PrimitiveId};
 use crate::core::primitive::Primitive;
+use crate::core::sketch::Stroke;
 use crate::render::{OrbitCamera, Scene, Viewport3d};
 
 /// Segments around circles in the 3D view.
@@ -42,15 +48,48 @@ pub(crate) struct Emphasis {
     pub selected: Option<PrimitiveId>,
     /// Members of the hovered relation.
     pub related: Vec<PrimitiveId>,
+    /// Parts hidden in the outliner.
+    pub hidden: Vec<PrimitiveId>,
+}
+
+/// What the view from the drawing shows behind the model: the strokes and the
+/// reference image, where the canvas shows them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Backdrop<'a> {
+    /// The strokes (sketch space).
+    pub strokes: &'a [Stroke],
+    /// The reference image: its texture, its size in pixels (it spans the sketch from
+    /// the origin to that size) and the opacity it is drawn with.
+    pub image: Option<(egui::TextureId, [usize; 2], f32)>,
+}
+
+impl Backdrop<'_> {
+    /// The sketch-space box of the strokes and the image.
+    fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        let points = self.strokes.iter().flat_map(|s| s.points.iter().copied());
+        let image = self
+            .image
+            .into_iter()
+            .flat_map(|(_, [w, h], _)| [DVec2::ZERO, DVec2::new(w as f64, h as f64)]);
+        points.chain(image).fold(None, |acc, p| {
+            Some(acc.map_or((p, p), |(lo, hi): (DVec2, DVec2)| (lo.min(p), hi.max(p))))
+        })
+    }
 }
 
 /// The 3D view's state.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct View3d {
     pub camera: OrbitCamera,
+    /// Whether the view is the one from the drawing (the default).
+    drawing: bool,
+    /// The box of the strokes and the image, as model-space x and y (z = 0).
+    drawn: Option<(Vec3, Vec3)>,
+    /// Width over height of the view, as of the last frame.
+    aspect: f32,
     gpu: Option<Viewport3d>,
     model: Scene,
-    model_key: Option<(u64, Emphasis)>,
+    model_key: Option<(u64, Emphasis, bool)>,
     generation: u64,
     fitted: bool,
     /// Whether the user moved the camera (then it stops following the model).
@@ -60,6 +99,38 @@ pub(crate) struct View3d {
     overlay: (Scene, Option<std::time::Instant>),
     /// The box a fit frames: the model's bounds, or the grid's when the model is empty.
     frame: Option<(Vec3, Vec3)>,
+    /// The model's bounds, without the grid.
+    bounds: Option<(Vec3, Vec3)>,
+}
+
+impl Default for View3d {
+    fn default() -> Self {
+        Self {
+            camera: drawing_camera(OrbitCamera::default()),
+            drawing: true,
+            drawn: None,
+            aspect: 1.0,
+            gpu: None,
+            model: Scene::default(),
+            model_key: None,
+            generation: 0,
+            fitted: false,
+            moved: false,
+            overlay: (Scene::default(), None),
+            frame: None,
+            bounds: None,
+        }
+    }
+}
+
+/// `camera` turned to the drawing's view: from the front, level, orthographic.
+fn drawing_camera(camera: OrbitCamera) -> OrbitCamera {
+    OrbitCamera {
+        yaw: 0.0,
+        pitch: 0.0,
+        ortho: true,
+        ..camera
+    }
 }
 
 /// The standard views of the 3D view (View menu and keys 1–4, Home).
@@ -73,20 +144,16 @@ pub(crate) enum Standard {
     Side,
     /// Isometric: 45° around, 35.3° above.
     Isometric,
-    /// The view the app starts with.
-    Home,
 }
 
 impl Standard {
     /// Yaw and pitch of the view, radians.
     fn angles(self) -> (f32, f32) {
-        let home = OrbitCamera::default();
         match self {
             Self::Front => (0.0, 0.0),
             Self::Top => (0.0, MAX_PITCH),
             Self::Side => (std::f32::consts::FRAC_PI_2, 0.0),
             Self::Isometric => (std::f32::consts::FRAC_PI_4, (1.0 / 2f32.sqrt()).atan()),
-            Self::Home => (home.yaw, home.pitch),
         }
     }
 }
@@ -107,30 +174,62 @@ impl View3d {
         self.moved = false;
     }
 
-    /// Turns the camera to a standard view and frames the model (or the grid, when the
-    /// model is empty) at the next draw.
+    /// Turns the camera to a standard view (in perspective) and frames the model (or
+    /// the grid, when the model is empty) at the next draw.
     pub(crate) fn standard(&mut self, view: Standard) {
         let (yaw, pitch) = view.angles();
         self.camera.yaw = yaw;
         self.camera.pitch = pitch;
+        self.camera.ortho = false;
+        self.drawing = false;
         self.request_fit();
     }
 
-    /// Frames the model now, or the grid when the model is empty.
+    /// Goes back to the view from the drawing, framing the drawing and the model at the
+    /// next draw.
+    pub(crate) fn drawing_view(&mut self) {
+        self.camera = drawing_camera(self.camera);
+        self.drawing = true;
+        self.request_fit();
+    }
+
+    /// Whether the view is the one from the drawing.
+    pub(crate) fn is_drawing_view(&self) -> bool {
+        self.drawing
+    }
+
+    /// Frames the model now, or the grid when the model is empty; from the drawing, the
+    /// drawing and the model together, as the canvas frames the drawing.
     fn fit_now(&mut self) {
-        if let Some((lo, hi)) = self.frame {
+        if self.drawing {
+            let both = match (self.drawn, self.bounds) {
+                (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+                (one, other) => one.or(other).or(self.frame),
+            };
+            if let Some((lo, hi)) = both {
+                let size = hi - lo;
+                let half = (size.y / 2.0).max(size.x / 2.0 / self.aspect.max(1e-3)) / 0.9;
+                self.camera.target = (lo + hi) / 2.0;
+                self.camera.distance =
+                    (half.max(1e-3) / (self.camera.fov / 2.0).tan()).clamp(1e-2, 1e7);
+                self.fitted = true;
+            }
+        } else if let Some((lo, hi)) = self.frame {
             self.camera.fit(lo, hi);
             self.fitted = true;
         }
     }
 
     fn rebuild(&mut self, document: &Document, revision: u64, emphasis: &Emphasis) {
-        let key = (revision, emphasis.clone());
+        let key = (revision, emphasis.clone(), self.drawing);
         if self.model_key.as_ref() == Some(&key) {
             return;
         }
         let mut scene = Scene::default();
         for (index, (id, placed)) in document.primitives().enumerate() {
+            if emphasis.hidden.contains(&id) {
+                continue;
+            }
             let mut color = part_color(index);
             if emphasis.selected == Some(id) {
                 color = color.lerp_to_gamma(Color32::WHITE, 0.35);
@@ -139,21 +238,25 @@ impl View3d {
             }
             scene.add_mesh(&placed.primitive.mesh(VIEW_SEGMENTS), linear(color, 1.0));
         }
-        let (center, size, floor) = match scene.bounds() {
+        self.bounds = scene.bounds();
+        let (center, size, floor) = match self.bounds {
             Some((lo, hi)) => ((lo + hi) / 2.0, (hi - lo).max_element(), lo.y),
             None => (Vec3::ZERO, 500.0, 0.0),
         };
-        let step = nice_step(size / 8.0);
-        scene.add_grid(
-            Vec3::new(
-                (center.x / step).round() * step,
-                0.0,
-                (center.z / step).round() * step,
-            ),
-            floor,
-            step,
-            12,
-        );
+        // Not from the drawing: there the grid is edge-on, a line across the strokes.
+        if !self.drawing {
+            let step = nice_step(size / 8.0);
+            scene.add_grid(
+                Vec3::new(
+                    (center.x / step).round() * step,
+                    0.0,
+                    (center.z / step).round() * step,
+                ),
+                floor,
+                step,
+                12,
+            );
+        }
         self.frame = Some(scene.bounds().unwrap_or_else(|| {
             let half = Vec3::new(size, 0.0, size) / 2.0;
             (center - half, center + half + Vec3::Y * size / 2.0)
@@ -167,28 +270,98 @@ impl View3d {
     }
 
     /// Shows the view in `ui`'s remaining space.
-    pub(crate) fn show(
-        &mut self,
-        ui: &mut Ui,
-        frame: &eframe::Frame,
-        document: &Document,
-        revision: u64,
-        preview: Option<&Primitive>,
-        emphasis: &Emphasis,
-    ) {
-        self.rebuild(document, revision, emphasis);
+    pub(crate) fn show(&mut self, ui: &mut Ui, frame: &eframe::Frame, content: &Content<'_>) {
+        self.drawn = content.backdrop.bounds().map(|(lo, hi)| {
+            // Sketch y runs down, model y up: (u, v) is drawn from (u, −v, z).
+            let (a, b) = (
+                Vec3::new(lo.x as f32, -hi.y as f32, 0.0),
+                Vec3::new(hi.x as f32, -lo.y as f32, 0.0),
+            );
+            (a, b)
+        });
+        let size = ui.available_size();
+        self.aspect = size.x.max(1.0) / size.y.max(1.0);
+        self.rebuild(content.document, content.revision, content.emphasis);
         if !self.fitted {
             self.fit_now();
         }
-        let size = ui.available_size();
         let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
         let response = response.on_hover_text(
             "3D view: drag to orbit, right-drag or Shift+drag to pan, wheel to zoom, \
-             double-click to fit; keys 1–4 front, top, side, isometric; Home resets",
+             double-click to fit; keys 1–4 front, top, side, isometric; 0 or Home: the \
+             view from the drawing",
         );
+        self.navigate(ui, &response, rect);
+        self.take_preview(content.preview);
+        let background = if ui.visuals().dark_mode {
+            Color32::from_rgb(62, 66, 74)
+        } else {
+            Color32::from_rgb(226, 229, 234)
+        };
+        if self.drawing {
+            // The backdrop under the model: the GPU's picture is then transparent where
+            // the model is not.
+            ui.painter().rect_filled(rect, 0.0, background);
+            self.paint_backdrop(ui, rect, &content.backdrop);
+        }
+        let clear = if self.drawing {
+            [0.0; 4]
+        } else {
+            linear(background, 1.0)
+        };
+        let overlay = &self.overlay.0;
+        if let Some(render_state) = frame.wgpu_render_state() {
+            let pixels_per_point = ui.ctx().pixels_per_point();
+            let pixels = [
+                (rect.width() * pixels_per_point).round().max(1.0) as u32,
+                (rect.height() * pixels_per_point).round().max(1.0) as u32,
+            ];
+            let gpu = self
+                .gpu
+                .get_or_insert_with(|| Viewport3d::new(render_state));
+            let texture = gpu.render(
+                render_state,
+                pixels,
+                &self.camera,
+                (self.generation, &self.model),
+                overlay,
+                clear,
+            );
+            ui.painter().image(
+                texture,
+                rect,
+                Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+                Color32::WHITE,
+            );
+        } else {
+            if !self.drawing {
+                ui.painter().rect_filled(rect, 0.0, background);
+            }
+            paint_software(ui, rect, &self.camera, &[&self.model, overlay]);
+        }
+        if self.drawing {
+            // The strokes again, faint, over the model: how each part's outline lies on
+            // its strokes shows through.
+            self.paint_strokes(ui, rect, content.backdrop.strokes, 0.3);
+        }
+        paint_gizmo(ui, rect, &self.camera);
+        self.paint_caption(
+            ui,
+            rect,
+            content.document.is_empty() && content.preview.is_none(),
+        );
+    }
+
+    /// Orbit, pan, zoom and fit from the pointer. Orbiting leaves the view from the
+    /// drawing for a perspective view.
+    fn navigate(&mut self, ui: &Ui, response: &egui::Response, rect: Rect) {
         let shift = ui.input(|i| i.modifiers.shift);
         if response.dragged_by(egui::PointerButton::Primary) && !shift {
             let d = response.drag_delta();
+            if d != egui::Vec2::ZERO && self.drawing {
+                self.drawing = false;
+                self.camera.ortho = false;
+            }
             self.camera.orbit(d.x, d.y);
             self.camera.pitch = self.camera.pitch.clamp(MIN_PITCH, MAX_PITCH);
             self.moved = true;
@@ -210,66 +383,113 @@ impl View3d {
                 self.moved = true;
             }
         }
+    }
+
+    /// Takes the drag's preview, at most every [`PREVIEW_EVERY`].
+    fn take_preview(&mut self, preview: Option<&Primitive>) {
         let due = self
             .overlay
             .1
             .is_none_or(|at| at.elapsed() >= PREVIEW_EVERY);
-        if preview.is_none() {
-            self.overlay = (Scene::default(), None);
-        } else if due {
-            let mut overlay = Scene::default();
-            if let Some(p) = preview {
+        match preview {
+            None => self.overlay = (Scene::default(), None),
+            Some(p) if due => {
+                let mut overlay = Scene::default();
                 overlay.add_mesh(
                     &p.mesh(VIEW_SEGMENTS / 2),
                     linear(Color32::from_rgb(250, 170, 60), 0.75),
                 );
+                self.overlay = (overlay, Some(std::time::Instant::now()));
             }
-            self.overlay = (overlay, Some(std::time::Instant::now()));
+            Some(_) => {}
         }
-        let overlay = &self.overlay.0;
-        let background = if ui.visuals().dark_mode {
-            Color32::from_rgb(62, 66, 74)
-        } else {
-            Color32::from_rgb(226, 229, 234)
-        };
-        let pixels_per_point = ui.ctx().pixels_per_point();
-        let pixels = [
-            (rect.width() * pixels_per_point).round().max(1.0) as u32,
-            (rect.height() * pixels_per_point).round().max(1.0) as u32,
-        ];
-        if let Some(render_state) = frame.wgpu_render_state() {
-            let gpu = self
-                .gpu
-                .get_or_insert_with(|| Viewport3d::new(render_state));
-            let texture = gpu.render(
-                render_state,
-                pixels,
-                &self.camera,
-                (self.generation, &self.model),
-                overlay,
-                linear(background, 1.0),
+    }
+
+    /// The canvas's view of the sketch that the camera's view from the drawing matches:
+    /// sketch point (u, v) is model point (u, −v, ·), seen orthographically.
+    fn sketch_view(&self, rect: Rect) -> CanvasView {
+        let target = self.camera.target;
+        let zoom = f64::from(rect.height()) / f64::from(2.0 * self.camera.half_height()).max(1e-9);
+        CanvasView::looking_at(
+            DVec2::new(f64::from(target.x), -f64::from(target.y)),
+            zoom,
+            rect,
+        )
+    }
+
+    /// The reference image and the strokes, where the view from the drawing sees them.
+    fn paint_backdrop(&self, ui: &Ui, rect: Rect, backdrop: &Backdrop<'_>) {
+        let view = self.sketch_view(rect);
+        let painter = ui.painter_at(rect);
+        if let Some((texture, [w, h], opacity)) = backdrop.image {
+            let corners = Rect::from_two_pos(
+                view.to_screen(DVec2::ZERO),
+                view.to_screen(DVec2::new(w as f64, h as f64)),
             );
-            ui.painter().image(
+            let alpha = (opacity.clamp(0.0, 1.0) * 255.0) as u8;
+            painter.image(
                 texture,
-                rect,
+                corners,
                 Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
-                Color32::WHITE,
+                Color32::from_white_alpha(alpha),
             );
-        } else {
-            ui.painter().rect_filled(rect, 0.0, background);
-            paint_software(ui, rect, &self.camera, &[&self.model, overlay]);
         }
-        paint_gizmo(ui, rect, &self.camera);
-        if document.is_empty() && preview.is_none() {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
+        self.paint_strokes(ui, rect, backdrop.strokes, 0.8);
+    }
+
+    /// The strokes, where the view from the drawing sees them, at `opacity`.
+    fn paint_strokes(&self, ui: &Ui, rect: Rect, strokes: &[Stroke], opacity: f32) {
+        let view = self.sketch_view(rect);
+        let painter = ui.painter_at(rect);
+        let pen = egui::Stroke::new(1.2, Color32::from_rgb(50, 60, 80).gamma_multiply(opacity));
+        for stroke in strokes {
+            let line = view.screen_line(&stroke.points);
+            if stroke.closed {
+                painter.add(egui::Shape::closed_line(line, pen));
+            } else {
+                painter.add(egui::Shape::line(line, pen));
+            }
+        }
+    }
+
+    /// Which view this is, in the upper left corner, and the first step on an empty
+    /// model.
+    fn paint_caption(&self, ui: &Ui, rect: Rect, empty: bool) {
+        let caption = if self.drawing {
+            "View from the drawing"
+        } else {
+            "3D view · 0 or Home: back to the drawing's view"
+        };
+        let painter = ui.painter_at(rect);
+        painter.text(
+            rect.left_top() + egui::vec2(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            caption,
+            egui::FontId::proportional(13.0),
+            Color32::from_gray(70),
+        );
+        if empty {
+            painter.text(
+                rect.center_bottom() - egui::vec2(0.0, 14.0),
+                egui::Align2::CENTER_BOTTOM,
                 "Drag a primitive from the palette onto the drawing",
                 egui::FontId::proportional(14.0),
                 ui.visuals().weak_text_color(),
             );
         }
     }
+}
+
+/// What the 3D view shows: the model, the drag's preview, what to emphasise, and the
+/// drawing behind the model in the view from the drawing.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Content<'a> {
+    pub document: &'a Document,
+    /// The model's revision (the scene is rebuilt when it changes).
+    pub revision: u64,
+    pub preview: Option<&'a Primitive>,
+    pub emphasis: &'a Emphasis,
+    pub backdrop: Backdrop<'a>,
 }
 
 /// The axis gizmo in the lower left corner of `rect`: the model's X (red), Y (green,

@@ -2,9 +2,10 @@
 //! reads (the files and the command line keep their short names, `sgc`, `radius_top`),
 //! how a solve ended, why a snap failed, and lengths with their unit.
 //!
-//! **Units.** One sketch unit is one millimetre: the glTF export writes
-//! `io::gltf::DEFAULT_METRES_PER_UNIT` = 0.001 m per unit unless told otherwise, so every
-//! length the app shows is in millimetres ([`mm`]).
+//! **Units.** Lengths are in the document's unit ([`Unit`], millimetres unless the user
+//! picks another in Settings or the export dialog): one sketch unit is one of it, every
+//! length the app shows carries its symbol ([`length`]), and the glTF export converts it
+//! to metres.
 
 use crate::core::model::{Document, PrimitiveId, Quantity, Relation};
 use crate::core::primitive::{Feature, PrimitiveKind};
@@ -12,12 +13,63 @@ use crate::core::relation::RelationKind;
 use crate::core::snap::SnapError;
 use crate::core::solve::Termination;
 
-/// The unit of every length the app shows (one sketch unit).
-pub(crate) const UNIT: &str = "mm";
+/// The unit of the document's lengths: what one sketch unit is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Unit {
+    /// Millimetres (the default).
+    #[default]
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Metres.
+    Metre,
+    /// Inches.
+    Inch,
+}
+
+impl Unit {
+    /// Every unit, as the menus list them.
+    pub(crate) const ALL: [Self; 4] = [Self::Millimetre, Self::Centimetre, Self::Metre, Self::Inch];
+
+    /// The symbol shown after a length ("mm").
+    pub(crate) fn symbol(self) -> &'static str {
+        match self {
+            Self::Millimetre => "mm",
+            Self::Centimetre => "cm",
+            Self::Metre => "m",
+            Self::Inch => "in",
+        }
+    }
+
+    /// The name in a menu ("millimetres").
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Self::Millimetre => "millimetres",
+            Self::Centimetre => "centimetres",
+            Self::Metre => "metres",
+            Self::Inch => "inches",
+        }
+    }
+
+    /// Metres in one of it.
+    pub(crate) fn metres(self) -> f64 {
+        match self {
+            Self::Millimetre => 0.001,
+            Self::Centimetre => 0.01,
+            Self::Metre => 1.0,
+            Self::Inch => 0.0254,
+        }
+    }
+
+    /// The unit of `symbol`, as [`Self::symbol`] writes it.
+    pub(crate) fn from_symbol(symbol: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
+    }
+}
 
 /// A length in sketch units with its unit: "12.5 mm".
-pub(crate) fn mm(value: f64) -> String {
-    format!("{value:.1} {UNIT}")
+pub(crate) fn length(value: f64, unit: Unit) -> String {
+    format!("{value:.1} {}", unit.symbol())
 }
 
 /// The name of a kind as the palette and the panels show it.
@@ -255,7 +307,7 @@ pub(crate) fn split_figures(text: &str) -> (String, Option<String>) {
 
 #[cfg(test)]
 mod tests {
-    use super::{kind_noun, kind_title, mm, split_figures};
+    use super::{kind_noun, kind_title, length, split_figures, Unit};
     use crate::core::primitive::PrimitiveKind;
 
     #[test]
@@ -266,7 +318,9 @@ mod tests {
                 assert!(shown != "sgc" && shown != "bgc", "{shown}");
             }
         }
-        assert_eq!(mm(12.345), "12.3 mm");
+        assert_eq!(length(12.345, Unit::Millimetre), "12.3 mm");
+        assert_eq!(length(2.0, Unit::Inch), "2.0 in");
+        assert_eq!(Unit::from_symbol("cm"), Some(Unit::Centimetre));
     }
 
     #[test]

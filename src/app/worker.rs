@@ -197,6 +197,17 @@ impl Workers {
         }
     }
 
+    /// The callback that wakes the UI (for other threads of the app).
+    pub(crate) fn wake(&self) -> Wake {
+        Arc::clone(&self.wake)
+    }
+
+    /// Takes a snapping context prepared elsewhere (off the UI thread) for the strokes
+    /// of `revision`.
+    pub(crate) fn set_context(&mut self, context: Arc<SnapContext>, revision: u64) {
+        self.context = (context, revision);
+    }
+
     /// The running job.
     pub(crate) fn job(&self) -> Option<&Job> {
         self.job.as_ref()
@@ -287,8 +298,72 @@ pub struct JobOutput {
     pub cancelled: bool,
     /// Whether the part was placed as dragged, unsnapped (no strokes supported it).
     pub placed_freely: bool,
+    /// The poses the snap found for the placed part (the one placed shown), for the
+    /// pose chooser; `None` when it found one only.
+    pub readings: Option<Readings>,
     /// How long it took.
     pub elapsed: Duration,
+}
+
+impl JobOutput {
+    /// An output that changes nothing yet.
+    fn empty() -> Self {
+        Self {
+            document: None,
+            placed: None,
+            outcome: None,
+            messages: Vec::new(),
+            cancelled: false,
+            placed_freely: false,
+            readings: None,
+            elapsed: Duration::ZERO,
+        }
+    }
+}
+
+/// The readings of the drawing a snap found for one drop: the pose it chose and the
+/// alternatives ([`SnapResult::alternatives`]), each as a snap of its own, with the one
+/// shown. Tab during a drag, or on a placed part, shows the next.
+#[derive(Clone, Debug)]
+pub struct Readings {
+    /// The primitive as it was dropped (confidence is judged against it).
+    pub dropped: Primitive,
+    /// Every pose, the snap's own choice first.
+    pub poses: Vec<SnapResult>,
+    /// The pose shown (an index into `poses`).
+    pub shown: usize,
+}
+
+impl Readings {
+    /// The poses of a cold snap of `dropped`: its choice, then each alternative.
+    pub fn of(dropped: Primitive, snapped: &SnapResult) -> Self {
+        let mut poses = vec![snapped.clone()];
+        poses.extend((0..snapped.alternatives.len()).filter_map(|i| snapped.with_alternative(i)));
+        Self {
+            dropped,
+            poses,
+            shown: 0,
+        }
+    }
+
+    /// The pose shown.
+    pub fn pose(&self) -> Option<&SnapResult> {
+        self.poses.get(self.shown)
+    }
+
+    /// Whether there is more than one pose to choose from.
+    pub fn has_choice(&self) -> bool {
+        self.poses.len() > 1
+    }
+
+    /// These readings with the next pose shown (after the last, the first again).
+    #[must_use]
+    pub fn next(&self) -> Self {
+        Self {
+            shown: (self.shown + 1) % self.poses.len().max(1),
+            ..self.clone()
+        }
+    }
 }
 
 /// A running job.
@@ -382,39 +457,53 @@ impl Job {
     }
 }
 
-/// The job of a release: snap `dragged` (from its preview), add it (in place of
-/// `replacing` when re-dragging a part), infer its relations and solve.
-pub fn place(
+/// The job of a release: snap `dragged` (or take the pose `readings` shows, as its
+/// preview showed it), add it (in place of `replacing` when re-dragging a part), infer
+/// its relations and solve.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a job's inputs, moved to its thread"
+)]
+pub(crate) fn place(
     mut document: Document,
     context: &SnapContext,
     dragged: &Primitive,
+    readings: Option<Readings>,
     replacing: Option<PrimitiveId>,
-    settings: &SessionSettings,
+    (settings, unit): (&SessionSettings, super::words::Unit),
     cancel: &CancelFlag,
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
-    let mut output = JobOutput {
-        document: None,
-        placed: None,
-        outcome: None,
-        messages: Vec::new(),
-        cancelled: false,
-        placed_freely: false,
-        elapsed: Duration::ZERO,
-    };
-    let snapped = match snap(context, dragged, &settings.snap) {
-        Ok(s) => s,
-        Err(SnapError::NotEnoughStrokes { .. }) => {
-            return place_freely(document, dragged, replacing, "no strokes here support it");
+    let mut output = JobOutput::empty();
+    let (snapped, dropped, readings) = match readings {
+        Some(readings) if readings.pose().is_some() => {
+            let Some(pose) = readings.pose().cloned() else {
+                return output;
+            };
+            let dropped = readings.dropped.clone();
+            (pose, dropped, readings)
         }
-        Err(error) => {
-            output.messages.push(format!(
-                "The {} did not snap: {}. Drop it nearer its strokes.",
-                super::words::kind_noun(dragged.kind()),
-                super::words::snap_error(&error, false)
-            ));
-            return output;
-        }
+        _ => match snap(context, dragged, &settings.snap) {
+            Ok(s) => {
+                let readings = Readings::of(dragged.clone(), &s);
+                (s, dragged.clone(), readings)
+            }
+            Err(SnapError::NotEnoughStrokes { .. }) => {
+                let free = Free {
+                    replacing,
+                    why: "no strokes here support it",
+                };
+                return place_freely(document, dragged, &free, settings, cancel, observer);
+            }
+            Err(error) => {
+                output.messages.push(format!(
+                    "The {} did not snap: {}. Drop it nearer its strokes.",
+                    super::words::kind_noun(dragged.kind()),
+                    super::words::snap_error(&error, false)
+                ));
+                return output;
+            }
+        },
     };
     if cancel.is_cancelled() {
         output.cancelled = true;
@@ -423,16 +512,92 @@ pub fn place(
     if let Some(old) = replacing {
         document.remove(old);
     }
-    let confidence = snapped.confidence(dragged, &document.owner(), &settings.snap);
+    let confidence = judge(&snapped, &dropped, &document, &readings, settings);
     if confidence.verdict == Verdict::Refused {
         // Nothing here supports it: it goes where it was dropped, unsnapped.
         let why = confidence
             .reason
             .as_deref()
             .unwrap_or("nothing in the drawing supports it");
-        return place_freely(document, dragged, None, why);
+        let free = Free {
+            replacing: None,
+            why,
+        };
+        return place_freely(document, &dropped, &free, settings, cancel, observer);
     }
     let id = document.add_fitted(&snapped, Fit::of(&snapped).judged(&confidence));
+    let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
+        output.cancelled = true;
+        return output;
+    };
+    if let Some(placed) = document.get(id) {
+        let name = super::words::part_name(&document, id);
+        output.messages.push(format!(
+            "{name} snapped to {} strokes, {} off on average.",
+            placed.fit.strokes.len(),
+            super::words::length(placed.fit.rms, unit)
+        ));
+        if let Some(reason) = &placed.fit.reason {
+            output
+                .messages
+                .push(format!("{name} is doubtful: {reason}."));
+        }
+        if readings.has_choice() {
+            output.messages.push(format!(
+                "{name} is pose {} of the {} the drawing allows: Tab shows the next.",
+                readings.shown + 1,
+                readings.poses.len()
+            ));
+        }
+    }
+    output
+        .messages
+        .extend(describe(&document, &outcome, relations.len()));
+    output.placed = Some(id);
+    output.outcome = Some(outcome);
+    output.document = Some(document);
+    output.readings = readings.has_choice().then_some(readings);
+    output
+}
+
+/// The confidence of `snapped`, a snap of `dropped` into `document`. A pose the user
+/// chose with Tab (not the snap's own choice) settles the question of which reading is
+/// meant: it is judged without its rivals, and never refused (at worst doubtful, saying
+/// why).
+fn judge(
+    snapped: &SnapResult,
+    dropped: &Primitive,
+    document: &Document,
+    readings: &Readings,
+    settings: &SessionSettings,
+) -> crate::core::snap::Confidence {
+    if readings.shown == 0 {
+        return snapped.confidence(dropped, &document.owner(), &settings.snap);
+    }
+    let mut chosen = snapped.clone();
+    chosen.alternatives.clear();
+    let mut confidence = chosen.confidence(dropped, &document.owner(), &settings.snap);
+    if confidence.verdict == Verdict::Refused {
+        confidence.verdict = Verdict::Doubtful;
+        confidence.reason = Some(format!(
+            "a pose chosen by hand, although {}",
+            confidence
+                .reason
+                .as_deref()
+                .unwrap_or("the drawing hardly supports it")
+        ));
+    }
+    confidence
+}
+
+/// Infers part `id`'s relations and solves its component; `None` when cancelled.
+fn release(
+    document: &mut Document,
+    id: PrimitiveId,
+    settings: &SessionSettings,
+    cancel: &CancelFlag,
+    observer: &mut dyn FnMut(&Iterate<'_>),
+) -> Option<(Vec<crate::core::model::RelationId>, GlobalOutcome)> {
     let clock = MonotonicClock::start();
     let mut observe = |it: &Iterate<'_>| observer(it);
     let (relations, outcome) = document.release(
@@ -445,30 +610,7 @@ pub fn place(
             observer: Some(&mut observe),
         },
     );
-    if cancel.is_cancelled() {
-        output.cancelled = true;
-        return output;
-    }
-    if let Some(placed) = document.get(id) {
-        let name = super::words::part_name(&document, id);
-        output.messages.push(format!(
-            "{name} snapped to {} strokes, {} off on average.",
-            placed.fit.strokes.len(),
-            super::words::mm(placed.fit.rms)
-        ));
-        if let Some(reason) = &placed.fit.reason {
-            output
-                .messages
-                .push(format!("{name} is doubtful: {reason}."));
-        }
-    }
-    output
-        .messages
-        .extend(describe(&document, &outcome, relations.len()));
-    output.placed = Some(id);
-    output.outcome = Some(outcome);
-    output.document = Some(document);
-    output
+    (!cancel.is_cancelled()).then_some((relations, outcome))
 }
 
 /// The job of a re-solve (after a relation's mode or a dimension changed): every part
@@ -499,40 +641,63 @@ pub fn resolve(
         placed: None,
         outcome: Some(outcome),
         cancelled,
-        placed_freely: false,
-        elapsed: Duration::ZERO,
+        ..JobOutput::empty()
     }
 }
 
-/// Places `dragged` as it is, unsnapped (in place of `replacing` when moving a part):
-/// a drop where no strokes support a part, or an Alt + drop. The part has no strokes in
-/// its fit, which marks it "placed freely" on the canvas, in the panel and in the
-/// saved session.
+/// Why and in place of what a part is placed freely.
+#[derive(Clone, Copy, Debug)]
+pub struct Free<'a> {
+    /// The part it replaces (a placed part moved).
+    pub replacing: Option<PrimitiveId>,
+    /// Why it was not snapped, in words.
+    pub why: &'a str,
+}
+
+/// Places `dragged` as it is, unsnapped (in place of `free.replacing` when moving a
+/// part): a drop where no strokes support a part, or an Alt + drop. The part has no
+/// strokes in its fit, which marks it "placed freely" on the canvas, in the panel and
+/// in the saved session.
+///
+/// The user put it there on purpose, so it is related to the other parts as a snapped
+/// part is (the same inference, with the same confidence tiers) and the model solved;
+/// with no strokes of its own, the solve holds it near where it was dropped (an
+/// anchor) while its hard relations are met.
 pub fn place_freely(
     mut document: Document,
     dragged: &Primitive,
-    replacing: Option<PrimitiveId>,
-    why: &str,
+    free: &Free<'_>,
+    settings: &SessionSettings,
+    cancel: &CancelFlag,
+    observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
-    if let Some(old) = replacing {
+    if let Some(old) = free.replacing {
         document.remove(old);
     }
     let id = document.add(crate::core::model::Placed {
         primitive: dragged.clone(),
         fit: Fit::default(),
     });
+    let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
+        return JobOutput {
+            cancelled: true,
+            ..JobOutput::empty()
+        };
+    };
     let name = super::words::part_name(&document, id);
+    let mut messages = vec![format!(
+        "{name} was placed freely, where it was dropped: {}. Drag it onto its strokes \
+         to snap it.",
+        free.why
+    )];
+    messages.extend(describe(&document, &outcome, relations.len()));
     JobOutput {
-        messages: vec![format!(
-            "{name} was placed freely, where it was dropped: {why}. Drag it onto its \
-             strokes to snap it."
-        )],
+        messages,
         document: Some(document),
         placed: Some(id),
-        outcome: None,
-        cancelled: false,
+        outcome: Some(outcome),
         placed_freely: true,
-        elapsed: Duration::ZERO,
+        ..JobOutput::empty()
     }
 }
 
@@ -624,7 +789,8 @@ mod tests {
                         &context,
                         &dragged,
                         None,
-                        &settings,
+                        None,
+                        (&settings, crate::app::words::Unit::default()),
                         cancel,
                         observe,
                     )
@@ -647,7 +813,8 @@ mod tests {
                     &context,
                     &dragged,
                     None,
-                    &settings,
+                    None,
+                    (&settings, crate::app::words::Unit::default()),
                     cancel,
                     observe,
                 )

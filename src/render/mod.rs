@@ -110,6 +110,10 @@ pub struct OrbitCamera {
     pub distance: f32,
     /// Vertical field of view, radians.
     pub fov: f32,
+    /// Orthographic instead of perspective: parallel rays, as the drawing is seen
+    /// (its view is orthographic along −z). The view then spans
+    /// [`Self::half_height`] above and below the target.
+    pub ortho: bool,
 }
 
 impl Default for OrbitCamera {
@@ -120,6 +124,7 @@ impl Default for OrbitCamera {
             pitch: 0.35,
             distance: 1000.0,
             fov: 35f32.to_radians(),
+            ortho: false,
         }
     }
 }
@@ -132,12 +137,26 @@ impl OrbitCamera {
         self.target + Vec3::new(sy * cp, sp, cy * cp) * self.distance
     }
 
+    /// Half the height the view shows at the target's distance (all of the view, when
+    /// orthographic).
+    pub fn half_height(&self) -> f32 {
+        self.distance * (self.fov / 2.0).tan()
+    }
+
     /// Projection × view for an aspect ratio (width / height), depth 0..1.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance * 0.01).max(1e-3);
         let far = self.distance * 20.0 + 1.0;
-        glam::camera::rh::proj::directx::perspective(self.fov, aspect.max(1e-3), near, far)
-            * glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
+        let aspect = aspect.max(1e-3);
+        let projection = if self.ortho {
+            // Everything within `far` of the eye, in front or behind: nothing in the
+            // model is clipped for standing nearer than the eye.
+            let (h, w) = (self.half_height(), self.half_height() * aspect);
+            glam::camera::rh::proj::directx::orthographic(-w, w, -h, h, -far, far)
+        } else {
+            let near = (self.distance * 0.01).max(1e-3);
+            glam::camera::rh::proj::directx::perspective(self.fov, aspect, near, far)
+        };
+        projection * glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
     }
 
     /// Turns the camera by a drag of (dx, dy) in points.
@@ -152,7 +171,7 @@ impl OrbitCamera {
         let forward = (self.target - self.eye()).normalize_or_zero();
         let right = forward.cross(Vec3::Y).normalize_or_zero();
         let up = right.cross(forward);
-        let per_point = 2.0 * self.distance * (self.fov / 2.0).tan() / height.max(1.0);
+        let per_point = 2.0 * self.half_height() / height.max(1.0);
         self.target += (-right * dx + up * dy) * per_point;
     }
 
