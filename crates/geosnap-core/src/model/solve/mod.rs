@@ -5,7 +5,7 @@
 //! and the new part's snap).
 //!
 //! **Frames.** Each primitive keeps the variables of its own snapping problem, in its own
-//! normalised frame (centre at the origin, size 1, see [`Frame`]), so φ_p is exactly the
+//! normalised frame (centre at the origin, size 1, see [`Frame`](crate::snap::Frame)), so φ_p is exactly the
 //! per-primitive objective and every part is equally well scaled, whatever their sizes.
 //! Relations need one frame for all: a feature's position maps to the common frame by the
 //! constant affine map x ↦ (x·s_p + o_p − O)/S (radii and half extents by s_p/S, normals
