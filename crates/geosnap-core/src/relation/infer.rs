@@ -9,8 +9,8 @@
 //! related and the work grows with the contacts, not with the square of the parts.
 //! Where a candidate is judged against the drawing, the drawing's own noise for its
 //! parts (their fit RMS) widens every position, radius and length threshold it is
-//! tighter than (a few times at most), and ends drawn on each other may lie apart along their axis by more
-//! than across it. Each candidate that nearly holds
+//! tighter than (a few times at most), and ends drawn on each other may lie apart along
+//! their axis by more than across it. Each candidate that nearly holds
 //! ([`super::closeness`]) is weighed ([`super::evidence`]): how the parts meet, whether
 //! they repeat one another, how closely it holds against the drawing's noise, and a
 //! prior per kind and situation. A confident candidate becomes a hard relation, a
