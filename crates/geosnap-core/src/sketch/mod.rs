@@ -14,6 +14,7 @@
 
 mod classify;
 mod index;
+mod parallel;
 mod preprocess;
 mod stroke;
 
