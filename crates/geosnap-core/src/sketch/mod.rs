@@ -23,5 +23,7 @@ pub use classify::{
     ClassifyOptions,
 };
 pub use index::StrokeIndex;
-pub use preprocess::{preprocess, PreprocessOptions};
+pub use preprocess::{
+    preprocess, preprocess_report, MergedStroke, PreprocessOptions, Preprocessed,
+};
 pub use stroke::{Sketch, Stroke, StrokeClass, StrokeId};
