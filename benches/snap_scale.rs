@@ -12,6 +12,9 @@
 //! its own among them: the strokes near the drop then grow in number with the clutter,
 //! and so does the work of reading the tube among them.
 //!
+//! A last table times preparing the 10k-stroke drawings on their own and with the
+//! bent tube's drop after it (opening the drawing cold).
+//!
 //! Run with `cargo bench --no-default-features --bench snap_scale`. In smoke mode (and
 //! in a debug build) the drawings hold 100, 200 and 300 clutter strokes instead.
 
@@ -195,6 +198,34 @@ fn cold(
     table.row(&case, &stats, &extras);
 }
 
+/// Times preparing the BGC's drawing among `clutter` strokes (around or `over` it), and
+/// opening it cold: preparing it and then dropping the tube, as a user who opens the
+/// drawing and drops a bent tube first meets it.
+fn open_and_drop(bench: &Bench, table: &Table, clutter: usize, over: bool) {
+    let (name, kind) = SAMPLES[0];
+    let where_ = if over { " over it" } else { "" };
+    let (sketch, placement) = drawing(name, kind, clutter, over);
+    let default_size = 3.0 * CELL.max_element() * 2.0 * DEFAULT_SIZE_FRACTION;
+    let primitive = Primitive::from_placement(kind, &placement, default_size);
+    let settings = SnapSettings::default();
+    let prepare = format!("prepare {clutter} strokes{where_}");
+    if bench.wants(&prepare) {
+        let stats = bench.each(|_| timed(|| SnapContext::from_sketch(&sketch)).1);
+        table.row(&prepare, &stats, &[sketch.strokes.len().to_string()]);
+    }
+    let open = format!("prepare + BGC drop, {clutter}{where_}");
+    if bench.wants(&open) {
+        let stats = bench.each(|_| {
+            timed(|| {
+                let context = SnapContext::from_sketch(&sketch);
+                snap(&context, &primitive, &settings).is_ok()
+            })
+            .1
+        });
+        table.row(&open, &stats, &[sketch.strokes.len().to_string()]);
+    }
+}
+
 fn main() {
     let bench = Bench::from_env();
     bench.print_intro("Snapping among many strokes");
@@ -212,5 +243,13 @@ fn main() {
     }
     for sample in &SAMPLES[1..] {
         cold(&bench, &table, *sample, (every, false));
+    }
+    let table = Table::new(
+        "Opening cold (SnapContext::from_sketch, then the BGC's cold snap; target ≤ 1 s)",
+        34,
+        &[("strokes", 8)],
+    );
+    for over in [false, true] {
+        open_and_drop(&bench, &table, every, over);
     }
 }

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use crate::core::sketch::{
     classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, StrokeClass, StrokeId,
 };
+use crate::core::snap::SnapContext;
 use crate::io::input::read_input;
 use crate::io::model_file::parse_model;
 use crate::io::overlay::classes_png;
@@ -120,6 +121,15 @@ pub(super) fn stroke_classes(file: &Path, list: bool, overlay: Option<&Path>) ->
     Ok(())
 }
 
+/// The message on duplicate strokes merged while preparing a sketch, if any were.
+pub(super) fn merged_message(merged: usize) -> Option<String> {
+    match merged {
+        0 => None,
+        1 => Some("merged 1 duplicate stroke".to_owned()),
+        n => Some(format!("merged {n} duplicate strokes")),
+    }
+}
+
 /// What a file holds, decided by its content (the `format` tag of a JSON file), not its
 /// name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -195,16 +205,22 @@ pub(super) fn check_sketch(file: &Path) -> Result<String> {
     if loaded.sketch.strokes.is_empty() {
         bail!("the sketch has no strokes");
     }
-    let classes = classify_sketch(&loaded.sketch, &ClassifyOptions::default());
-    let features = classes
+    // The strokes as the snapper sees them: cleaned, duplicates merged, classified.
+    let prepared = SnapContext::prepare(&loaded.sketch);
+    let strokes = &prepared.context.strokes;
+    let features = strokes
         .iter()
-        .filter(|c| c.class == StrokeClass::Feature)
+        .filter(|s| s.class == StrokeClass::Feature)
         .count();
     let mut report = format!(
         "sketch with {} strokes ({features} feature, {} silhouette)",
         loaded.sketch.strokes.len(),
-        classes.len() - features
+        strokes.len() - features
     );
+    if let Some(merged) = merged_message(prepared.merged.len()) {
+        report.push_str("; ");
+        report.push_str(&merged);
+    }
     for warning in &loaded.warnings {
         report.push_str("; warning: ");
         report.push_str(warning);

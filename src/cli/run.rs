@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use crate::clock::MonotonicClock;
 use crate::core::model::{run_steps_with, SessionSettings, StepOutcome};
+use crate::core::sketch::{preprocess_report, PreprocessOptions};
 use crate::core::solve::{Iterate, SolveContext};
 use crate::io::gltf::{ExportReport, ExportSettings};
 use crate::io::model_file::model_bytes;
@@ -106,6 +107,12 @@ pub(super) fn prepare_run(args: &RunArgs<'_>) -> Result<(Script, LoadedSketch)> 
     }
     if script.steps.is_empty() {
         eprintln!("warning: the script has no steps: the model will be empty");
+    }
+    let merged = preprocess_report(&loaded.sketch, &PreprocessOptions::default())
+        .merged
+        .len();
+    if let Some(message) = super::check::merged_message(merged) {
+        eprintln!("note: {message} of {}", script.sketch.display());
     }
     Ok((script, loaded))
 }

@@ -10,7 +10,8 @@ use glam::DVec2;
 
 pub use box_index::BoxIndex;
 pub use fit::{
-    fit_circle, fit_ellipse, fit_line, refine_ellipse, AngularSpan, Circle2, Ellipse2, Line2,
+    fit_circle, fit_ellipse, fit_line, refine_ellipse, refine_ellipse_within, AngularSpan, Circle2,
+    Ellipse2, Line2,
 };
 
 /// The distance from `p` to the segment `a`–`b`.

@@ -14,6 +14,7 @@
 
 mod classify;
 mod index;
+mod parallel;
 mod preprocess;
 mod stroke;
 
@@ -22,5 +23,7 @@ pub use classify::{
     ClassifyOptions,
 };
 pub use index::StrokeIndex;
-pub use preprocess::{preprocess, PreprocessOptions};
+pub use preprocess::{
+    preprocess, preprocess_report, MergedStroke, PreprocessOptions, Preprocessed,
+};
 pub use stroke::{Sketch, Stroke, StrokeClass, StrokeId};

@@ -5,7 +5,8 @@ use glam::DVec2;
 
 use crate::geom::projection::view_from_sketch;
 use crate::sketch::{
-    classify_sketch, preprocess, ClassifyOptions, PreprocessOptions, Sketch, StrokeClass, StrokeId,
+    classify_sketch, preprocess_report, ClassifyOptions, MergedStroke, PreprocessOptions, Sketch,
+    StrokeClass, StrokeId,
 };
 
 /// One stroke prepared for matching.
@@ -59,25 +60,71 @@ impl SnapContext {
         Self { strokes }
     }
 
-    /// Prepares a whole sketch: preprocessing (dots and duplicates dropped, strokes
-    /// resampled and lightly smoothed, all relative to the sketch's size) and automatic
-    /// classification, with user overrides winning. Stroke ids are kept.
+    /// Prepares a whole sketch: preprocessing (dots dropped, duplicate strokes merged,
+    /// strokes resampled and lightly smoothed, all relative to the sketch's size) and
+    /// automatic classification, with user overrides winning. Stroke ids are kept.
+    /// [`SnapContext::prepare`] also says what the preprocessing changed.
     pub fn from_sketch(sketch: &Sketch) -> Self {
-        let (clean, _notes) = preprocess(sketch, &PreprocessOptions::default());
-        let classes = classify_sketch(&clean, &ClassifyOptions::default());
-        Self::new(
-            clean
+        Self::prepare(sketch).context
+    }
+
+    /// [`SnapContext::from_sketch`], with what the preparation merged and dropped: the
+    /// count a user interface or the command line reports as "merged N duplicate
+    /// strokes" is `prepared.merged.len()`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use geosnap_core::sketch::{Sketch, Stroke, StrokeId};
+    /// use geosnap_core::snap::SnapContext;
+    /// use glam::DVec2;
+    ///
+    /// let line = |id| Stroke {
+    ///     id: StrokeId(id),
+    ///     points: vec![DVec2::ZERO, DVec2::new(300.0, 100.0)],
+    ///     closed: false,
+    ///     class_override: None,
+    /// };
+    /// // The same line pasted twice.
+    /// let sketch = Sketch { strokes: vec![line(0), line(1)], view_box: None };
+    /// let prepared = SnapContext::prepare(&sketch);
+    /// assert_eq!(prepared.context.strokes.len(), 1);
+    /// assert_eq!(prepared.merged.len(), 1);
+    /// ```
+    pub fn prepare(sketch: &Sketch) -> Prepared {
+        let done = preprocess_report(sketch, &PreprocessOptions::default());
+        let classes = classify_sketch(&done.sketch, &ClassifyOptions::default());
+        let context = Self::new(
+            done.sketch
                 .strokes
                 .iter()
                 .zip(&classes)
                 .map(|(stroke, c)| (stroke.id, stroke.points.as_slice(), c.class)),
-        )
+        );
+        Prepared {
+            context,
+            merged: done.merged,
+            notes: done.notes,
+        }
     }
 
     /// The stroke with this id.
     pub fn stroke(&self, id: StrokeId) -> Option<&SnapStroke> {
         self.strokes.iter().find(|s| s.id == id)
     }
+}
+
+/// A sketch prepared for snapping ([`SnapContext::prepare`]) and what the preparation
+/// changed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Prepared {
+    /// The strokes ready for snapping.
+    pub context: SnapContext,
+    /// The duplicate strokes merged into earlier ones (exact and near duplicates): a
+    /// user is told "merged N duplicate strokes" with `N = merged.len()`.
+    pub merged: Vec<MergedStroke>,
+    /// One human-readable note per stroke or point dropped or merged, in stroke order.
+    pub notes: Vec<String>,
 }
 
 /// A stroke (or a piece of one) prepared for matching: its length, bounds, principal

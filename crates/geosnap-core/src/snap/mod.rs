@@ -24,7 +24,7 @@ pub use assign::{
     RestoreError,
 };
 pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
-pub use context::{SnapContext, SnapStroke};
+pub use context::{Prepared, SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
 pub use spread::{Dimension, Spread};
 
