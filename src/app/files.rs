@@ -339,6 +339,7 @@ impl GeosnapApp {
             content,
             classes,
             context,
+            merged,
         } = loaded;
         let note = match content {
             Content::Drawing {
@@ -368,6 +369,13 @@ impl GeosnapApp {
         let revision = self.editor.strokes_revision();
         self.workers.set_context(Arc::new(context), revision);
         self.canvas.set_classes(revision, classes);
+        if merged > 0 {
+            self.say(format!(
+                "Merged {merged} duplicate stroke{} (drawn again over the same line): \
+                 parts snap to each line once.",
+                if merged == 1 { "" } else { "s" }
+            ));
+        }
         note
     }
 

@@ -82,6 +82,9 @@ pub(crate) struct Loaded {
     pub content: Content,
     pub classes: Vec<(StrokeId, StrokeClass)>,
     pub context: SnapContext,
+    /// How many duplicate strokes preparing merged into earlier ones (snapping sees
+    /// each line once; the drawing keeps them).
+    pub merged: usize,
 }
 
 /// A file being opened.
@@ -172,11 +175,12 @@ fn load(path: &Path, session: bool, step: &dyn Fn(Phase)) -> anyhow::Result<Load
         .map(|c| (c.id, c.class))
         .collect();
     step(Phase::Preparing(sketch.strokes.len()));
-    let context = SnapContext::from_sketch(sketch);
+    let prepared = SnapContext::prepare(sketch);
     Ok(Loaded {
         content,
         classes,
-        context,
+        context: prepared.context,
+        merged: prepared.merged.len(),
     })
 }
 
