@@ -249,7 +249,7 @@ pub fn effective_class(stroke: &Stroke) -> StrokeClass {
 ///    [`ClassifyOptions::min_turning`] ([`ClassReason::LittleTurning`]), with little
 ///    turning against that direction (an inflection, as in an S-curve, or a zigzag,
 ///    [`ClassReason::Inflection`]), see [`ClassifyOptions::max_reverse_turning`];
-/// 4. an ellipse is fitted ([`fit_ellipse`], then [`refine_ellipse`] to within
+/// 4. an ellipse is fitted ([`fit_ellipse`], then [`refine_ellipse`](crate::geom::refine_ellipse) to within
 ///    [`ClassifyOptions::fit_tolerance`]) and must fit
 ///    **well**: RMS geometric distance at most [`ClassifyOptions::max_residual`] of the
 ///    ellipse's mean radius `√(ab)` ([`ClassifyOptions::max_residual_closed`] for a stroke
@@ -262,7 +262,7 @@ pub fn effective_class(stroke: &Stroke) -> StrokeClass {
 ///    least [`ClassifyOptions::min_span`]), unless it closes on itself.
 ///
 /// The tests that need no ellipse come first because the fit is by far the costliest
-/// step (a geometric refinement, [`refine_ellipse`]): a stroke they settle is reported
+/// step (a geometric refinement, [`refine_ellipse`](crate::geom::refine_ellipse)): a stroke they settle is reported
 /// without the ellipse evidence (`None`), since the fit would not change its class.
 /// The class is that of every test passing, whatever their order.
 ///
