@@ -406,8 +406,11 @@ fn messages_stay_in_the_window_and_a_drop_off_the_strokes_is_placed_freely_and_s
     }
     harness.drop_at(to);
     harness.step();
-    step_until(&mut harness, "the drop's job", |app| app.job().is_none());
-    harness.run_steps(2);
+    // The drop's jobs (the snap that finds no strokes, then the free placement) end with
+    // the part placed; between them no job may be running for a frame.
+    step_until(&mut harness, "the free placement", |app| {
+        app.job().is_none() && app.editor().document().len() > parts && app.drop_note().is_some()
+    });
     let note = harness
         .state()
         .drop_note()
