@@ -379,13 +379,14 @@ impl GeosnapApp {
                 });
             return;
         }
-        // The pose the preview shows is placed as it is; a preview behind the cursor is
-        // snapped afresh from where it shows the part.
+        // The pose the preview shows is placed as it is; a preview behind the cursor (of
+        // an earlier pointer position, perhaps over other strokes) is not used: the part
+        // is snapped afresh from where it was dropped.
         let readings = drag.readings(dragged.clone());
-        let start = drag
-            .preview
-            .as_ref()
-            .map_or(dragged, |p| p.primitive.clone());
+        let start = match (&readings, drag.preview.as_ref()) {
+            (Some(_), Some(p)) => p.primitive.clone(),
+            _ => dragged,
+        };
         let label = match replacing {
             Some(id) => format!("Move #{}", id.0),
             None => format!("Place {noun}"),
