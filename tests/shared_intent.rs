@@ -63,6 +63,9 @@
 //!   are not wanted; each is listed with its sketch, kind, parts and features;
 //! - **suggestions**: how many there are and how many of them are wanted.
 //!
+//! With `GEOSNAP_INTENT_DETAIL` set, each missed relation is printed with its parts'
+//! final poses.
+//!
 //! The pooled figures are sums over sketches (a sketch with many intended relations, such
 //! as the menorah, weighs more), and the targets are asserted on them.
 
@@ -79,13 +82,13 @@ use serde::Deserialize;
 
 /// The target: at least this fraction of the intended relations between placed
 /// parts is found among the enforced or suggested relations (pooled over all sketches).
-/// Not met yet (0.49): most misses are parts whose own snap is off (the lego studs lean
-/// 29° from their brick, the bent tubes' spines), which no relation test can pass. It is
-/// printed; [`RECALL_FLOOR`] is asserted.
+/// Not met yet (0.67): most misses are parts whose own snap is off (the lego studs lean
+/// 29° from their brick, cups of one design snapped 15 % apart in length), which no
+/// relation test can pass. It is printed; [`RECALL_FLOOR`] is asserted.
 const RECALL_TARGET: f64 = 0.85;
 /// The recall asserted: today's, less a little; a floor against regressions, not the
 /// goal.
-const RECALL_FLOOR: f64 = 0.45;
+const RECALL_FLOOR: f64 = 0.62;
 /// The target: at most this fraction of the hard relations is unwanted (neither
 /// intended nor acceptable, directly or through a chain; pooled over all sketches).
 const UNWANTED_HARD_CEILING: f64 = 0.03;
@@ -496,11 +499,21 @@ fn measure(name: &str, dir: &Path) -> (Counts, Listing) {
         counts.found += usize::from(found);
         counts.found_hard += usize::from(hard.holds(&named));
         if !found {
-            listing.missed.push(format!(
+            let mut line = format!(
                 "{name}: {} {}",
                 listed.kind.name(),
                 listed.parts.join(" / ")
-            ));
+            );
+            if std::env::var_os("GEOSNAP_INTENT_DETAIL").is_some() {
+                for part in &listed.parts {
+                    for (_, placed) in document.primitives() {
+                        if placed.fit.step.and_then(|s| names.get(s)) == Some(part) {
+                            let _ = write!(line, "\n      {part}: {:.2?}", placed.primitive);
+                        }
+                    }
+                }
+            }
+            listing.missed.push(line);
         }
     }
     for r in &relations {

@@ -22,14 +22,14 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::reading::DrawnEnds;
+use super::reading::{DrawnEnds, EndDrawn};
 use super::{
     Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
 };
-use crate::primitive::{FeatureCurve, FeatureGeometry, Primitive, PrimitiveKind};
+use crate::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive, PrimitiveKind};
 use crate::relation::contact::{ContactGraph, Outline};
 use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal};
-use crate::relation::{residuals, InferenceSettings, Member, Mode};
+use crate::relation::{residuals, tilt, InferenceSettings, Member, Mode};
 
 /// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
 /// the part is settled in depth is made a suggestion: about 11° between directions, or
@@ -106,12 +106,18 @@ impl Document {
             .map(|p| p.primitive.current_shape().features)
             .collect();
         let outlines: Vec<Outline> = placed.iter().map(|p| Outline::of(&p.primitive)).collect();
-        let sizes: Vec<(PrimitiveKind, f64, f64)> = placed
+        let sizes: Vec<Measures> = ids
             .iter()
-            .map(|p| {
+            .zip(&placed)
+            .map(|(id, p)| {
                 let size = p.primitive.size();
                 let noise = if size > 0.0 { p.fit.rms / size } else { 0.0 };
-                (p.primitive.kind(), size, noise)
+                Measures {
+                    kind: p.primitive.kind(),
+                    size,
+                    noise,
+                    tilt: self.tilt_slack(*id),
+                }
             })
             .collect();
         let existing = self.known_proposals(&ids, &features);
@@ -164,6 +170,53 @@ impl Document {
             placed.primitive = chosen;
         }
         self.add_inferred(&ids, found)
+    }
+
+    /// How far the depth components of part `id`'s end normals (`bottom`, `top`) are
+    /// left open by its strokes ([`tilt::slack`]): a solid of revolution's axis is pinned
+    /// by whichever of its ends is drawn, a bent tube's ends each by their own; a part
+    /// with no end drawn leaves its tilt free. Parts placed without strokes, and parts
+    /// without ends, have none.
+    fn tilt_slack(&self, id: PrimitiveId) -> [f64; 2] {
+        let (Some(placed), Some(record)) = (self.primitives.get(&id), self.snaps.get(&id)) else {
+            return [0.0; 2];
+        };
+        let p = &placed.primitive;
+        if !matches!(
+            p.kind(),
+            PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc | PrimitiveKind::Bgc
+        ) {
+            return [0.0; 2];
+        }
+        let drawn = DrawnEnds::of(p, &record.assignment);
+        let features = p.current_shape().features;
+        let radius = |feature: Feature, end: EndDrawn| {
+            (end != EndDrawn::Blank)
+                .then(|| {
+                    features.iter().find_map(|f| match &f.geometry {
+                        FeatureGeometry::Circle { radius, .. } if f.feature == feature => {
+                            Some(*radius)
+                        }
+                        _ => None,
+                    })
+                })
+                .flatten()
+        };
+        let (bottom, top) = (
+            radius(Feature::Bottom, drawn.bottom),
+            radius(Feature::Top, drawn.top),
+        );
+        let rms = placed.fit.rms;
+        if p.kind() == PrimitiveKind::Bgc {
+            [tilt::slack(bottom, rms), tilt::slack(top, rms)]
+        } else {
+            let largest = match (bottom, top) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            let axis = tilt::slack(largest, rms);
+            [axis; 2]
+        }
     }
 
     /// The earliest other part that part `id` coincides with: the same kind, size and
@@ -417,10 +470,19 @@ impl Document {
     }
 }
 
-/// The parts as inference sees them: each one's kind, size and noise, feature curves and
-/// outline, in one order.
+/// What inference reads of a part besides its curves: its kind, size, noise and tilt
+/// slack (see [`Part`]).
+struct Measures {
+    kind: PrimitiveKind,
+    size: f64,
+    noise: f64,
+    tilt: [f64; 2],
+}
+
+/// The parts as inference sees them: each one's measures, feature curves and outline, in
+/// one order.
 fn parts_of<'a>(
-    sizes: &[(PrimitiveKind, f64, f64)],
+    sizes: &[Measures],
     features: &'a [Vec<FeatureCurve<f64>>],
     outlines: &'a [Outline],
 ) -> Vec<Part<'a>> {
@@ -428,12 +490,13 @@ fn parts_of<'a>(
         .iter()
         .zip(features)
         .zip(outlines)
-        .map(|((&(kind, size, noise), f), outline)| Part {
-            kind,
+        .map(|((m, f), outline)| Part {
+            kind: m.kind,
             features: f,
             outline,
-            size,
-            noise,
+            size: m.size,
+            noise: m.noise,
+            tilt: m.tilt,
         })
         .collect()
 }

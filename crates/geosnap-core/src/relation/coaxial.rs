@@ -6,7 +6,7 @@
 use super::{
     circle, components, norm, offset_2d, InferenceSettings, Member, RelationError, RelationKind,
 };
-use crate::ad::Real;
+use crate::ad::{Real, Vec3};
 
 const KIND: RelationKind = RelationKind::Coaxial;
 
@@ -23,11 +23,21 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     let (Ok((c1, n1, r1)), Ok((c2, n2, r2))) = (circle(KIND, m, 0), circle(KIND, m, 1)) else {
         return false;
     };
-    if norm(&components(n1.cross(n2))) > settings.sin_angle() {
-        return false;
-    }
+    norm(&components(n1.cross(n2))) <= settings.sin_angle()
+        && on_one_line(c1, n1, c2, n2, settings.position_tolerance(r1 + r2))
+}
+
+/// Whether, in the view plane, each centre lies within `tolerance` of the other's
+/// projected axis line (`c` a centre, `n` its axis; only their projections count).
+pub(super) fn on_one_line(
+    c1: Vec3<f64>,
+    n1: Vec3<f64>,
+    c2: Vec3<f64>,
+    n2: Vec3<f64>,
+    tolerance: f64,
+) -> bool {
     let d = offset_2d(c1, c2);
-    let off_line = |n: crate::ad::Vec3<f64>| {
+    let off_line = |n: Vec3<f64>| {
         let axis = glam::DVec2::new(n.x, n.y);
         // An axis along the view projects to a point: the offset itself counts.
         if axis.length() < 1e-6 {
@@ -36,7 +46,7 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
             d.perp_dot(axis.normalize()).abs()
         }
     };
-    off_line(n1).max(off_line(n2)) <= settings.position_tolerance(r1 + r2)
+    off_line(n1).max(off_line(n2)) <= tolerance
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@
 
 use super::{
     circle, components, offset_2d, InferenceSettings, Member, RelationError, RelationKind,
+    MIN_PROJECTED_AXIS,
 };
 use crate::ad::Real;
 
@@ -38,10 +39,6 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     }
     d.length() <= tolerance
 }
-
-/// The least length of an end's projected unit normal for its axis to tell along from
-/// across in the drawing (an axis within about 17° of the view does not).
-const MIN_PROJECTED_AXIS: f64 = 0.3;
 
 #[cfg(test)]
 mod tests {

@@ -66,6 +66,22 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
         && inside(f1, offset_2d(c1, c2), settings.position_tolerance(s1 + s2))
 }
 
+/// Whether two like features of repeated parts (the rims of a row of cups, the feet of
+/// a table's legs) lie level: normals parallel within θ and each centre within the
+/// position tolerance of the other's plane, wherever they are drawn (the outline test of
+/// [`holds`] is for a part drawn on another's face).
+pub(super) fn level(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool {
+    let (Ok(f1), Ok(f2)) = (chosen(KIND, m, 0), chosen(KIND, m, 1)) else {
+        return false;
+    };
+    let ((c1, n1, s1), (c2, n2, s2)) = (frame(f1), frame(f2));
+    let d = (c2 - c1).to_dvec3();
+    let tolerance = settings.position_tolerance(s1 + s2);
+    norm(&components(n1.cross(n2))) <= settings.sin_angle()
+        && d.dot(n1.to_dvec3()).abs() <= tolerance
+        && d.dot(n2.to_dvec3()).abs() <= tolerance
+}
+
 #[cfg(test)]
 mod tests {
     use glam::{DQuat, DVec3};

@@ -39,7 +39,7 @@ use std::collections::{BTreeSet, HashMap};
 
 use super::contact::{ContactGraph, Outline};
 use super::evidence::{confidence, prior, Contact, Evidence, Inferred};
-use super::{closeness, holds, InferenceSettings, Member, Mode, RelationKind};
+use super::{closeness_by, coplanar, holds, tilt, InferenceSettings, Member, Mode, RelationKind};
 use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
 
 /// How many joints apart two parts may be and still be related: a table's leg reaches
@@ -78,6 +78,22 @@ pub struct Part<'a> {
     /// Its fit RMS relative to its size: the drawing's noise for this part (0 for a part
     /// without strokes).
     pub noise: f64,
+    /// How far the depth components of its `bottom` and `top` ends' normals may move
+    /// and still match the drawing ([`tilt::slack`]; 0 for parts without ends, and for
+    /// parts placed without strokes).
+    pub tilt: [f64; 2],
+}
+
+impl Part<'_> {
+    /// The tilt slack of the direction `feature` names (0 for a box face, and where no
+    /// feature is named).
+    fn tilt_of(&self, feature: Option<Feature>) -> f64 {
+        match feature {
+            Some(Feature::Bottom) => self.tilt[0],
+            Some(Feature::Top) => self.tilt[1],
+            _ => 0.0,
+        }
+    }
 }
 
 /// A relation inferred by [`infer`]: the proposal, the mode its confidence earns
@@ -231,11 +247,20 @@ impl Known {
                 p.features[i].map_or(Slot::Whole, Slot::Feature),
             )
         };
-        let direction = |i: usize| {
-            let class = p.features[i].map_or(0, Feature::direction_class);
-            (p.members[i], Slot::Direction(class))
+        // A bent tube's ends have an axis and a direction each.
+        let end_of_bent = |i: usize| {
+            (parts[p.members[i]].kind == PrimitiveKind::Bgc)
+                .then_some(p.features[i])
+                .flatten()
+                .map(|f| (p.members[i], Slot::Feature(f)))
         };
-        let whole = |i: usize| (p.members[i], Slot::Whole);
+        let direction = |i: usize| {
+            end_of_bent(i).unwrap_or_else(|| {
+                let class = p.features[i].map_or(0, Feature::direction_class);
+                (p.members[i], Slot::Direction(class))
+            })
+        };
+        let whole = |i: usize| end_of_bent(i).unwrap_or((p.members[i], Slot::Whole));
         match p.kind {
             RelationKind::Parallel => {
                 let boxes = p
@@ -496,9 +521,52 @@ impl Inference<'_, '_> {
             .collect()
     }
 
-    /// Whether `p` nearly holds.
+    /// Whether `p` holds within `settings`: its kind's test, or for the like ends of
+    /// repeated parts, their planes level ([`coplanar::level`]).
+    fn test(&self, p: &Proposal, settings: &InferenceSettings) -> bool {
+        let members = self.members(p);
+        holds(p.kind, &members, settings)
+            || (self.like_ends_of_repeated(p) && coplanar::level(&members, settings))
+    }
+
+    /// Whether `p` nearly holds: within the thresholds widened by the drawing's noise
+    /// ([`Self::settings_for`]), or with its members' tilts moved within what their
+    /// drawn ends show ([`tilt`]).
     fn holds(&self, p: &Proposal) -> bool {
-        self.settings.enabled(p.kind) && holds(p.kind, &self.members(p), &self.settings_for(p))
+        self.settings.enabled(p.kind)
+            && (self.test(p, &self.settings_for(p)) || self.within_tilt(p))
+    }
+
+    /// Whether `p` (parallel or coaxial) holds once its members' tilts move within
+    /// their slack: directions that agree on the paper, with depth the drawing leaves
+    /// open.
+    fn within_tilt(&self, p: &Proposal) -> bool {
+        if p.members.len() != 2 || p.members[0] == p.members[1] {
+            return false;
+        }
+        let slack = [0, 1].map(|i| self.parts[p.members[i]].tilt_of(p.features[i]));
+        tilt::holds(p.kind, &self.members(p), &self.settings_for(p), slack)
+    }
+
+    /// Whether `p` is a coplanar candidate between the same end (or face) of two
+    /// repeated parts: the rims of a menorah's cups, the feet of a table's legs. Those
+    /// are meant level even where neither is drawn inside the other's outline.
+    fn like_ends_of_repeated(&self, p: &Proposal) -> bool {
+        p.kind == RelationKind::Coplanar
+            && p.members.len() == 2
+            && p.features[0].is_some()
+            && p.features[0] == p.features[1]
+            && self.repeated(p.members[0], p.members[1])
+    }
+
+    /// Whether parts `a` and `b` repeat one another: alike ([`alike`]), of one object
+    /// but not stacked on each other (two joints apart or more, or sharing a joint).
+    fn repeated(&self, a: usize, b: usize) -> bool {
+        let (new, other) = if a == self.new { (a, b) } else { (b, a) };
+        new == self.new
+            && new != other
+            && alike(&self.parts[new], &self.parts[other])
+            && (self.hops[other].is_some_and(|h| h >= 2) || self.graph.share_a_joint(new, other))
     }
 
     /// The thresholds for `p`: the settings with the drawing's noise for its members
@@ -556,10 +624,7 @@ impl Inference<'_, '_> {
         };
         // Alike parts of one object, not stacked on each other: legs under one top,
         // candles on a menorah's arms, prongs on a plug.
-        let repeated = other.is_some_and(|o| {
-            alike(&self.parts[self.new], &self.parts[o])
-                && (hops >= 2 || self.graph.share_a_joint(self.new, o))
-        });
+        let repeated = other.is_some_and(|o| self.repeated(self.new, o));
         let noise = p
             .members
             .iter()
@@ -581,12 +646,11 @@ impl Inference<'_, '_> {
         if !self.settings.enabled(p.kind) {
             return false;
         }
-        let members = self.members(&p);
-        // One that holds only within the drawing's noise or the axial slack, not within
-        // the thresholds, is at their edge: the drawing does not show it exact, so it is
-        // at most a suggestion.
-        let Some(closeness) = closeness(p.kind, &members, self.settings)
-            .or_else(|| holds(p.kind, &members, &self.settings_for(&p)).then_some(1.0))
+        // One that holds only within the drawing's noise, the axial slack or its
+        // members' tilt slack, not within the thresholds, is at their edge: the drawing
+        // does not show it exact, so it is at most a suggestion.
+        let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings)
+            .or_else(|| self.holds(&p).then_some(1.0))
         else {
             return false;
         };
@@ -633,13 +697,11 @@ impl Inference<'_, '_> {
     fn axes(&mut self, other: usize) -> bool {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
         let mut coaxial = false;
-        if new_part.kind != PrimitiveKind::Bgc && other_part.kind != PrimitiveKind::Bgc {
-            'pairs: for &a in ends(&new_part) {
-                for &b in ends(&other_part) {
-                    if self.propose(self.pair(RelationKind::Coaxial, other, a, b)) {
-                        coaxial = true;
-                        break 'pairs;
-                    }
+        'pairs: for &a in ends(&new_part) {
+            for &b in ends(&other_part) {
+                if self.propose(self.pair(RelationKind::Coaxial, other, a, b)) {
+                    coaxial = true;
+                    break 'pairs;
                 }
             }
         }
@@ -797,13 +859,19 @@ mod tests {
     use glam::{DQuat, DVec3};
 
     use super::{infer, Found, Part, Proposal};
-    use crate::primitive::{Axis, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
+    use crate::primitive::{Axis, Bgc, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
     use crate::relation::contact::Outline;
+    use crate::relation::tilt::FREE;
     use crate::relation::{InferenceSettings, Mode, RelationKind};
 
     /// Relations inferred placing `primitives` one by one, as on release (hard and
-    /// suggested).
+    /// suggested), every tilt pinned.
     fn place_all_found(primitives: &[Primitive]) -> Vec<Found> {
+        place_all_tilted(primitives, &vec![[0.0; 2]; primitives.len()])
+    }
+
+    /// As [`place_all_found`], with each part's tilt slack (`bottom`, `top`).
+    fn place_all_tilted(primitives: &[Primitive], tilts: &[[f64; 2]]) -> Vec<Found> {
         let features: Vec<Vec<FeatureCurve<f64>>> = primitives
             .iter()
             .map(|p| p.current_shape().features)
@@ -813,12 +881,14 @@ mod tests {
             .iter()
             .zip(&features)
             .zip(&outlines)
-            .map(|((p, f), o)| Part {
+            .zip(tilts)
+            .map(|(((p, f), o), tilt)| Part {
                 kind: p.kind(),
                 features: f,
                 outline: o,
                 size: p.size(),
                 noise: 0.005,
+                tilt: *tilt,
             })
             .collect();
         let mut found: Vec<Found> = Vec::new();
@@ -1074,6 +1144,100 @@ mod tests {
         assert!(
             cups.iter().all(|f| f.inferred.evidence.repeated),
             "{cups:#?}"
+        );
+    }
+
+    #[test]
+    fn the_feet_of_repeated_legs_are_suggested_level() {
+        let found = place_all_found(&table(60.0));
+        let level: Vec<&Found> = found
+            .iter()
+            .filter(|f| {
+                f.proposal.kind == RelationKind::Coplanar && !f.proposal.members.contains(&0)
+            })
+            .collect();
+        assert!(!level.is_empty(), "{found:#?}");
+        for f in &level {
+            assert_eq!(
+                f.proposal.features,
+                vec![Some(Feature::Bottom); 2],
+                "{f:#?}"
+            );
+            assert_eq!(
+                f.mode,
+                Mode::Suggested,
+                "side by side is not enforced unasked"
+            );
+            assert!(f.inferred.evidence.repeated);
+        }
+        // The legs' tops meet the table top already: their planes are known.
+        assert_eq!(level.len(), 2, "a chain over three legs: {level:#?}");
+    }
+
+    /// The axis leaning `lean` (radians) off the paper's up direction towards the viewer.
+    fn up(lean: f64) -> DVec3 {
+        DVec3::new(0.0, lean.cos(), lean.sin())
+    }
+
+    #[test]
+    fn an_axis_whose_depth_the_drawing_leaves_open_is_suggested_coaxial() {
+        // Stacked on the paper, 40° apart in depth: the upper part's ends are not drawn
+        // (its tilt is free), so the drawing does not say they differ.
+        let (a, b) = (up(0.5), up(-0.2));
+        let lower = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: a,
+            length: 40.0,
+            radius: 8.0,
+        });
+        let upper = Primitive::Cylinder(Cylinder {
+            center: a * 20.0 + b * 30.0,
+            axis: b,
+            length: 60.0,
+            radius: 4.0,
+        });
+        let coaxial = |found: &[Found]| {
+            found
+                .iter()
+                .find(|f| f.proposal.kind == RelationKind::Coaxial)
+                .map(|f| f.mode)
+        };
+        let pinned = place_all_tilted(&[lower.clone(), upper.clone()], &[[0.0; 2]; 2]);
+        assert_eq!(coaxial(&pinned), None, "{pinned:#?}");
+        let open = place_all_tilted(&[lower, upper], &[[0.0; 2], [FREE; 2]]);
+        assert_eq!(coaxial(&open), Some(Mode::Suggested), "{open:#?}");
+    }
+
+    #[test]
+    fn a_bent_tubes_end_is_coaxial_with_the_part_it_runs_into() {
+        // A quarter arc in the paper's plane ending downwards, and a cup under it.
+        let spine: Vec<DVec3> = (0..8)
+            .map(|k| {
+                let t = std::f64::consts::FRAC_PI_2 * (1.0 - f64::from(k) / 7.0);
+                DVec3::new(50.0 - 50.0 * t.cos(), 50.0 * t.sin(), 0.0)
+            })
+            .collect();
+        let end = spine[7];
+        let tube = Primitive::Bgc(Bgc {
+            spine,
+            radii: vec![4.0; 8],
+            plane_normal: DVec3::Z,
+        });
+        let cup = Primitive::Cylinder(Cylinder {
+            center: end - DVec3::new(0.0, 10.0, 0.0),
+            axis: DVec3::new(0.0, 1.0, 0.0),
+            length: 20.0,
+            radius: 6.0,
+        });
+        let found = place_all_found(&[tube, cup]);
+        let coaxial = found
+            .iter()
+            .find(|f| f.proposal.kind == RelationKind::Coaxial)
+            .unwrap_or_else(|| panic!("no coaxial: {found:#?}"));
+        assert_eq!(coaxial.mode, Mode::Hard, "{coaxial:#?}");
+        assert!(
+            coaxial.proposal.features.contains(&Some(Feature::Top)),
+            "the tube's end at the cup: {coaxial:#?}"
         );
     }
 }

@@ -41,6 +41,7 @@ pub mod on_sphere;
 pub mod orthogonal;
 pub mod parallel;
 pub mod same_radius;
+pub mod tilt;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -48,6 +49,11 @@ use thiserror::Error;
 use crate::ad::{Real, Vec3};
 use crate::primitive::{Feature, FeatureCurve, FeatureGeometry};
 use crate::solve::SettingsError;
+
+/// The least length of a projected unit direction for the drawing to show which way it
+/// points in the view plane (an axis within about 17° of the view does not): ends on
+/// one projected axis, directions compared in the view plane.
+const MIN_PROJECTED_AXIS: f64 = 0.3;
 
 /// The kinds of relation, named as in the model file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -547,13 +553,22 @@ pub fn closeness(
     members: &[Member<'_, f64>],
     settings: &InferenceSettings,
 ) -> Option<f64> {
-    if !holds(kind, members, settings) {
+    closeness_by(|s| holds(kind, members, s), settings)
+}
+
+/// [`closeness`] for any `test` of settings: the least fraction of every threshold of
+/// `settings` at which `test` passes, to 1/64; `None` when it fails at `settings`.
+pub(crate) fn closeness_by(
+    test: impl Fn(&InferenceSettings) -> bool,
+    settings: &InferenceSettings,
+) -> Option<f64> {
+    if !test(settings) {
         return None;
     }
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..6 {
         let mid = 0.5 * (lo + hi);
-        if holds(kind, members, &settings.scaled(mid)) {
+        if test(&settings.scaled(mid)) {
             hi = mid;
         } else {
             lo = mid;
