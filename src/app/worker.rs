@@ -475,6 +475,10 @@ pub(crate) fn place(
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
     let mut output = JobOutput::empty();
+    // A part moved keeps the name it was given.
+    let name = replacing
+        .and_then(|old| document.name(old))
+        .map(str::to_owned);
     let (snapped, dropped, readings) = match readings {
         Some(readings) if readings.pose().is_some() => {
             let Some(pose) = readings.pose().cloned() else {
@@ -491,6 +495,7 @@ pub(crate) fn place(
             Err(SnapError::NotEnoughStrokes { .. }) => {
                 let free = Free {
                     replacing,
+                    name: None,
                     why: "no strokes here support it",
                 };
                 return place_freely(document, dragged, &free, settings, cancel, observer);
@@ -521,11 +526,15 @@ pub(crate) fn place(
             .unwrap_or("nothing in the drawing supports it");
         let free = Free {
             replacing: None,
+            name: name.as_deref(),
             why,
         };
         return place_freely(document, &dropped, &free, settings, cancel, observer);
     }
     let id = document.add_fitted(&snapped, Fit::of(&snapped).judged(&confidence));
+    if let Some(name) = &name {
+        document.set_name(id, name);
+    }
     let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
         output.cancelled = true;
         return output;
@@ -650,6 +659,8 @@ pub fn resolve(
 pub struct Free<'a> {
     /// The part it replaces (a placed part moved).
     pub replacing: Option<PrimitiveId>,
+    /// The name it takes (`None`: the name of the part it replaces, if any).
+    pub name: Option<&'a str>,
     /// Why it was not snapped, in words.
     pub why: &'a str,
 }
@@ -671,6 +682,10 @@ pub fn place_freely(
     cancel: &CancelFlag,
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
+    let name = free
+        .name
+        .or_else(|| free.replacing.and_then(|old| document.name(old)))
+        .map(str::to_owned);
     if let Some(old) = free.replacing {
         document.remove(old);
     }
@@ -678,6 +693,9 @@ pub fn place_freely(
         primitive: dragged.clone(),
         fit: Fit::default(),
     });
+    if let Some(name) = &name {
+        document.set_name(id, name);
+    }
     let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
         return JobOutput {
             cancelled: true,
