@@ -1665,7 +1665,7 @@ fn the_export_dialog_offers_the_unit_the_segments_and_the_format() {
             .state()
             .messages()
             .iter()
-            .any(|m| m.text.contains("one cm of the drawing is 0.01 m")),
+            .any(|m| m.text.contains("one centimetre of the drawing is 0.01 m")),
         "{:?}",
         harness.state().messages()
     );
@@ -1857,6 +1857,17 @@ fn a_part_is_renamed_in_the_outliner_undoably_and_the_name_is_saved() {
         Some((post, "Post")),
         "F2 opens the field on the name"
     );
+    // Another window taking the system's focus leaves the field open, name unchanged.
+    harness.input_mut().focused = false;
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().renaming(),
+        Some((post, "Post")),
+        "still open"
+    );
+    assert_eq!(name_of(&harness, post).as_deref(), Some("Post"));
+    harness.input_mut().focused = true;
+    harness.run_steps(2);
     // The name is selected: typing replaces it.
     harness
         .get_by_role_and_label(Role::TextInput, "Name")
@@ -2123,4 +2134,72 @@ fn every_part_shows_its_snap_confidence_as_colour_and_badge() {
     assert!(doubtful
         .query_by_label("Why: only 40 % of its visible outline is drawn.")
         .is_some());
+}
+
+/// Issue 18: a drop whose snap runs away (strokes near it, but not of its shape: a
+/// sphere dropped beside the stand, its size taking in the post) is placed as dragged,
+/// unsnapped, with the reason at the drop, as the drag legend says, not discarded.
+#[test]
+fn a_drop_whose_fit_runs_away_is_placed_freely() {
+    let dir = scratch("ran-away");
+    let mut harness = stand(&dir);
+    let parts = harness.state().editor().document().len();
+    let canvas = harness.state().canvas_view().rect();
+    let from = harness.get_by_label("Sphere").rect().center();
+    harness.hover_at(from);
+    harness.step();
+    harness.drag_at(from);
+    harness.step();
+    // Beside the post, where the sphere's size takes in strokes of other shapes: the
+    // first place whose preview runs away.
+    let mut at = from;
+    let mut found = None;
+    'search: for dy in [230.0, 150.0, 310.0, 390.0] {
+        for dx in [610.0, 560.0, 660.0, 700.0] {
+            let to = canvas.left_top() + egui::vec2(dx, dy);
+            for k in 1..=6 {
+                harness.hover_at(at + (to - at) * (k as f32 / 6.0));
+                harness.step();
+            }
+            at = to;
+            step_until(&mut harness, "the preview", |app| {
+                app.drag()
+                    .is_some_and(|d| d.preview_generation() == d.generation())
+            });
+            let error = harness
+                .state()
+                .drag()
+                .and_then(|d| d.preview_error().map(ToString::to_string));
+            if error.is_some_and(|e| e.contains("ran away")) {
+                found = Some(to);
+                break 'search;
+            }
+        }
+    }
+    let to = found.expect("a place beside the post where the sphere's fit runs away");
+    harness.drop_at(to);
+    harness.step();
+    step_until(&mut harness, "the free placement", |app| {
+        app.job().is_none() && app.editor().document().len() > parts
+    });
+    let id = harness
+        .state()
+        .selection()
+        .expect("the new part is selected");
+    let placed = harness
+        .state()
+        .editor()
+        .document()
+        .get(id)
+        .expect("placed")
+        .clone();
+    assert!(placed.fit.strokes.is_empty(), "unsnapped");
+    assert!(
+        harness
+            .state()
+            .drop_note()
+            .is_some_and(|n| n.contains("placed freely") && n.contains("ran away")),
+        "{:?}",
+        harness.state().drop_note()
+    );
 }

@@ -566,7 +566,7 @@ impl GeosnapApp {
                 "Exported {} (in metres: one {} of the drawing is {} m; {} segments around \
                  circles).",
                 path.display(),
-                self.unit().symbol(),
+                self.unit().singular(),
                 settings.metres_per_unit(),
                 settings.segments()
             )),

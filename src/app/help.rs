@@ -230,7 +230,8 @@ pub(crate) const MOUSE: &[MouseControl] = &[
     mouse(
         Place::Drag,
         "Release",
-        "Place it: snapped, or as dragged where no strokes are (off the drawing: nothing)",
+        "Place it: snapped, or as dragged where the strokes do not support it (off the \
+         drawing: nothing)",
     ),
     mouse(
         Place::Drag,

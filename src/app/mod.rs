@@ -295,9 +295,10 @@ impl GeosnapApp {
         }
         if self.editor.set_unit(unit) {
             self.say(format!(
-                "Lengths are now in {}: the numbers stay, one unit of the drawing is one {}.",
+                "Lengths are now in {}: the numbers stay as they are, one unit of the \
+                 drawing is one {}.",
                 unit.name(),
-                unit.symbol()
+                unit.singular()
             ));
         }
     }

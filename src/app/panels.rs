@@ -407,7 +407,10 @@ impl GeosnapApp {
             }
             return;
         }
-        if response.lost_focus() || !response.has_focus() {
+        // The field's own focus, not `has_focus`, which also asks that the window have
+        // the system's focus: switching to another window keeps the name being typed.
+        let focused = ui.memory(|m| m.has_focus(response.id));
+        if response.lost_focus() || !focused {
             let cancelled = ui.input(|i| i.key_pressed(egui::Key::Escape));
             let text = rename.text.clone();
             if cancelled || self.rename(id, &text) {

@@ -492,21 +492,23 @@ pub(crate) fn place(
                 let readings = Readings::of(dragged.clone(), &s);
                 (s, dragged.clone(), readings)
             }
-            Err(SnapError::NotEnoughStrokes { .. }) => {
+            Err(SnapError::Cancelled) => {
+                output.cancelled = true;
+                return output;
+            }
+            // Strokes that do not support the part (none, or a fit that runs away from
+            // the drop): it goes where it was dropped, as the drag legend says.
+            Err(error) => {
+                let why = match error {
+                    SnapError::NotEnoughStrokes { .. } => "no strokes here support it".to_owned(),
+                    other => super::words::snap_error(&other, false),
+                };
                 let free = Free {
                     replacing,
                     name: None,
-                    why: "no strokes here support it",
+                    why: &why,
                 };
                 return place_freely(document, dragged, &free, settings, cancel, observer);
-            }
-            Err(error) => {
-                output.messages.push(format!(
-                    "The {} did not snap: {}. Drop it nearer its strokes.",
-                    super::words::kind_noun(dragged.kind()),
-                    super::words::snap_error(&error, false)
-                ));
-                return output;
             }
         },
     };

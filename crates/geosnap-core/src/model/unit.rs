@@ -48,6 +48,16 @@ impl LengthUnit {
         }
     }
 
+    /// One of it, in words ("millimetre", "inch").
+    pub fn singular(self) -> &'static str {
+        match self {
+            Self::Millimetre => "millimetre",
+            Self::Centimetre => "centimetre",
+            Self::Metre => "metre",
+            Self::Inch => "inch",
+        }
+    }
+
     /// Metres in one of it (0.001 for millimetres).
     pub fn metres(self) -> f64 {
         match self {
