@@ -359,3 +359,44 @@ fn each_step_is_reported_as_it_ends() {
     assert_eq!(seen, expected);
     assert_eq!(seen.len(), script.steps.len());
 }
+
+/// Issue 18: a model file's optional part `name` and `unit` are read, checked and kept
+/// by `geosnap check` and `solve`; a typo in either is refused with the field meant.
+#[test]
+fn names_and_the_unit_are_kept_by_solve_and_typos_in_them_refused() {
+    let dir = Scratch::new("names");
+    let model = dir.path("m.model.json");
+    let made = run(&[&dir.path("vase.script.json"), Path::new("--out"), &model]);
+    assert!(made.status.success(), "{}", stderr(&made));
+    let text = std::fs::read_to_string(&model).expect("the model");
+    let mut value: serde_json::Value = serde_json::from_str(&text).expect("json");
+    value["unit"] = "cm".into();
+    value["primitives"][0]["name"] = "Vase «body» ⌀".into();
+    std::fs::write(&model, value.to_string()).expect("written");
+    let model_text = model.to_string_lossy();
+    let checked = geosnap(&["check", &model_text]);
+    assert!(checked.status.success(), "{}", stderr(&checked));
+
+    let solved = dir.path("solved.model.json");
+    let solved_text = solved.to_string_lossy();
+    let done = geosnap(&["solve", &model_text, "--out", &solved_text]);
+    assert!(done.status.success(), "{}", stderr(&done));
+    let back: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&solved).expect("solved")).expect("json");
+    assert_eq!(back["unit"], "cm", "{back}");
+    assert_eq!(back["primitives"][0]["name"], "Vase «body» ⌀", "{back}");
+
+    for (field, bad, says) in [
+        ("units", serde_json::json!("cm"), "did you mean `unit`?"),
+        ("unit", serde_json::json!("CM"), r#"did you mean "cm"?"#),
+    ] {
+        let mut wrong = value.clone();
+        let object = wrong.as_object_mut().expect("an object");
+        object.remove("unit");
+        object.insert(field.to_owned(), bad);
+        std::fs::write(&model, wrong.to_string()).expect("written");
+        let checked = geosnap(&["check", &model_text]);
+        assert!(!checked.status.success(), "{field} must be refused");
+        assert_says(&checked, says);
+    }
+}

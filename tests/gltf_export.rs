@@ -10,14 +10,14 @@ use std::process::Command;
 
 use base64::Engine as _;
 use geosnap::core::model::{
-    run_steps, Document, Fit, Placed, PrimitiveId, Relation, SessionSettings,
+    run_steps, Document, Fit, LengthUnit, Placed, PrimitiveId, Relation, SessionSettings,
 };
 use geosnap::core::primitive::{Bgc, Feature, Primitive, Sphere};
 use geosnap::core::relation::{Mode, RelationKind};
 use geosnap::core::solve::SolveContext;
 use geosnap::io::gltf::{
-    export_gltf, import_gltf_extras, node_name, ExportSettings, Origin, DEFAULT_METRES_PER_UNIT,
-    ROOT_NAME,
+    export_gltf, import_gltf_extras, node_name, node_names, ExportSettings, Origin,
+    DEFAULT_METRES_PER_UNIT, ROOT_NAME,
 };
 use geosnap::io::script::load_script;
 use geosnap::io::sketch_file::load_sketch;
@@ -28,7 +28,8 @@ const VALIDATOR_ENV: &str = "GEOSNAP_GLTF_VALIDATOR";
 
 /// Each sample's name and model (with its inferred relations), with relations added
 /// between its first primitives so that every multi-part sample's root `extras` carry a
-/// hard and a soft relation.
+/// hard and a soft relation, and its first two parts named alike (one name must become
+/// two node names).
 fn sample_models() -> Vec<(String, Document)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sketches");
     let mut scripts: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -71,6 +72,9 @@ fn sample_models() -> Vec<(String, Document)> {
                             inferred: None,
                         })
                         .expect("a valid relation");
+                }
+                for id in [a, b] {
+                    assert!(document.set_name(id, "Pied «gauche» ⌀12"), "a part");
                 }
             }
             let name = script_path
@@ -266,17 +270,28 @@ fn check_file(path: &Path, document: &Document, settings: &ExportSettings) {
         .children()
         .map(|n| n.name().unwrap_or_default().to_owned())
         .collect();
-    let expected: Vec<String> = document
-        .primitives()
-        .map(|(id, p)| node_name(p.primitive.kind(), id))
-        .collect();
+    let node_names = node_names(document);
+    let expected: Vec<String> = node_names.values().cloned().collect();
     assert_eq!(names, expected, "{what}: node names");
+    let unique: std::collections::BTreeSet<&String> = names.iter().collect();
+    assert_eq!(unique.len(), names.len(), "{what}: each node named once");
+    for (id, placed) in document.primitives() {
+        let name = &node_names[&id];
+        match document.name(id) {
+            // A given name, as given or with the part's id after it when taken.
+            Some(given) => assert!(
+                *name == given || *name == format!("{given}_{}", id.0),
+                "{what}: {name} for {given}"
+            ),
+            None => assert_eq!(*name, node_name(placed.primitive.kind(), id), "{what}"),
+        }
+    }
 
     let root_from_model = transform(root);
     let mut world = Vec::new();
     for (node, (id, placed)) in root.children().zip(document.primitives()) {
         let kind = placed.primitive.kind();
-        let name = node_name(kind, id);
+        let name = node_names[&id].clone();
         let positions = check_mesh(&node, &name, kind.name(), &data);
         // The node's mesh, placed in the scene, covers the primitive's extents in metres.
         let world_from_local = root_from_model * transform(&node);
@@ -322,6 +337,7 @@ fn check_file(path: &Path, document: &Document, settings: &ExportSettings) {
     for (id, placed) in document.primitives() {
         let again = &back.document.get(id).expect("the same ids").primitive;
         assert_same(&placed.primitive, again, &format!("{what} #{}", id.0));
+        assert_eq!(back.document.name(id), document.name(id), "{what}: names");
     }
 }
 
@@ -488,6 +504,28 @@ fn the_cli_exports_a_model_file_and_refuses_bad_settings() {
     let back = import_gltf_extras(&out).expect("the export reads back");
     assert!((back.metres_per_unit - 0.01).abs() < 1e-15, "the --scale");
     assert_eq!(back.document.len(), document.len(), "every primitive");
+    // Without --scale, the model's unit decides: millimetres by default, inches here.
+    for (unit, metres) in [(None, 0.001), (Some(LengthUnit::Inch), 0.0254)] {
+        let mut document = document.clone();
+        if let Some(unit) = unit {
+            document.set_unit(unit);
+        }
+        geosnap::io::model_file::save_model(&model, &document, "sample.svg").expect("saved");
+        let run = Command::new(geosnap)
+            .arg("export")
+            .arg(&model)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("the binary runs");
+        assert!(run.status.success(), "{run:?}");
+        let back = import_gltf_extras(&out).expect("the export reads back");
+        assert!(
+            (back.metres_per_unit - metres).abs() < 1e-15,
+            "{unit:?}: {}",
+            back.metres_per_unit
+        );
+    }
     for (args, message) in [
         (["--scale", "-1"], "metres_per_unit = -1"),
         (["--segments", "2"], "segments = 2"),

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use geosnap::core::model::{
-    run_steps, Companions, Document, GlobalSettings, PrimitiveId, Quantity, Relation,
+    run_steps, Companions, Document, GlobalSettings, LengthUnit, PrimitiveId, Quantity, Relation,
     SessionSettings,
 };
 use geosnap::core::primitive::{Feature, Primitive};
@@ -190,6 +190,10 @@ fn assert_round_trip(session: &Session) {
         "kept by the session file"
     );
     assert_eq!(before.skipped, after.skipped, "kept by the session file");
+    assert_eq!(before.unit(), after.unit(), "kept by the session file");
+    for (id, _) in before.primitives() {
+        assert_eq!(before.name(id), after.name(id), "kept by the session file");
+    }
     assert_eq!(
         before.next_id(),
         after.next_id(),
@@ -230,6 +234,48 @@ fn the_ids_of_deleted_parts_stay_retired_after_reopening() {
     let mut document = back.document;
     let next = document.add(part);
     assert!(next > extra, "{next:?} after {extra:?}");
+}
+
+/// Issue 18: part names and the document's unit are kept by the session (in its
+/// model); a session without them reads as before (no names, millimetres).
+#[test]
+fn names_and_the_unit_round_trip_and_old_sessions_read_as_before() {
+    let mut session = vase_session();
+    let plain = session_bytes(&session).expect("encodes");
+    let text = String::from_utf8_lossy(&plain);
+    assert!(
+        !text.contains(r#""unit""#) && !text.contains(r#""name""#),
+        "millimetres and no names are left unsaid"
+    );
+    let back = parse_session(&plain).expect("reads back");
+    assert_eq!(back.document.unit(), LengthUnit::Millimetre);
+
+    let id = session.document.primitives().next().expect("a part").0;
+    assert!(session.document.set_name(id, "Vase body “tall” 🏺"));
+    session.document.set_unit(LengthUnit::Centimetre);
+    let bytes = session_bytes(&session).expect("encodes");
+    let value: Value = serde_json::from_slice(&bytes).expect("json");
+    assert_eq!(value["model"]["unit"], json!("cm"));
+    assert_eq!(
+        value["model"]["primitives"][0]["name"],
+        json!("Vase body “tall” 🏺")
+    );
+    assert_round_trip(&session);
+    let back = parse_session(&bytes).expect("reads back");
+    assert_eq!(back.document.name(id), Some("Vase body “tall” 🏺"));
+    assert_eq!(back.document.unit(), LengthUnit::Centimetre);
+
+    // A unit this build does not know is refused, named, with the one meant.
+    let typo = changed(&session, |v| v["model"]["unit"] = json!("cn"));
+    let error = chain(&parse_session(&typo).expect_err("refused"));
+    assert!(error.contains(r#"unknown unit "cn""#), "{error}");
+    let typo = changed(&session, |v| {
+        let model = v["model"].as_object_mut().expect("an object");
+        let unit = model.remove("unit").expect("a unit");
+        model.insert("units".to_owned(), unit);
+    });
+    let error = chain(&parse_session(&typo).expect_err("refused"));
+    assert!(error.contains("did you mean `unit`?"), "{error}");
 }
 
 #[test]

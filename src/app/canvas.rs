@@ -18,6 +18,8 @@ use crate::core::snap::Verdict;
 const FEATURE: Color32 = Color32::from_rgb(40, 110, 220);
 const SILHOUETTE: Color32 = Color32::from_rgb(45, 45, 50);
 const PREVIEW: Color32 = Color32::from_rgb(240, 130, 20);
+/// The most characters of a part's name drawn at its centre on the canvas.
+const MAX_LABEL_CHARS: usize = 24;
 
 /// The tools of the canvas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,6 +52,8 @@ pub(crate) struct Canvas {
     /// The screen rectangles of the labels painted in the last frame: part ids (with
     /// their badges) and relation labels.
     labels: Vec<Rect>,
+    /// The verdict badges painted in the last frame: each part's and its colour.
+    badges: Vec<(crate::core::model::PrimitiveId, Color32)>,
 }
 
 /// A short message on the canvas at the point where a drop failed.
@@ -77,6 +81,7 @@ impl Default for Canvas {
             dropped_at: None,
             drop_note: None,
             labels: Vec::new(),
+            badges: Vec::new(),
         }
     }
 }
@@ -125,6 +130,11 @@ impl Canvas {
     /// their badges, then relation labels).
     pub(crate) fn labels(&self) -> &[Rect] {
         &self.labels
+    }
+
+    /// The verdict badges painted in the last frame: each part's and its colour.
+    pub(crate) fn badges(&self) -> &[(crate::core::model::PrimitiveId, Color32)] {
+        &self.badges
     }
 
     /// The note of a failed drop on the canvas, while it is shown.
@@ -655,7 +665,10 @@ impl GeosnapApp {
         if let Some(drag) = &self.drag {
             let noun = words::kind_noun(drag.kind());
             let what = match drag.replacing {
-                Some(id) => format!("Moving #{}: release on its strokes to snap it there", id.0),
+                Some(id) => format!(
+                    "Moving {}: release on its strokes to snap it there",
+                    words::part_name(self.editor.document(), id)
+                ),
                 None => format!("Placing a {noun}: release on its strokes to place it"),
             };
             return match drag.pose() {
@@ -755,11 +768,12 @@ impl GeosnapApp {
         }
     }
 
-    /// The parts' ids at their centres, over the strokes, each with a halo of paper so
+    /// The parts' names (or ids) at their centres, over the strokes, each with a halo of paper so
     /// it reads over a stroke of its own colour, and the snap's verdict as a badge;
     /// their rectangles are taken for the relation labels to avoid.
     fn paint_part_ids(&mut self, painter: &egui::Painter) {
         self.canvas.labels.clear();
+        self.canvas.badges.clear();
         let related = self.emphasis().related;
         for (index, (id, placed)) in self.editor.document().primitives().enumerate() {
             if self.drag.as_ref().is_some_and(|d| d.replacing == Some(id))
@@ -779,7 +793,12 @@ impl GeosnapApp {
             let c = placed.primitive.center();
             let at = self.canvas.view.to_screen(DVec2::new(c.x, -c.y));
             let font = egui::FontId::proportional(if selected { 16.0 } else { 14.0 });
-            let galley = painter.layout_no_wrap(format!("#{}", id.0), font, color);
+            // The name given to it, shortened, else its number.
+            let label = self.editor.document().name(id).map_or_else(
+                || format!("#{}", id.0),
+                |name| words::shortened(name, MAX_LABEL_CHARS),
+            );
+            let galley = painter.layout_no_wrap(label, font, color);
             let rect = egui::Align2::CENTER_CENTER.anchor_size(at, galley.size());
             halo_text(painter, rect.min, &galley, color);
             // The snap's verdict as a badge before the id: green good, amber doubtful.
@@ -792,6 +811,7 @@ impl GeosnapApp {
                     verdict_color(verdict),
                     Pen::new(1.5, PAPER_HALO),
                 );
+                self.canvas.badges.push((id, verdict_color(verdict)));
                 taken = taken.union(Rect::from_center_size(centre, Vec2::splat(9.0)));
             }
             if placed.fit.strokes.is_empty() {
@@ -904,7 +924,7 @@ impl GeosnapApp {
             (Some(p), _) => format!(
                 "{title}: {} strokes, {} off on average",
                 p.assignment.stroke_ids().len(),
-                words::length(p.rms, self.panels.unit)
+                words::length(p.rms, self.unit())
             ),
             (None, Some(e)) => format!("{title}: {}", words::snap_error(e, self.status.developer)),
             (None, None) => format!("{title}…"),
@@ -1098,7 +1118,7 @@ fn painter_mark(ui: &Ui, at: Pos2, canvas: Rect) {
 }
 
 /// The colour of a snap's verdict: green for good, amber for doubtful, red for refused.
-pub(crate) fn verdict_color(verdict: Verdict) -> Color32 {
+pub fn verdict_color(verdict: Verdict) -> Color32 {
     match verdict {
         Verdict::Good => Color32::from_rgb(60, 170, 80),
         Verdict::Doubtful => Color32::from_rgb(235, 160, 20),

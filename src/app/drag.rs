@@ -366,13 +366,17 @@ impl GeosnapApp {
         let noun = super::words::kind_noun(drag.kind);
         if freely {
             let label = match replacing {
-                Some(id) => format!("Move #{} freely", id.0),
+                Some(id) => format!(
+                    "Move {} freely",
+                    super::words::part_name(self.editor.document(), id)
+                ),
                 None => format!("Place {noun} freely"),
             };
             self.workers
                 .spawn(label, self.editor.revision(), move |cancel, observe| {
                     let free = Free {
                         replacing,
+                        name: None,
                         why: "Alt was held",
                     };
                     worker::place_freely(document, &dragged, &free, &settings, cancel, observe)
@@ -388,10 +392,13 @@ impl GeosnapApp {
             _ => dragged,
         };
         let label = match replacing {
-            Some(id) => format!("Move #{}", id.0),
+            Some(id) => format!(
+                "Move {}",
+                super::words::part_name(self.editor.document(), id)
+            ),
             None => format!("Place {noun}"),
         };
-        let unit = self.panels.unit;
+        let unit = self.unit();
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {
                 worker::place(
@@ -426,13 +433,13 @@ impl GeosnapApp {
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let label = format!(
-            "#{} pose {} of {}",
-            id.0,
+            "{} pose {} of {}",
+            super::words::part_name(self.editor.document(), id),
             readings.shown + 1,
             readings.poses.len()
         );
         let dropped = readings.dropped.clone();
-        let unit = self.panels.unit;
+        let unit = self.unit();
         self.workers
             .spawn(label, self.editor.revision(), move |cancel, observe| {
                 worker::place(

@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use glam::DVec2;
 
 use crate::core::model::{
-    DimensionError, Document, Fit, Placed, PrimitiveId, Quantity, RelationId, SessionSettings,
+    DimensionError, Document, Fit, LengthUnit, Placed, PrimitiveId, Quantity, RelationId,
+    SessionSettings,
 };
 use crate::core::relation::Mode;
 use crate::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
@@ -38,6 +39,8 @@ pub struct Editor {
     document: Document,
     /// Snapping, inference and solve settings.
     settings: SessionSettings,
+    /// The unit new work starts in (a preference: the last unit chosen).
+    default_unit: LengthUnit,
     /// Where the session was last saved or opened from.
     path: Option<PathBuf>,
     /// The drawing the work was opened from (a sketch or SVG file), when it is not a
@@ -87,6 +90,49 @@ impl Editor {
     /// The settings, to change (they are preferences, not part of the work's history).
     pub fn settings_mut(&mut self) -> &mut SessionSettings {
         &mut self.settings
+    }
+
+    /// The unit new work starts in (a preference, not part of the work's history).
+    pub fn default_unit(&self) -> LengthUnit {
+        self.default_unit
+    }
+
+    /// Sets the unit new work starts in; the open work keeps its own.
+    pub fn set_default_unit(&mut self, unit: LengthUnit) {
+        self.default_unit = unit;
+    }
+
+    /// Sets the document's unit (one undo step; the numbers stay as they are, what they
+    /// mean changes) and makes it the unit of new work too. Whether it changed.
+    pub fn set_unit(&mut self, unit: LengthUnit) -> bool {
+        self.default_unit = unit;
+        if self.document.unit() == unit {
+            return false;
+        }
+        self.checkpoint(&format!("Lengths in {}", unit.name()));
+        self.document.set_unit(unit);
+        true
+    }
+
+    /// Names part `id` (one undo step); an empty or blank name takes its name away.
+    /// Whether the name changed (a missing part, or the same name, changes nothing).
+    pub fn rename_primitive(&mut self, id: PrimitiveId, name: &str) -> bool {
+        if self.document.get(id).is_none() {
+            return false;
+        }
+        let name = crate::core::model::clean_name(name);
+        if self.document.name(id) == name.as_deref() {
+            return false;
+        }
+        let before = super::words::part_name(&self.document, id);
+        let label = match &name {
+            Some(name) => format!("Rename {before} to “{name}”"),
+            None => format!("Remove the name of {before}"),
+        };
+        self.checkpoint(&label);
+        self.document
+            .set_name(id, name.as_deref().unwrap_or_default());
+        true
     }
 
     /// Where the session was last saved or opened from.
@@ -230,7 +276,10 @@ impl Editor {
         if self.document.get(id).is_none() {
             return false;
         }
-        self.checkpoint(&format!("Delete #{}", id.0));
+        self.checkpoint(&format!(
+            "Delete {}",
+            super::words::part_name(&self.document, id)
+        ));
         self.document.remove(id);
         true
     }
@@ -273,8 +322,8 @@ impl Editor {
             return false;
         }
         self.checkpoint(&format!(
-            "Free #{} {}",
-            id.0,
+            "Free {}'s {}",
+            super::words::part_name(&self.document, id),
             super::words::quantity_name(quantity)
         ));
         self.document.remove_dimension(id, quantity);
@@ -285,7 +334,10 @@ impl Editor {
     pub fn duplicate_primitive(&mut self, id: PrimitiveId) -> Option<PrimitiveId> {
         let primitive = self.document.get(id)?.primitive.clone();
         let offset = primitive.size() * 0.6;
-        self.checkpoint(&format!("Duplicate #{}", id.0));
+        self.checkpoint(&format!(
+            "Duplicate {}",
+            super::words::part_name(&self.document, id)
+        ));
         Some(self.document.add(Placed {
             primitive: primitive.transformed(glam::DVec3::new(offset, 0.0, 0.0), 1.0),
             fit: Fit::default(),
@@ -349,7 +401,8 @@ impl Editor {
         true
     }
 
-    /// Replaces the whole work (opening a file): history cleared, nothing unsaved.
+    /// Replaces the whole work (opening a file): history cleared, nothing unsaved; the
+    /// preferences stay.
     pub fn replace(&mut self, sketch: Sketch, image: Option<PathBuf>, document: Document) {
         let settings = self.settings.clone();
         *self = Self {
@@ -357,9 +410,18 @@ impl Editor {
             image,
             document,
             settings,
+            default_unit: self.default_unit,
             strokes_revision: self.strokes_revision + 1,
             ..Self::default()
         };
+    }
+
+    /// Starts new work on a drawing ([`Self::replace`] with an empty model in the
+    /// default unit).
+    pub fn start(&mut self, sketch: Sketch, image: Option<PathBuf>) {
+        let mut document = Document::new();
+        document.set_unit(self.default_unit);
+        self.replace(sketch, image, document);
     }
 }
 
@@ -367,7 +429,7 @@ impl Editor {
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::Editor;
+    use super::{Document, Editor};
     use crate::core::model::{Fit, Placed};
     use crate::core::primitive::{Primitive, Sphere};
     use crate::core::sketch::StrokeClass;
@@ -396,7 +458,7 @@ mod tests {
         assert!(editor.delete_primitive(id));
         assert!(editor.is_dirty(), "changes are unsaved");
 
-        assert_eq!(editor.undo().as_deref(), Some("Delete #0"));
+        assert_eq!(editor.undo().as_deref(), Some("Delete Sphere 0"));
         assert!(
             editor.document.get(id).is_some(),
             "undo brings the part back"
@@ -496,14 +558,14 @@ mod tests {
             !editor.free_dimension(id, Quantity::Radius),
             "nothing left to free"
         );
-        assert_eq!(editor.undo_label(), Some("Free #0 radius"));
+        assert_eq!(editor.undo_label(), Some("Free Sphere 0's radius"));
 
         let copy = editor.duplicate_primitive(id).expect("the part exists");
         assert_ne!(copy, id);
         assert_eq!(editor.document.len(), 2, "the copy is added");
-        assert_eq!(editor.undo().as_deref(), Some("Duplicate #0"));
+        assert_eq!(editor.undo().as_deref(), Some("Duplicate Sphere 0"));
         assert_eq!(editor.document.len(), 1, "undo takes the copy back");
-        assert_eq!(editor.undo().as_deref(), Some("Free #0 radius"));
+        assert_eq!(editor.undo().as_deref(), Some("Free Sphere 0's radius"));
         assert_eq!(editor.document.dimensions().len(), 1, "fixed again");
     }
 
@@ -517,5 +579,66 @@ mod tests {
             None
         );
         assert_eq!(editor.undo_label(), None, "nothing was recorded");
+    }
+
+    #[test]
+    fn a_rename_is_one_undo_step_and_blank_or_same_names_are_none() {
+        let mut editor = Editor::default();
+        let mut doc = editor.document.clone();
+        let id = doc.add(ball());
+        editor.apply_document("Place sphere", doc);
+        assert!(editor.rename_primitive(id, "  Knob "));
+        assert_eq!(editor.document.name(id), Some("Knob"));
+        assert_eq!(editor.undo_label(), Some("Rename Sphere 0 to “Knob”"));
+        assert!(!editor.rename_primitive(id, "Knob"), "the same name");
+        assert!(!editor.rename_primitive(crate::core::model::PrimitiveId(7), "x"));
+        assert_eq!(editor.undo_label(), Some("Rename Sphere 0 to “Knob”"));
+        assert!(editor.rename_primitive(id, " \t"));
+        assert_eq!(editor.document.name(id), None, "a blank name is no name");
+        assert_eq!(editor.undo_label(), Some("Remove the name of Knob"));
+        assert_eq!(editor.undo().as_deref(), Some("Remove the name of Knob"));
+        assert_eq!(editor.document.name(id), Some("Knob"));
+        assert_eq!(editor.undo().as_deref(), Some("Rename Sphere 0 to “Knob”"));
+        assert_eq!(editor.document.name(id), None);
+        assert_eq!(editor.redo().as_deref(), Some("Rename Sphere 0 to “Knob”"));
+        assert_eq!(editor.document.name(id), Some("Knob"));
+        let long = "ß".repeat(1000);
+        assert!(editor.rename_primitive(id, &long));
+        assert_eq!(
+            editor.document.name(id).map(|n| n.chars().count()),
+            Some(crate::core::model::MAX_NAME_CHARS)
+        );
+        assert!(editor
+            .undo_label()
+            .is_some_and(|l| l.starts_with("Rename Knob to")));
+    }
+
+    #[test]
+    fn the_unit_is_the_documents_undoably_and_new_work_takes_the_last_one() {
+        use crate::core::model::LengthUnit;
+        let mut editor = Editor::default();
+        assert_eq!(editor.document.unit(), LengthUnit::Millimetre);
+        assert!(editor.set_unit(LengthUnit::Inch));
+        assert!(!editor.set_unit(LengthUnit::Inch), "no change");
+        assert!(editor.is_dirty(), "a change of the work");
+        assert_eq!(editor.undo().as_deref(), Some("Lengths in inches"));
+        assert_eq!(editor.document.unit(), LengthUnit::Millimetre);
+        assert_eq!(
+            editor.default_unit(),
+            LengthUnit::Inch,
+            "still the preference"
+        );
+        editor.start(crate::core::sketch::Sketch::default(), None);
+        assert_eq!(editor.document.unit(), LengthUnit::Inch, "new work");
+        assert!(!editor.is_dirty());
+        let mut opened = Document::new();
+        opened.set_unit(LengthUnit::Centimetre);
+        editor.replace(crate::core::sketch::Sketch::default(), None, opened);
+        assert_eq!(
+            editor.document.unit(),
+            LengthUnit::Centimetre,
+            "a file's own"
+        );
+        assert_eq!(editor.default_unit(), LengthUnit::Inch);
     }
 }

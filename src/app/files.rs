@@ -15,7 +15,6 @@ use anyhow::{anyhow, Context as _};
 use super::autosave::{Autosave, Recovery, Work};
 use super::loader::{Content, Loaded, Loading};
 use super::GeosnapApp;
-use crate::core::model::Document;
 use crate::core::sketch::Sketch;
 use crate::io::gltf::{export_gltf, ExportSettings, Origin};
 use crate::io::session::{load_session, save_session, Session};
@@ -206,8 +205,7 @@ impl GeosnapApp {
                 self.readings.clear();
                 self.hidden.clear();
                 self.help.first_run_hint = false;
-                self.editor
-                    .replace(Sketch::default(), None, Document::default());
+                self.editor.start(Sketch::default(), None);
                 self.canvas.image_mut().clear(false);
                 self.selection = None;
                 self.canvas.request_fit();
@@ -348,7 +346,7 @@ impl GeosnapApp {
                 warnings,
             } => {
                 let strokes = sketch.strokes.len();
-                self.editor.replace(sketch, image, Document::default());
+                self.editor.start(sketch, image);
                 self.editor.set_origin(path.to_owned());
                 self.after_replace(ctx);
                 for w in warnings {
@@ -357,6 +355,7 @@ impl GeosnapApp {
                 format!("Opened {} ({strokes} strokes).", path.display())
             }
             Content::Session(session) => {
+                let session = *session;
                 let parts = session.document.len();
                 self.editor
                     .replace(session.sketch, session.image, session.document);
@@ -520,7 +519,7 @@ impl GeosnapApp {
             Origin::Model
         };
         Ok(ExportSettings::new(
-            self.panels.unit.metres() * options.scale,
+            self.unit().metres() * options.scale,
             options.segments,
             origin,
         )?)
@@ -567,7 +566,7 @@ impl GeosnapApp {
                 "Exported {} (in metres: one {} of the drawing is {} m; {} segments around \
                  circles).",
                 path.display(),
-                self.panels.unit.symbol(),
+                self.unit().singular(),
                 settings.metres_per_unit(),
                 settings.segments()
             )),
@@ -582,20 +581,25 @@ impl GeosnapApp {
     /// The export dialog's options and buttons.
     fn export_prompt(&mut self, ui: &mut egui::Ui) {
         ui.heading("Export glTF");
-        let mut unit = self.panels.unit;
+        let busy = self.busy();
+        let mut unit = self.unit();
         egui::Grid::new("export_options")
             .num_columns(2)
             .show(ui, |ui| {
                 let label = ui.label("One drawing unit is one").id;
-                egui::ComboBox::from_id_salt("export_unit")
-                    .selected_text(unit.name())
-                    .show_ui(ui, |ui| {
-                        for u in super::words::Unit::ALL {
-                            ui.selectable_value(&mut unit, u, u.name());
-                        }
-                    })
-                    .response
-                    .labelled_by(label);
+                ui.add_enabled_ui(!busy, |ui| {
+                    egui::ComboBox::from_id_salt("export_unit")
+                        .selected_text(unit.name())
+                        .show_ui(ui, |ui| {
+                            for u in super::words::Unit::ALL {
+                                ui.selectable_value(&mut unit, u, u.name());
+                            }
+                        })
+                        .response
+                        .labelled_by(label)
+                        .on_hover_text(UNIT_HOVER)
+                        .on_disabled_hover_text("Wait for the running solve to change the unit");
+                });
                 ui.end_row();
                 let options = &mut self.files.export;
                 ui.label("Scale");
@@ -625,14 +629,12 @@ impl GeosnapApp {
                 });
                 ui.end_row();
             });
-        if unit != self.panels.unit {
-            self.panels.unit = unit;
-        }
-        let metres = self.panels.unit.metres() * self.files.export.scale;
+        self.set_unit(unit);
+        let metres = self.unit().metres() * self.files.export.scale;
         ui.label(
             egui::RichText::new(format!(
                 "Lengths are written in metres: 1 {} of the drawing becomes {metres} m.",
-                self.panels.unit.symbol()
+                self.unit().symbol()
             ))
             .weak(),
         );
@@ -866,6 +868,11 @@ impl GeosnapApp {
         });
     }
 }
+
+/// What the document's unit means (the unit's hover text in Settings and the export
+/// dialog).
+pub(crate) const UNIT_HOVER: &str = "What one unit of the drawing is: every length is shown \
+     in it, the export converts it to metres, and the session file keeps it";
 
 /// Whether a file dialog that came back empty was never shown (no desktop portal, as
 /// headless): nobody cancels a dialog within a fraction of a second. The typed-path

@@ -19,6 +19,7 @@ pub(crate) enum Action {
     Export,
     Duplicate,
     Delete,
+    Rename,
     Cancel,
     Fit,
     SelectTool,
@@ -105,6 +106,11 @@ pub(crate) const SHORTCUTS: &[Shortcut] = &[
         what: "Delete the selected part",
     },
     Shortcut {
+        action: Action::Rename,
+        keys: &[key(NONE, Key::F2)],
+        what: "Rename the selected part (in the outliner: Enter keeps the name, Esc does not)",
+    },
+    Shortcut {
         action: Action::Cancel,
         keys: &[key(NONE, Key::Escape)],
         what: "Cancel the drag, the solve or the stroke; else deselect",
@@ -181,6 +187,8 @@ pub(crate) enum Place {
     Canvas,
     /// In the 3D view.
     View3d,
+    /// In the outliner (the list of parts).
+    Outliner,
 }
 
 impl Place {
@@ -189,6 +197,7 @@ impl Place {
             Self::Drag => "While dragging a primitive",
             Self::Canvas => "On the drawing",
             Self::View3d => "In the 3D view",
+            Self::Outliner => "In the list of parts",
         }
     }
 }
@@ -221,7 +230,8 @@ pub(crate) const MOUSE: &[MouseControl] = &[
     mouse(
         Place::Drag,
         "Release",
-        "Place it: snapped, or as dragged where no strokes are (off the drawing: nothing)",
+        "Place it: snapped, or as dragged where the strokes do not support it (off the \
+         drawing: nothing)",
     ),
     mouse(
         Place::Drag,
@@ -269,6 +279,12 @@ pub(crate) const MOUSE: &[MouseControl] = &[
     mouse(Place::View3d, "Right or middle drag, Shift + drag", "Pan"),
     mouse(Place::View3d, "Wheel", "Zoom"),
     mouse(Place::View3d, "Double-click", "Fit the model"),
+    mouse(Place::Outliner, "Click", "Select the part"),
+    mouse(
+        Place::Outliner,
+        "Double-click, or right-click and Rename…",
+        "Name the part (Enter keeps the name, Esc does not)",
+    ),
 ];
 
 /// What every keyboard shortcut does, in the order Help → Keyboard shortcuts lists
@@ -325,7 +341,7 @@ fn keys_table(ui: &mut Ui) {
 
 /// The mouse controls of [`MOUSE`], by place, under headings.
 fn mouse_table(ui: &mut Ui) {
-    for place in [Place::Drag, Place::Canvas, Place::View3d] {
+    for place in [Place::Drag, Place::Canvas, Place::View3d, Place::Outliner] {
         ui.heading(place.heading());
         egui::Grid::new(("mouse", place as u8))
             .num_columns(2)
@@ -368,7 +384,9 @@ pub(crate) const HINT_SEEN_KEY: &str = "first_run_hint_seen";
 impl GeosnapApp {
     /// Runs the shortcuts pressed this frame, from [`SHORTCUTS`].
     pub(crate) fn shortcuts(&mut self, ctx: &egui::Context) {
-        let typing = ctx.egui_wants_keyboard_input();
+        // A name being typed keeps the plain keys, Esc included, even on the frame
+        // where egui has already taken the keyboard back from its field.
+        let typing = ctx.egui_wants_keyboard_input() || self.panels.renaming().is_some();
         for shortcut in SHORTCUTS {
             if shortcut.keys.iter().any(|k| pressed(ctx, *k, typing)) {
                 self.run_action(ctx, shortcut.action);
@@ -395,6 +413,11 @@ impl GeosnapApp {
             Action::Export => self.export_dialog(),
             Action::Duplicate => self.duplicate_selected(),
             Action::Delete => self.delete_selected(),
+            Action::Rename => {
+                if let Some(id) = self.selection {
+                    self.start_rename(id);
+                }
+            }
             Action::Cancel => self.escape(),
             Action::Fit => {
                 self.canvas.request_fit();

@@ -63,7 +63,7 @@ pub(crate) enum Content {
         warnings: Vec<String>,
     },
     /// A saved session.
-    Session(Session),
+    Session(Box<Session>),
 }
 
 impl Content {
@@ -156,7 +156,7 @@ fn load(path: &Path, session: bool, step: &dyn Fn(Phase)) -> anyhow::Result<Load
         let session = parse_session(&bytes)
             .or_else(|_| load_session(path))
             .map_err(|e| anyhow!("{e}"))?;
-        Content::Session(session)
+        Content::Session(Box::new(session))
     } else {
         let loaded = load_sketch(path)?;
         if loaded.sketch.strokes.is_empty() {

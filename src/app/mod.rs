@@ -43,7 +43,7 @@ use crate::core::model::{PrimitiveId, RelationId};
 use crate::io::svg::{import_svg, SvgOptions};
 use automation::Automation;
 use canvas::Canvas;
-pub use canvas::{CanvasView, Tool};
+pub use canvas::{verdict_color, CanvasView, Tool};
 pub use drag::{size_under, Drag};
 use editor::Editor;
 use files::Files;
@@ -155,9 +155,17 @@ impl GeosnapApp {
         let ctx = cc.egui_ctx.clone();
         let wake: Wake = Arc::new(move || ctx.request_repaint());
         let mut editor = Editor::default();
+        // New work (the sample included) starts in the unit last chosen.
+        if let Some(unit) = cc
+            .storage
+            .and_then(|s| eframe::get_value::<String>(s, UNIT_KEY))
+            .and_then(|u| words::Unit::from_symbol(&u))
+        {
+            editor.set_default_unit(unit);
+        }
         let mut messages = Vec::new();
         match import_svg(crate::samples::VASE_SVG.as_bytes(), &SvgOptions::default()) {
-            Ok(sample) => editor = Editor::with_sketch(sample.sketch, None),
+            Ok(sample) => editor.start(sample.sketch, None),
             Err(error) => messages.push(Message {
                 text: format!("The built-in sample could not be read: {error}"),
                 warning: true,
@@ -208,13 +216,6 @@ impl GeosnapApp {
             title: String::new(),
         };
         app.status.developer = developer;
-        if let Some(unit) = cc
-            .storage
-            .and_then(|s| eframe::get_value::<String>(s, "unit"))
-            .and_then(|u| words::Unit::from_symbol(&u))
-        {
-            app.panels.unit = unit;
-        }
         if let Some(script) = &options.play {
             match crate::io::script::load_script(script) {
                 Ok(script) => {
@@ -272,6 +273,47 @@ impl GeosnapApp {
         self.hidden.contains(&id)
     }
 
+    /// The part being renamed in the outliner, with the name typed so far.
+    pub fn renaming(&self) -> Option<(PrimitiveId, &str)> {
+        self.panels.renaming()
+    }
+
+    /// The document's unit: every length is shown in it and the export converts it.
+    pub(crate) fn unit(&self) -> words::Unit {
+        self.editor.document().unit()
+    }
+
+    /// Sets the document's unit (one undo step; Settings and the export dialog), not
+    /// while a solve runs (its result would be dropped); new work starts in it too.
+    pub fn set_unit(&mut self, unit: crate::core::model::LengthUnit) {
+        if unit == self.unit() {
+            return;
+        }
+        if self.busy() {
+            self.warn("Wait for the running solve to finish (or press Esc) to change the unit.");
+            return;
+        }
+        if self.editor.set_unit(unit) {
+            self.say(format!(
+                "Lengths are now in {}: the numbers stay as they are, one unit of the \
+                 drawing is one {}.",
+                unit.name(),
+                unit.singular()
+            ));
+        }
+    }
+
+    /// Names part `id` (one undo step; an empty name takes the name away), not while a
+    /// solve runs; whether the rename was done (or had nothing to do).
+    pub fn rename(&mut self, id: PrimitiveId, name: &str) -> bool {
+        if self.busy() {
+            self.warn("Wait for the running solve to finish (or press Esc) to rename a part.");
+            return false;
+        }
+        self.editor.rename_primitive(id, name);
+        true
+    }
+
     /// Sets how long unsaved work waits before it is autosaved (30 s unless set; tests
     /// shorten it).
     pub fn set_autosave_delay(&mut self, delay: Duration) {
@@ -288,6 +330,12 @@ impl GeosnapApp {
     /// their badges, then the relation labels (placed so that none overlaps another).
     pub fn canvas_labels(&self) -> &[egui::Rect] {
         self.canvas.labels()
+    }
+
+    /// The snap verdict badges on the canvas in the last frame: each part's, in the
+    /// colour of its verdict ([`verdict_color`]).
+    pub fn canvas_badges(&self) -> &[(PrimitiveId, egui::Color32)] {
+        self.canvas.badges()
     }
 
     /// The canvas's pan and zoom.
@@ -498,12 +546,12 @@ impl GeosnapApp {
             .unwrap_or_default();
         self.resolve_in_background(
             &format!(
-                "#{} placed at ({:.1}, {:.1}, {:.1}) {}",
-                id.0,
+                "{} placed at ({:.1}, {:.1}, {:.1}) {}",
+                words::part_name(&document, id),
                 c.x,
                 c.y,
                 c.z,
-                self.panels.unit.symbol()
+                self.unit().symbol()
             ),
             document,
             Some(vec![id]),
@@ -557,6 +605,9 @@ impl GeosnapApp {
         )
     }
 }
+
+/// The storage key of the unit new work starts in.
+const UNIT_KEY: &str = "unit";
 
 /// The colour of the window's background: the canvas's paper and the panels'.
 pub(crate) const PAPER: egui::Color32 = egui::Color32::from_rgb(250, 250, 249);
@@ -656,7 +707,7 @@ impl eframe::App for GeosnapApp {
         );
         eframe::set_value(storage, help::HINT_SEEN_KEY, &self.help.hint_seen);
         eframe::set_value(storage, status::DEVELOPER_KEY, &self.status.developer);
-        eframe::set_value(storage, "unit", &self.panels.unit.symbol());
+        eframe::set_value(storage, UNIT_KEY, &self.editor.default_unit().symbol());
     }
 
     fn on_exit(&mut self) {

@@ -12,8 +12,8 @@ use crate::core::model::{PrimitiveId, Quantity};
 use crate::core::primitive::{Primitive, PrimitiveKind};
 use crate::core::relation::{Mode, RelationKind};
 
-/// The panels' own state: the dimension values being typed, and whether the settings
-/// window is open.
+/// The panels' own state: the dimension values being typed, the part being renamed,
+/// and whether the settings window is open.
 #[derive(Debug, Default)]
 pub(crate) struct Panels {
     /// Typed dimension values being edited in the properties panel, by part and
@@ -21,10 +21,30 @@ pub(crate) struct Panels {
     typed: BTreeMap<String, String>,
     /// The relation being made by hand.
     relate: Relate,
+    /// The part whose name is being typed in the outliner.
+    rename: Option<Rename>,
     show_settings: bool,
-    /// The document's unit (a preference: what one sketch unit is).
-    pub(crate) unit: words::Unit,
 }
+
+/// A name being typed in the outliner: Enter (or a click elsewhere) keeps it, Esc
+/// leaves the name as it was.
+#[derive(Debug)]
+struct Rename {
+    id: PrimitiveId,
+    text: String,
+    /// Whether the field is still to take the keyboard (its first frame).
+    focus: bool,
+}
+
+impl Panels {
+    /// The part being renamed, with the name typed so far.
+    pub(crate) fn renaming(&self) -> Option<(PrimitiveId, &str)> {
+        self.rename.as_ref().map(|r| (r.id, r.text.as_str()))
+    }
+}
+
+/// The label of the field a part's name is typed in (its accessible name too).
+pub(crate) const NAME_FIELD: &str = "Name";
 
 impl GeosnapApp {
     #[expect(clippy::too_many_lines, reason = "one menu bar, read top to bottom")]
@@ -150,6 +170,18 @@ impl GeosnapApp {
                             .clicked()
                         {
                             self.delete_selected();
+                        }
+                        if ui
+                            .add_enabled(
+                                selected,
+                                egui::Button::new("Rename…")
+                                    .shortcut_text(keys_text(&ctx, Action::Rename)),
+                            )
+                            .clicked()
+                        {
+                            if let Some(id) = self.selection {
+                                self.start_rename(id);
+                            }
                         }
                         ui.separator();
                         if ui.button("Settings…").clicked() {
@@ -307,6 +339,8 @@ impl GeosnapApp {
                             self.editor.document().len()
                         ))
                         .default_open(true)
+                        // A part being renamed shows its name field.
+                        .open(self.panels.rename.is_some().then_some(true))
                         .show(ui, |ui| self.outliner(ui));
                         egui::CollapsingHeader::new("Properties")
                             .default_open(true)
@@ -324,19 +358,106 @@ impl GeosnapApp {
             });
     }
 
-    /// The parts, one a row: shown or hidden, its name (click selects it) with how its
-    /// snap was judged, and a button that deletes it.
+    /// Starts typing a new name for part `id` in the outliner (F2, a double-click, or
+    /// Rename… in its context menu).
+    pub(crate) fn start_rename(&mut self, id: PrimitiveId) {
+        if self.editor.document().get(id).is_none() {
+            return;
+        }
+        self.selection = Some(id);
+        self.panels.rename = Some(Rename {
+            id,
+            text: self
+                .editor
+                .document()
+                .name(id)
+                .unwrap_or_default()
+                .to_owned(),
+            focus: true,
+        });
+    }
+
+    /// The field a part's new name is typed in, in its outliner row. Enter, or a click
+    /// elsewhere, keeps the name; Esc leaves it as it was.
+    fn rename_field(&mut self, ui: &mut Ui, id: PrimitiveId, placeholder: &str) {
+        let Some(rename) = self.panels.rename.as_mut().filter(|r| r.id == id) else {
+            return;
+        };
+        let edit_id = ui.make_persistent_id(("rename", id.0));
+        let field = egui::TextEdit::singleline(&mut rename.text)
+            .id(edit_id)
+            .hint_text(placeholder)
+            .char_limit(crate::core::model::MAX_NAME_CHARS)
+            .desired_width(ui.available_width().clamp(80.0, 220.0));
+        let label = ui.label(NAME_FIELD).id;
+        let response = ui.add(field).labelled_by(label).on_hover_text(
+            "The part's name: Enter keeps it, Esc leaves the name as it was; an empty \
+             name gives the part back its kind and number",
+        );
+        if rename.focus {
+            rename.focus = false;
+            response.request_focus();
+            response.scroll_to_me(None);
+            // The whole name selected, so typing replaces it.
+            if let Some(mut state) = egui::TextEdit::load_state(ui.ctx(), edit_id) {
+                state.cursor.set_char_range(Some(
+                    egui::text_selection::CCursorRange::select_all_str(&rename.text),
+                ));
+                egui::TextEdit::store_state(ui.ctx(), edit_id, state);
+            }
+            return;
+        }
+        // The field's own focus, not `has_focus`, which also asks that the window have
+        // the system's focus: switching to another window keeps the name being typed.
+        let focused = ui.memory(|m| m.has_focus(response.id));
+        if response.lost_focus() || !focused {
+            let cancelled = ui.input(|i| i.key_pressed(egui::Key::Escape));
+            let text = rename.text.clone();
+            if cancelled || self.rename(id, &text) {
+                self.panels.rename = None;
+            } else {
+                // Busy: the name stays typed, to be kept once the solve is over.
+                response.request_focus();
+            }
+        }
+    }
+
+    /// The parts, one a row: shown or hidden, its name (click selects it, double-click,
+    /// F2 or its context menu renames it) with how its snap was judged, and a button
+    /// that deletes it.
     fn outliner(&mut self, ui: &mut Ui) {
         let document = self.editor.document();
+        if self
+            .panels
+            .rename
+            .as_ref()
+            .is_some_and(|r| document.get(r.id).is_none())
+        {
+            self.panels.rename = None;
+        }
         if document.is_empty() {
             ui.label(RichText::new("No parts yet: drag one from the palette.").weak());
             return;
         }
+        // Each row's part, name, kind and id, and how it was placed.
+        let rows: Vec<(PrimitiveId, String, String, &str)> = document
+            .primitives()
+            .map(|(id, placed)| {
+                let state = match (placed.fit.strokes.is_empty(), placed.fit.verdict) {
+                    (true, _) => " · placed freely",
+                    (false, Some(crate::core::snap::Verdict::Doubtful)) => " · doubtful",
+                    _ => "",
+                };
+                let kind_id = words::kind_id(placed.primitive.kind(), id);
+                (id, words::part_name(document, id), kind_id, state)
+            })
+            .collect();
         let busy = self.busy();
         let mut select = None;
         let mut toggle = None;
         let mut delete = None;
-        for (index, (id, placed)) in document.primitives().enumerate() {
+        let mut rename = None;
+        for (index, (id, name, kind_id, state)) in rows.into_iter().enumerate() {
             ui.horizontal(|ui| {
                 let mut shown = !self.hidden.contains(&id);
                 if ui
@@ -350,20 +471,36 @@ impl GeosnapApp {
                     ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
                 ui.painter()
                     .rect_filled(swatch, 2.0, super::view3d::part_color(index));
-                let name = words::part_name(document, id);
-                let state = match (placed.fit.strokes.is_empty(), placed.fit.verdict) {
-                    (true, _) => " · placed freely",
-                    (false, Some(crate::core::snap::Verdict::Doubtful)) => " · doubtful",
-                    _ => "",
-                };
+                if self.panels.rename.as_ref().is_some_and(|r| r.id == id) {
+                    self.rename_field(ui, id, &kind_id);
+                    return;
+                }
                 let selected = self.selection == Some(id);
-                if ui
-                    .selectable_label(selected, format!("{name}{state}"))
-                    .on_hover_text("Select it")
-                    .clicked()
-                {
+                let row = ui.selectable_label(selected, format!("{name}{state}"));
+                let hover = if name == kind_id {
+                    "Click selects it; double-click or F2 names it".to_owned()
+                } else {
+                    format!("{kind_id}. Click selects it; double-click or F2 renames it")
+                };
+                let row = row.on_hover_text(hover);
+                if row.clicked() {
                     select = Some(id);
                 }
+                if row.double_clicked() {
+                    rename = Some(id);
+                }
+                row.context_menu(|ui| {
+                    let item = egui::Button::new("Rename…")
+                        .shortcut_text(keys_text(ui.ctx(), Action::Rename));
+                    if ui.add(item).clicked() {
+                        rename = Some(id);
+                        ui.close();
+                    }
+                    if ui.add_enabled(!busy, egui::Button::new("Remove")).clicked() {
+                        delete = Some(id);
+                        ui.close();
+                    }
+                });
                 if ui
                     .add_enabled(!busy, egui::Button::new("Remove").small())
                     .on_hover_text(format!("Delete {name}"))
@@ -384,6 +521,9 @@ impl GeosnapApp {
         if let Some(id) = delete {
             self.selection = Some(id);
             self.delete_selected();
+        }
+        if let Some(id) = rename {
+            self.start_rename(id);
         }
     }
 
@@ -604,7 +744,7 @@ impl GeosnapApp {
 
     #[expect(clippy::too_many_lines, reason = "one panel, read top to bottom")]
     fn properties(&mut self, ui: &mut Ui) {
-        let unit = self.panels.unit;
+        let unit = self.unit();
         let Some(id) = self.selection else {
             ui.label(RichText::new("Select a part to see and set its dimensions.").weak());
             return;
@@ -613,8 +753,27 @@ impl GeosnapApp {
             return;
         };
         let p = &placed.primitive;
-        ui.label(RichText::new(format!("#{} {}", id.0, words::kind_title(p.kind()))).strong())
+        let kind_id = words::kind_id(p.kind(), id);
+        ui.horizontal_wrapped(|ui| {
+            match self.editor.document().name(id) {
+                Some(name) => {
+                    ui.label(RichText::new(name).strong());
+                    ui.label(RichText::new(format!("({kind_id})")).weak())
+                }
+                None => ui.label(RichText::new(kind_id.clone()).strong()),
+            }
             .on_hover_text(words::kind_long(p.kind()));
+            if ui
+                .small_button("Rename…")
+                .on_hover_text(format!(
+                    "Name the part in the outliner ({})",
+                    keys_text(ui.ctx(), Action::Rename)
+                ))
+                .clicked()
+            {
+                self.start_rename(id);
+            }
+        });
         self.pose_fields(ui, id, p);
         if placed.fit.strokes.is_empty() {
             ui.label("Placed freely: not snapped to any strokes")
@@ -623,7 +782,7 @@ impl GeosnapApp {
             ui.label(format!(
                 "Fits its {} strokes to {} on average",
                 placed.fit.strokes.len(),
-                words::length(placed.fit.rms, self.panels.unit)
+                words::length(placed.fit.rms, unit)
             ))
             .on_hover_text("The root mean square distance from the strokes to the part's outlines");
         }
@@ -719,15 +878,18 @@ impl GeosnapApp {
             match self.editor.dimension_set(id, quantity, value) {
                 Ok(document) => self.resolve_in_background(
                     &format!(
-                        "#{} {} = {value} {}",
-                        id.0,
+                        "{}'s {} = {value} {}",
+                        words::part_name(self.editor.document(), id),
                         words::quantity_name(quantity),
                         unit.symbol()
                     ),
                     document,
                     Some(vec![id]),
                 ),
-                Err(error) => self.warn(format!("#{}: {error}", id.0)),
+                Err(error) => self.warn(format!(
+                    "{}: {error}",
+                    words::part_name(self.editor.document(), id)
+                )),
             }
         }
         if let Some(quantity) = free {
@@ -788,7 +950,7 @@ impl GeosnapApp {
     /// The part's centre and orientation, each typed in a field: Enter places the part
     /// exactly there ([`super::pose`]) and solves its relations (one undo step).
     fn pose_fields(&mut self, ui: &mut Ui, id: PrimitiveId, p: &Primitive) {
-        let unit = self.panels.unit;
+        let unit = self.unit();
         let centre = p.center();
         let mut moved = None;
         ui.horizontal_wrapped(|ui| {
@@ -837,22 +999,28 @@ impl GeosnapApp {
             .resizable(false)
             .show(ctx, |ui| {
                 ui.heading("Document");
-                let unit = &mut self.panels.unit;
+                let mut unit = self.unit();
+                let busy = self.busy();
                 ui.horizontal(|ui| {
-                    ui.label("Lengths are in");
-                    egui::ComboBox::from_id_salt("document_unit")
-                        .selected_text(unit.name())
-                        .show_ui(ui, |ui| {
-                            for u in words::Unit::ALL {
-                                ui.selectable_value(unit, u, u.name());
-                            }
-                        });
+                    let label = ui.label("Lengths are in").id;
+                    ui.add_enabled_ui(!busy, |ui| {
+                        egui::ComboBox::from_id_salt("document_unit")
+                            .selected_text(unit.name())
+                            .show_ui(ui, |ui| {
+                                for u in words::Unit::ALL {
+                                    ui.selectable_value(&mut unit, u, u.name());
+                                }
+                            })
+                            .response
+                            .labelled_by(label)
+                            .on_disabled_hover_text(
+                                "Wait for the running solve to change the unit",
+                            );
+                    });
                 })
                 .response
-                .on_hover_text(
-                    "What one unit of the drawing is: every length is shown in it, and the \
-                     export converts it to metres",
-                );
+                .on_hover_text(super::files::UNIT_HOVER);
+                self.set_unit(unit);
                 ui.separator();
                 ui.heading("Relation inference");
                 let inference = &mut self.editor.settings_mut().inference;

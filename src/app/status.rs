@@ -206,7 +206,7 @@ impl GeosnapApp {
         let drag = self.drag.as_ref()?;
         let noun = words::kind_noun(drag.kind());
         let what = match drag.replacing {
-            Some(id) => format!("Moving #{}", id.0),
+            Some(id) => format!("Moving {}", words::part_name(self.editor.document(), id)),
             None => format!("Dragging a {noun}"),
         };
         if !drag.over_canvas {

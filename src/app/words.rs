@@ -13,59 +13,9 @@ use crate::core::relation::RelationKind;
 use crate::core::snap::SnapError;
 use crate::core::solve::Termination;
 
-/// The unit of the document's lengths: what one sketch unit is.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) enum Unit {
-    /// Millimetres (the default).
-    #[default]
-    Millimetre,
-    /// Centimetres.
-    Centimetre,
-    /// Metres.
-    Metre,
-    /// Inches.
-    Inch,
-}
-
-impl Unit {
-    /// Every unit, as the menus list them.
-    pub(crate) const ALL: [Self; 4] = [Self::Millimetre, Self::Centimetre, Self::Metre, Self::Inch];
-
-    /// The symbol shown after a length ("mm").
-    pub(crate) fn symbol(self) -> &'static str {
-        match self {
-            Self::Millimetre => "mm",
-            Self::Centimetre => "cm",
-            Self::Metre => "m",
-            Self::Inch => "in",
-        }
-    }
-
-    /// The name in a menu ("millimetres").
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Self::Millimetre => "millimetres",
-            Self::Centimetre => "centimetres",
-            Self::Metre => "metres",
-            Self::Inch => "inches",
-        }
-    }
-
-    /// Metres in one of it.
-    pub(crate) fn metres(self) -> f64 {
-        match self {
-            Self::Millimetre => 0.001,
-            Self::Centimetre => 0.01,
-            Self::Metre => 1.0,
-            Self::Inch => 0.0254,
-        }
-    }
-
-    /// The unit of `symbol`, as [`Self::symbol`] writes it.
-    pub(crate) fn from_symbol(symbol: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
-    }
-}
+/// The unit of the document's lengths: what one sketch unit is (kept by the document,
+/// see [`Document::unit`]).
+pub(crate) use crate::core::model::LengthUnit as Unit;
 
 /// A length in sketch units with its unit: "12.5 mm".
 pub(crate) fn length(value: f64, unit: Unit) -> String {
@@ -180,13 +130,29 @@ pub(crate) fn snap_error(error: &SnapError, developer: bool) -> String {
     }
 }
 
-/// A part as a designer names it: its kind and its id ("Cylinder 2"); "part 2" when it
-/// is not in the model.
+/// A part as a designer names it: the name given to it ("Left leg"), else its kind and
+/// its id ("Cylinder 2"); "part 2" when it is not in the model.
 pub(crate) fn part_name(document: &Document, id: PrimitiveId) -> String {
-    document.get(id).map_or_else(
-        || format!("part {}", id.0),
-        |placed| format!("{} {}", kind_title(placed.primitive.kind()), id.0),
-    )
+    match (document.name(id), document.get(id)) {
+        (Some(name), _) => name.to_owned(),
+        (None, Some(placed)) => kind_id(placed.primitive.kind(), id),
+        (None, None) => format!("part {}", id.0),
+    }
+}
+
+/// A part by its kind and id, whatever its name ("Cylinder 2").
+pub(crate) fn kind_id(kind: PrimitiveKind, id: PrimitiveId) -> String {
+    format!("{} {}", kind_title(kind), id.0)
+}
+
+/// At most `max` characters of `text`, with "…" for what is left out (a long name on
+/// the drawing).
+pub(crate) fn shortened(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        return text.to_owned();
+    }
+    let kept: String = text.chars().take(max.saturating_sub(1)).collect();
+    format!("{}…", kept.trim_end())
 }
 
 /// A feature of a part in words: "Cylinder 2's bottom", "Box 1's top face", "Sphere
@@ -350,7 +316,7 @@ mod tests {
             inferred: None,
         };
         let id = document.add_relation(relation).expect("valid");
-        let relation = document.relation(id).expect("added");
+        let relation = &document.relation(id).expect("added").clone();
         assert_eq!(
             relation_sentence(&document, relation),
             "Sphere 1 is concentric with Sphere 0"
@@ -367,6 +333,31 @@ mod tests {
             "“Sphere 1 is concentric with Sphere 0” was switched off: with it, Sphere 1 \
              collapses (a size of 3.000 becomes 0.001)"
         );
+        // A named part goes by its name, "#" and all.
+        assert!(document.set_name(b, "Knob #0"));
+        assert_eq!(
+            relation_sentence(&document, relation),
+            "Knob #0 is concentric with Sphere 0"
+        );
+        assert_eq!(
+            conflict(&document, Some(relation), message),
+            "“Knob #0 is concentric with Sphere 0” was switched off: with it, Knob #0 \
+             collapses (a size of 3.000 becomes 0.001)"
+        );
+    }
+
+    #[test]
+    fn long_names_are_shortened_on_character_boundaries() {
+        use super::shortened;
+        assert_eq!(shortened("Leg", 5), "Leg");
+        assert_eq!(shortened("Left front leg", 9), "Left fro…");
+        assert_eq!(
+            shortened("Pied de table", 6),
+            "Pied…",
+            "no space before the dots"
+        );
+        assert_eq!(shortened("🪑🪑🪑🪑", 3), "🪑🪑…");
+        assert_eq!(shortened("abc", 0), "…");
     }
 
     #[test]

@@ -475,6 +475,10 @@ pub(crate) fn place(
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
     let mut output = JobOutput::empty();
+    // A part moved keeps the name it was given.
+    let name = replacing
+        .and_then(|old| document.name(old))
+        .map(str::to_owned);
     let (snapped, dropped, readings) = match readings {
         Some(readings) if readings.pose().is_some() => {
             let Some(pose) = readings.pose().cloned() else {
@@ -488,20 +492,23 @@ pub(crate) fn place(
                 let readings = Readings::of(dragged.clone(), &s);
                 (s, dragged.clone(), readings)
             }
-            Err(SnapError::NotEnoughStrokes { .. }) => {
+            Err(SnapError::Cancelled) => {
+                output.cancelled = true;
+                return output;
+            }
+            // Strokes that do not support the part (none, or a fit that runs away from
+            // the drop): it goes where it was dropped, as the drag legend says.
+            Err(error) => {
+                let why = match error {
+                    SnapError::NotEnoughStrokes { .. } => "no strokes here support it".to_owned(),
+                    other => super::words::snap_error(&other, false),
+                };
                 let free = Free {
                     replacing,
-                    why: "no strokes here support it",
+                    name: None,
+                    why: &why,
                 };
                 return place_freely(document, dragged, &free, settings, cancel, observer);
-            }
-            Err(error) => {
-                output.messages.push(format!(
-                    "The {} did not snap: {}. Drop it nearer its strokes.",
-                    super::words::kind_noun(dragged.kind()),
-                    super::words::snap_error(&error, false)
-                ));
-                return output;
             }
         },
     };
@@ -521,11 +528,15 @@ pub(crate) fn place(
             .unwrap_or("nothing in the drawing supports it");
         let free = Free {
             replacing: None,
+            name: name.as_deref(),
             why,
         };
         return place_freely(document, &dropped, &free, settings, cancel, observer);
     }
     let id = document.add_fitted(&snapped, Fit::of(&snapped).judged(&confidence));
+    if let Some(name) = &name {
+        document.set_name(id, name);
+    }
     let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
         output.cancelled = true;
         return output;
@@ -650,6 +661,8 @@ pub fn resolve(
 pub struct Free<'a> {
     /// The part it replaces (a placed part moved).
     pub replacing: Option<PrimitiveId>,
+    /// The name it takes (`None`: the name of the part it replaces, if any).
+    pub name: Option<&'a str>,
     /// Why it was not snapped, in words.
     pub why: &'a str,
 }
@@ -671,6 +684,10 @@ pub fn place_freely(
     cancel: &CancelFlag,
     observer: &mut dyn FnMut(&Iterate<'_>),
 ) -> JobOutput {
+    let name = free
+        .name
+        .or_else(|| free.replacing.and_then(|old| document.name(old)))
+        .map(str::to_owned);
     if let Some(old) = free.replacing {
         document.remove(old);
     }
@@ -678,6 +695,9 @@ pub fn place_freely(
         primitive: dragged.clone(),
         fit: Fit::default(),
     });
+    if let Some(name) = &name {
+        document.set_name(id, name);
+    }
     let Some((relations, outcome)) = release(&mut document, id, settings, cancel, observer) else {
         return JobOutput {
             cancelled: true,

@@ -35,7 +35,7 @@ use clap::{Parser, Subcommand};
 
 use crate::clock::MonotonicClock;
 use crate::core::solve::{hock_schittkowski, AugLagSettings, InnerSolver, Solver, Start};
-use crate::io::gltf::{DEFAULT_METRES_PER_UNIT, DEFAULT_SEGMENTS};
+use crate::io::gltf::DEFAULT_SEGMENTS;
 
 pub use limit::{TimeLimitReached, EXIT_HELP, EXIT_TIME_LIMIT};
 
@@ -89,9 +89,10 @@ pub enum Command {
         /// The file to write: `.glb` (binary) or `.gltf` (JSON, buffer embedded).
         #[arg(long)]
         out: PathBuf,
-        /// Metres per model unit (one sketch unit); the default makes a unit a millimetre.
-        #[arg(long, default_value_t = DEFAULT_METRES_PER_UNIT, allow_negative_numbers = true)]
-        scale: f64,
+        /// Metres per model unit (one sketch unit). By default the model's own `unit`
+        /// decides (a millimetre, 0.001, for a model file without one).
+        #[arg(long, allow_negative_numbers = true)]
+        scale: Option<f64>,
         /// Segments around each circle.
         #[arg(long, default_value_t = DEFAULT_SEGMENTS)]
         segments: usize,

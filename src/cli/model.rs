@@ -8,7 +8,9 @@ use std::time::Duration;
 use crate::clock::MonotonicClock;
 use crate::core::model::{Companions, Conflict, GlobalSettings};
 use crate::core::solve::{Clock, Iterate};
-use crate::io::gltf::{encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin};
+use crate::io::gltf::{
+    encode_gltf, ExportReport, ExportSettings, GltfFormat, Origin, DEFAULT_METRES_PER_UNIT,
+};
 use crate::io::model_file::{load_model, model_bytes, read_model};
 use anyhow::{Context, Result};
 
@@ -139,7 +141,7 @@ fn implied(n: usize) -> String {
 pub(super) fn export(
     model: &Path,
     out: &Path,
-    (scale, segments): (f64, usize),
+    (scale, segments): (Option<f64>, usize),
     deadline: &Deadline,
 ) -> Result<ExitCode> {
     check_outputs(
@@ -150,8 +152,18 @@ pub(super) fn export(
         }],
         &[model],
     )?;
-    let settings = ExportSettings::new(scale, segments, Origin::default())?;
+    // Bad settings are refused before the model is read.
+    let settings = ExportSettings::new(
+        scale.unwrap_or(DEFAULT_METRES_PER_UNIT),
+        segments,
+        Origin::default(),
+    )?;
     let loaded = load_model(model).context("reading the model")?;
+    // Without `--scale`, one model unit is what the model says it is.
+    let settings = match scale {
+        Some(_) => settings,
+        None => ExportSettings::new(loaded.document.unit().metres(), segments, Origin::default())?,
+    };
     deadline.check(|| format!("after reading {}, before exporting it", model.display()))?;
     if std::io::stderr().is_terminal() {
         eprintln!(

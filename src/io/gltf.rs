@@ -17,8 +17,9 @@
 //!   millimetre) and the origin offset `o` of [`Origin`]. The model stays upright and no
 //!   handedness flip is needed.
 //! - **Nodes.** The scene has one root node, `geosnap_model`, whose translation is
-//!   `s · o`; under it one child node per primitive in id order, named kind and id
-//!   ([`node_name`]: `cylinder_3`, `sgc_5`, …). A child's translation and rotation place
+//!   `s · o`; under it one child node per primitive in id order, named by the name its
+//!   designer gave it, else by kind and id ([`node_names`]: `Left leg`, `cylinder_3`,
+//!   `sgc_5`, …; every node's name is its own). A child's translation and rotation place
 //!   its mesh, which is in the primitive's local frame (scale 1): the axis of a cylinder,
 //!   cone or SGC is local +Y and its centre the origin; a cuboid's local axes are its
 //!   edges; a sphere is centred; a BGC's frame has its spine plane as local z = 0 and its
@@ -32,7 +33,8 @@
 //! - **Materials.** One PBR metallic-roughness material per primitive, named like its
 //!   node, dielectric, with a base colour of its own (hues spaced by the golden ratio).
 //! - **`extras`** keep the editable meaning. Each child node: `id`, `kind` and the
-//!   parameters under the model file's field names (formats.md §3), lengths in metres,
+//!   parameters under the model file's field names (formats.md §3, `name` included when
+//!   the part has one), lengths in metres,
 //!   in the root node's frame (model space times `s`, before the origin offset). The
 //!   root node: `format` ([`EXTRAS_FORMAT`]), `version`, `metres_per_unit`,
 //!   `origin_offset_m` (its translation) and `relations`, each with `kind`, `members`
@@ -45,7 +47,7 @@
 //! non-positive size is an [`ExportError`] naming it, and nothing is written. The file
 //! is replaced atomically ([`write_atomic`]).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use glam::{DMat3, DQuat, DVec3};
@@ -299,9 +301,40 @@ pub struct ImportedModel {
     pub metres_per_unit: f64,
 }
 
-/// The name of a primitive's node, mesh and material: kind and id, `cylinder_3`.
+/// The name of an unnamed primitive's node, mesh and material: kind and id,
+/// `cylinder_3`.
 pub fn node_name(kind: PrimitiveKind, id: PrimitiveId) -> String {
     format!("{}_{}", kind.name(), id.0)
+}
+
+/// The node (and mesh and material) name of every primitive of `document`, by id: the
+/// name its designer gave it ([`Document::name`]), else its kind and id ([`node_name`]).
+/// Relations in the extras name their members by node, so no two nodes share a name: a
+/// given name that another node (or the root) already has takes the part's id after it
+/// (two parts called `Leg` become `Leg` and `Leg_4`).
+pub fn node_names(document: &Document) -> BTreeMap<PrimitiveId, String> {
+    let mut taken: BTreeSet<String> = document
+        .primitives()
+        .filter(|(id, _)| document.name(*id).is_none())
+        .map(|(id, p)| node_name(p.primitive.kind(), id))
+        .collect();
+    taken.insert(ROOT_NAME.to_owned());
+    let mut names = BTreeMap::new();
+    for (id, placed) in document.primitives() {
+        let default = node_name(placed.primitive.kind(), id);
+        let name = match document.name(id) {
+            None => default,
+            Some(given) => [given.to_owned(), format!("{given}_{}", id.0)]
+                .into_iter()
+                // One more candidate than names taken: one of them is free.
+                .chain((0..=taken.len()).map(|n| format!("{default}_{n}")))
+                .find(|name| !taken.contains(name))
+                .unwrap_or(default),
+        };
+        taken.insert(name.clone());
+        names.insert(id, name);
+    }
+    names
 }
 
 /// Exports a model as glTF 2.0 to `path`, `.glb` or `.gltf` by its extension (module
@@ -364,9 +397,14 @@ pub fn encode_gltf(
 ) -> Result<(Vec<u8>, ExportReport), ExportError> {
     settings.validate()?;
     let s = settings.metres_per_unit;
+    let mut names = node_names(document);
     let parts = document
         .primitives()
-        .map(|(id, placed)| Part::new(id, &placed.primitive, settings.segments))
+        .map(|(id, placed)| {
+            let node = names.remove(&id).unwrap_or_default();
+            let given = document.name(id).map(str::to_owned);
+            Part::new(id, (node, given), &placed.primitive, settings.segments)
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let offset = match settings.origin {
         Origin::Model => DVec3::ZERO,
@@ -387,7 +425,7 @@ pub fn encode_gltf(
         name: Some(ROOT_NAME.to_owned()),
         children: (!children.is_empty()).then_some(children),
         translation: Some(f32s(offset * s, "the origin offset")?),
-        extras: raw(&model_extras(document, s, offset * s))?,
+        extras: raw(&model_extras(document, &parts, s, offset * s))?,
         ..gj::Node::default()
     });
     let scene = gj::Scene {
@@ -419,7 +457,10 @@ pub fn encode_gltf(
 /// model units (positions relative to the frame, not yet scaled).
 struct Part {
     id: PrimitiveId,
+    /// The node's name ([`node_names`]).
     name: String,
+    /// The name the designer gave the part, if any.
+    given: Option<String>,
     primitive: Primitive,
     center: DVec3,
     rotation: DQuat,
@@ -432,8 +473,12 @@ struct Part {
 }
 
 impl Part {
-    fn new(id: PrimitiveId, primitive: &Primitive, segments: usize) -> Result<Self, ExportError> {
-        let name = node_name(primitive.kind(), id);
+    fn new(
+        id: PrimitiveId,
+        (name, given): (String, Option<String>),
+        primitive: &Primitive,
+        segments: usize,
+    ) -> Result<Self, ExportError> {
         let primitive = primitive.normalized();
         primitive
             .validate()
@@ -450,6 +495,7 @@ impl Part {
         Ok(Self {
             id,
             name,
+            given,
             center,
             rotation,
             positions: mesh
@@ -528,13 +574,14 @@ fn raw(value: &Value) -> Result<gj::Extras, ExportError> {
         .map_err(|source| ExportError::Json { source })
 }
 
-/// The model-level extras: format, scale, offset and relations.
-fn model_extras(document: &Document, s: f64, offset_m: DVec3) -> Value {
+/// The model-level extras: format, scale, offset and relations (members named by
+/// their parts' nodes).
+fn model_extras(document: &Document, parts: &[Part], s: f64, offset_m: DVec3) -> Value {
     let name_of = |id: PrimitiveId| {
-        document.get(id).map_or_else(
-            || format!("missing_{}", id.0),
-            |p| node_name(p.primitive.kind(), id),
-        )
+        parts
+            .iter()
+            .find(|p| p.id == id)
+            .map_or_else(|| format!("missing_{}", id.0), |p| p.name.clone())
     };
     let relations: Vec<Value> = document
         .relations()
@@ -555,6 +602,9 @@ fn node_extras(part: &Part, s: f64) -> Value {
     let mut map = Map::new();
     map.insert("id".into(), json!(part.id.0));
     map.extend(primitive_json(&part.primitive.transformed(DVec3::ZERO, s)));
+    if let Some(given) = &part.given {
+        map.insert("name".into(), json!(given));
+    }
     Value::Object(map)
 }
 
@@ -941,6 +991,9 @@ pub fn parse_gltf_extras(data: &[u8]) -> Result<ImportedModel, ImportError> {
                 fit: Fit::default(),
             },
         );
+        if let Some(given) = value.get("name").and_then(Value::as_str) {
+            document.set_name(id, given);
+        }
     }
     let relations = match model.get("relations") {
         None => &Vec::new(),
@@ -1177,6 +1230,43 @@ mod tests {
         std::fs::remove_file(&path).unwrap();
     }
 
+    /// Given names become node names, each node's its own, and come back on import
+    /// with the relations that name their members by node.
+    #[test]
+    fn node_names_follow_given_names_and_stay_unique() {
+        let mut doc = every_kind();
+        // 0 and 2 alike; 3 takes 1's default name; 4 the root's; 5 stays unnamed.
+        for (id, name) in [
+            (0, "Leg"),
+            (2, "  Leg "),
+            (3, "cone_1"),
+            (4, "geosnap_model"),
+        ] {
+            assert!(doc.set_name(PrimitiveId(id), name));
+        }
+        let names: Vec<String> = super::node_names(&doc).into_values().collect();
+        assert_eq!(
+            names,
+            [
+                "Leg",
+                "cone_1",
+                "Leg_2",
+                "cone_1_3",
+                "geosnap_model_4",
+                "bgc_5"
+            ]
+        );
+        let (bytes, _) =
+            encode_gltf(&doc, GltfFormat::Gltf, &ExportSettings::default()).expect("exports");
+        let back = parse_gltf_extras(&bytes).expect("reads back");
+        assert_eq!(back.document.relations(), doc.relations());
+        for id in 0..6 {
+            let id = PrimitiveId(id);
+            assert_eq!(back.document.name(id), doc.name(id), "{id:?}");
+        }
+        assert_eq!(back.document.name(PrimitiveId(2)), Some("Leg"), "as given");
+    }
+
     #[test]
     fn an_empty_model_is_a_valid_file_with_an_empty_scene_and_a_warning() {
         for format in [GltfFormat::Glb, GltfFormat::Gltf] {
@@ -1224,7 +1314,7 @@ mod tests {
     #[test]
     fn local_meshes_face_outwards_with_unit_normals_and_centred_frames() {
         for (id, placed) in every_kind().primitives() {
-            let part = Part::new(id, &placed.primitive, 24).unwrap();
+            let part = Part::new(id, (String::new(), None), &placed.primitive, 24).unwrap();
             assert!(part
                 .normals
                 .iter()
@@ -1295,7 +1385,7 @@ mod tests {
         let doc = every_kind();
         let parts: Vec<Part> = doc
             .primitives()
-            .map(|(id, p)| Part::new(id, &p.primitive, 16).unwrap())
+            .map(|(id, p)| Part::new(id, (String::new(), None), &p.primitive, 16).unwrap())
             .collect();
         let offset = ground_offset(&parts);
         let (lo, hi) = parts

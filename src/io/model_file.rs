@@ -1,7 +1,7 @@
 //! Model files (`*.model.json`, formats.md §3): the assembled result in model space.
 //!
-//! Field names follow formats.md exactly; geosnap adds `fit` per primitive, the BGC's
-//! `plane_normal`, and the top-level `skipped` list. Reading validates what it reads (unit
+//! Field names follow formats.md exactly; geosnap adds `fit` and `name` per primitive,
+//! the BGC's `plane_normal`, and the top-level `skipped` list and `unit`. Reading validates what it reads (unit
 //! axes, positive sizes, finite numbers, unique ids) and names the offending primitive.
 
 use std::path::{Path, PathBuf};
@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DQuat, DVec3};
 use serde_json::{json, Map, Value};
 
-use crate::core::model::{Document, Fit, Placed, PrimitiveId, Relation, RelationError, Skipped};
+use crate::core::model::{
+    Document, Fit, LengthUnit, Placed, PrimitiveId, Relation, RelationError, Skipped,
+};
 use crate::core::primitive::{
     Bgc, Cone, Cuboid, Cylinder, Feature, Primitive, PrimitiveError, Sgc, Sphere, UNIT_TOLERANCE,
 };
@@ -86,13 +88,14 @@ fn at_prefix(at: Option<Position>) -> String {
 }
 
 /// The fields of a model file (formats.md §3).
-pub const MODEL_FIELDS: [&str; 6] = [
+pub const MODEL_FIELDS: [&str; 7] = [
     "format",
     "version",
     "sketch",
     "primitives",
     "relations",
     "skipped",
+    "unit",
 ];
 /// The fields of a relation (formats.md §3).
 pub const RELATION_FIELDS: [&str; 6] = [
@@ -192,6 +195,9 @@ pub enum PrimitiveReadError {
     /// The `fit.confidence` is not a number in [0, 1] (the JSON found).
     #[error("`fit.confidence` must be a number in [0, 1], not {0}")]
     Confidence(String),
+    /// The `name` is not a text (the JSON found).
+    #[error("`name` must be a text, not {0}")]
+    Name(String),
     /// An object has a field formats.md does not document (the message names it, with a
     /// suggestion for a near miss).
     #[error("{0}")]
@@ -380,6 +386,9 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
             if let Some(step) = placed.fit.step {
                 map.insert("step".into(), json!(step));
             }
+            if let Some(name) = document.name(id) {
+                map.insert("name".into(), json!(name));
+            }
             Value::Object(map)
         })
         .collect();
@@ -393,14 +402,21 @@ pub fn model_json(document: &Document, sketch: &str) -> Value {
         .iter()
         .map(|r| relation_json(r, |m| json!(m.0)))
         .collect();
-    json!({
+    let mut model = json!({
         "format": MODEL_FORMAT,
         "version": MODEL_VERSION,
         "sketch": sketch,
         "primitives": primitives,
         "relations": relations,
         "skipped": skipped,
-    })
+    });
+    // Millimetres, the default, are left unsaid: such a file reads as before.
+    if let (Value::Object(map), unit) = (&mut model, document.unit()) {
+        if unit != LengthUnit::default() {
+            map.insert("unit".into(), json!(unit.symbol()));
+        }
+    }
+    model
 }
 
 /// The bytes of a model file for a document (pretty JSON, ending with a newline).
@@ -610,9 +626,10 @@ pub(crate) fn parse_primitive(v: &Value) -> Result<Primitive, PrimitiveReadError
 /// [`ModelError`] as [`load_model`].
 pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
     let v = json::parse(data)?;
-    let (sketch, primitives, relations, skipped) =
+    let (sketch, unit, primitives, relations, skipped) =
         read_envelope(&v).map_err(|problem| ModelError::Invalid(problem.locate(data)))?;
     let mut document = Document::new();
+    document.set_unit(unit);
     let root = JsonPath::root();
     for (index, p) in primitives.iter().enumerate() {
         let id_text = p.get("id").map_or_else(|| format!("#{index}"), json::shown);
@@ -638,7 +655,11 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
             .map_err(|reason| misspelt(p, reason))
             .map_err(fail)?;
         let fit = parse_fit(p).map_err(fail)?;
+        let name = parse_name(p).map_err(fail)?;
         document.insert(PrimitiveId(id), Placed { primitive, fit });
+        if let Some(name) = name {
+            document.set_name(PrimitiveId(id), name);
+        }
     }
     document.skipped = skipped
         .iter()
@@ -670,11 +691,47 @@ pub fn parse_model(data: &[u8]) -> Result<LoadedModel, ModelError> {
     Ok(LoadedModel { document, sketch })
 }
 
+/// The `name` of primitive `p`, when it has one (formats.md §3): a text, cleaned by
+/// [`Document::set_name`]; `null` is no name.
+fn parse_name(p: &Value) -> Result<Option<&str>, PrimitiveReadError> {
+    match p.get("name") {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::String(name)) => Ok(Some(name)),
+        Some(other) => Err(PrimitiveReadError::Name(json::shown(other))),
+    }
+}
+
+/// The symbols of the units a model file may name (formats.md §3).
+const UNIT_SYMBOLS: [&str; 4] = ["mm", "cm", "m", "in"];
+
+/// The model's `unit` (formats.md §3): millimetres when missing or null.
+fn read_unit(object: &Map<String, Value>) -> Result<LengthUnit, JsonProblem> {
+    let path = JsonPath::root().key("unit");
+    match object.get("unit") {
+        None | Some(Value::Null) => Ok(LengthUnit::default()),
+        Some(Value::String(symbol)) => LengthUnit::from_symbol(symbol).ok_or_else(|| {
+            let shown = json::shown(&Value::String(symbol.clone()));
+            JsonProblem::at(
+                &path,
+                match json::suggest(symbol, &UNIT_SYMBOLS) {
+                    Some(near) => format!("unknown unit {shown}; did you mean \"{near}\"?"),
+                    None => format!("unknown unit {shown} (\"mm\", \"cm\", \"m\" or \"in\")"),
+                },
+            )
+        }),
+        Some(other) => Err(json::wrong_kind(
+            &path,
+            "a unit (\"mm\", \"cm\", \"m\" or \"in\")",
+            other,
+        )),
+    }
+}
+
 /// The lists of a model file.
-type Lists<'v> = (String, &'v [Value], &'v [Value], &'v [Value]);
+type Lists<'v> = (String, LengthUnit, &'v [Value], &'v [Value], &'v [Value]);
 
 /// Checks the top level of a model file and the fields of its relations and skipped
-/// steps; returns the sketch and the lists.
+/// steps; returns the sketch, the unit and the lists.
 fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
     let object = json::root_object(v, "a model file")?;
     json::check_format(object, MODEL_FORMAT)?;
@@ -692,6 +749,7 @@ fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
             ))
         }
     };
+    let unit = read_unit(object)?;
     let list = |field| json::optional_list(object, field, "a list");
     let (primitives, relations, skipped) =
         (list("primitives")?, list("relations")?, list("skipped")?);
@@ -712,12 +770,13 @@ fn read_envelope(v: &Value) -> Result<Lists<'_>, JsonProblem> {
             }
         }
     }
-    Ok((sketch, primitives, relations, skipped))
+    Ok((sketch, unit, primitives, relations, skipped))
 }
 
 /// The fields a primitive of some kind may need.
-const PRIMITIVE_FIELDS: [&str; 12] = [
+const PRIMITIVE_FIELDS: [&str; 13] = [
     "id",
+    "name",
     "kind",
     "center",
     "axis",
@@ -840,7 +899,7 @@ mod tests {
     use glam::DVec2;
 
     use super::{model_json, parse_model};
-    use crate::core::model::{Document, Fit, Placed, Skipped};
+    use crate::core::model::{Document, Fit, LengthUnit, Placed, PrimitiveId, Skipped};
     use crate::core::primitive::{Placement, Primitive, PrimitiveKind};
     use crate::core::sketch::StrokeId;
     use crate::core::snap::Verdict;
@@ -1004,9 +1063,28 @@ mod tests {
             step: 7,
             reason: "no strokes".into(),
         });
+        // Millimetres and no names are left unsaid.
+        let plain = serde_json::to_string(&model_json(&doc, "a.svg")).unwrap();
+        assert!(
+            !plain.contains(r#""unit""#) && !plain.contains(r#""name""#),
+            "{plain}"
+        );
+        assert_eq!(
+            parse_model(plain.as_bytes()).unwrap().document.unit(),
+            LengthUnit::Millimetre
+        );
+        doc.set_unit(LengthUnit::Inch);
+        assert!(doc.set_name(PrimitiveId(1), "Pied de la table ⌀ 12 — «gauche» 🪑"));
+        assert!(doc.set_name(PrimitiveId(4), "\"quoted\" \\ back"));
         let text = serde_json::to_string(&model_json(&doc, "a.svg")).unwrap();
+        assert!(text.contains(r#""unit":"in""#), "{text}");
         let back = parse_model(text.as_bytes()).unwrap();
         assert_eq!(back.sketch, "a.svg");
+        assert_eq!(back.document.unit(), LengthUnit::Inch);
+        for id in 0..6 {
+            let id = PrimitiveId(id);
+            assert_eq!(back.document.name(id), doc.name(id), "{id:?}");
+        }
         assert_eq!(back.document.skipped, doc.skipped);
         for ((_, a), (_, b)) in doc.primitives().zip(back.document.primitives()) {
             let (pa, pb) = (a.primitive.params(), b.primitive.params());
@@ -1028,10 +1106,11 @@ mod tests {
       "format": "geosnap-model",
       "version": 1,
       "sketch": "table.svg",
+      "unit": "cm",
       "primitives": [
         { "id": 0, "kind": "cylinder", "center": [1, 2, 3], "axis": [0, 1, 0], "length": 180.0, "radius": 12.0,
           "fit": { "strokes": [1, 2], "rms": 0.5, "verdict": "doubtful", "confidence": 0.4, "reason": "why" },
-          "step": 0, "colour": "red" },
+          "step": 0, "name": "Left leg", "colour": "red" },
         { "id": 1, "kind": "cone", "center": [0, 0, 0], "axis": [0, 1, 0], "length": 120.0, "radius_bottom": 40.0, "radius_top": 15.0 },
         { "id": 2, "kind": "sphere", "center": [0, 0, 0], "radius": 90.0 },
         { "id": 3, "kind": "cuboid", "center": [0, 0, 0], "axes": [[1,0,0],[0,1,0],[0,0,1]], "size": [200.0, 80.0, 120.0] },
@@ -1052,6 +1131,9 @@ mod tests {
     fn the_example_of_formats_md_with_every_optional_field_reads() {
         let model = parse_model(FORMATS_EXAMPLE.as_bytes()).expect("the documented example reads");
         assert_eq!(model.document.len(), 6);
+        assert_eq!(model.document.unit(), LengthUnit::Centimetre);
+        assert_eq!(model.document.name(PrimitiveId(0)), Some("Left leg"));
+        assert_eq!(model.document.name(PrimitiveId(1)), None);
         assert_eq!(model.document.relations().len(), 2);
         assert_eq!(model.document.skipped.len(), 1);
     }
@@ -1085,6 +1167,27 @@ mod tests {
                 r#""step": 3, "reason""#,
                 r#""step": 3, "reasons""#,
                 "skipped[0].reasons: unknown field `reasons`; did you mean `reason`?",
+            ),
+            (
+                r#""unit": "cm""#,
+                r#""units": "cm""#,
+                "units: unknown field `units`; did you mean `unit`?",
+            ),
+            (
+                r#""unit": "cm""#,
+                r#""unit": "CM""#,
+                r#"unit: unknown unit "CM"; did you mean "cm"?"#,
+            ),
+            (
+                r#""unit": "cm""#,
+                r#""unit": "furlong""#,
+                r#"unit: unknown unit "furlong" ("mm", "cm", "m" or "in")"#,
+            ),
+            (r#""unit": "cm""#, r#""unit": 10"#, "unit: must be a unit"),
+            (
+                r#""name": "Left leg""#,
+                r#""name": ["Left", "leg"]"#,
+                "primitive 0: `name` must be a text",
             ),
         ] {
             let error = refused(&FORMATS_EXAMPLE.replacen(from, to, 1));
@@ -1138,5 +1241,34 @@ mod tests {
         let zero = br#"{"format":"geosnap-model","version":1,"sketch":"s","primitives":[
             {"id":1,"kind":"sphere","center":[0,0,0],"radius":0}]}"#;
         assert!(parse_model(zero).is_err());
+    }
+
+    /// A name is free text: a long or odd one is cleaned and cut, never refused; an
+    /// empty one is no name.
+    #[test]
+    fn odd_names_are_cleaned_not_refused() {
+        let model = |name: &str| {
+            format!(
+                r#"{{"format":"geosnap-model","version":1,"primitives":[{{"id":3,"kind":"sphere","center":[0,0,0],"radius":5,"name":{name}}}]}}"#
+            )
+        };
+        let long = serde_json::to_string(&"ж".repeat(10_000)).unwrap();
+        for (name, expected) in [
+            (
+                long.as_str(),
+                Some("ж".repeat(crate::core::model::MAX_NAME_CHARS)),
+            ),
+            (r#""  \n ""#, None),
+            (r#""""#, None),
+            ("null", None),
+            (r#""tab\there""#, Some("tab here".to_owned())),
+        ] {
+            let back = parse_model(model(name).as_bytes()).expect(name);
+            assert_eq!(
+                back.document.name(PrimitiveId(3)).map(str::to_owned),
+                expected,
+                "{name}"
+            );
+        }
     }
 }

@@ -32,8 +32,9 @@
 //! - `sketch` (required): the object a native sketch file holds
 //!   ([`crate::io::sketch_file`]), including its `image`, relative to the session file.
 //! - `model` (required): the object a model file holds ([`crate::io::model_file`],
-//!   formats.md §3), with relations, their modes and the skipped steps. Its `sketch`
-//!   field is empty: the sketch is the one above.
+//!   formats.md §3), with relations, their modes and the skipped steps, the parts'
+//!   `name`s and the document's `unit` (both optional: no names, millimetres). Its
+//!   `sketch` field is empty: the sketch is the one above.
 //! - `dimensions` (optional, default none): [`Dimension`]s, `quantity` one of
 //!   [`Quantity::name`](crate::core::model::Quantity::name), `value` in model space.
 //! - `snaps` (optional, default none): per part placed by snapping, its own snap's `rms`

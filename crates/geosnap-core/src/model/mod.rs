@@ -13,6 +13,7 @@ mod dimension;
 pub mod reading;
 mod release;
 mod solve;
+mod unit;
 
 use std::collections::BTreeMap;
 
@@ -28,6 +29,7 @@ use crate::solve::SolveContext;
 
 pub use dimension::{Dimension, DimensionError, Quantity};
 pub use solve::{Companions, Conflict, GlobalOutcome, GlobalSettings, WORSENING_FLOOR};
+pub use unit::{clean_name, LengthUnit, MAX_NAME_CHARS};
 
 /// Identifies a primitive of a [`Document`]; ids are never reused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -260,6 +262,11 @@ pub struct Document {
     /// The multipliers of the last global solves by constraint, to warm-start the next
     /// one.
     multipliers: solve::WarmStarts,
+    /// The names designers gave parts (cleaned by [`clean_name`]); a part without one
+    /// has no entry.
+    names: BTreeMap<PrimitiveId, String>,
+    /// What one model unit is.
+    unit: LengthUnit,
 }
 
 impl Document {
@@ -399,7 +406,37 @@ impl Document {
         self.relations.retain(|r| !r.members.contains(&id));
         self.dimensions.retain(|d| d.primitive != id);
         self.snaps.remove(&id);
+        self.names.remove(&id);
         self.primitives.remove(&id)
+    }
+
+    /// The name a designer gave part `id`, if any.
+    pub fn name(&self, id: PrimitiveId) -> Option<&str> {
+        self.names.get(&id).map(String::as_str)
+    }
+
+    /// Names part `id` (`name` is cleaned by [`clean_name`]: an empty or blank name
+    /// takes the name away). Returns whether the part exists; a missing part is left
+    /// unnamed.
+    pub fn set_name(&mut self, id: PrimitiveId, name: &str) -> bool {
+        if !self.primitives.contains_key(&id) {
+            return false;
+        }
+        match clean_name(name) {
+            Some(name) => self.names.insert(id, name),
+            None => self.names.remove(&id),
+        };
+        true
+    }
+
+    /// What one model unit is (millimetres unless set).
+    pub fn unit(&self) -> LengthUnit {
+        self.unit
+    }
+
+    /// Sets what one model unit is; the numbers stay as they are.
+    pub fn set_unit(&mut self, unit: LengthUnit) {
+        self.unit = unit;
     }
 
     /// Adds a relation between primitives of the document and returns its new id. A
@@ -748,7 +785,9 @@ fn entry_whole(entry: &mut [Taken], part: u32) {
 mod tests {
     use glam::DVec3;
 
-    use super::{Document, Fit, Placed, PrimitiveId, Relation, RelationError, RelationId};
+    use super::{
+        Document, Fit, LengthUnit, Placed, PrimitiveId, Relation, RelationError, RelationId,
+    };
     use crate::primitive::{Cylinder, Feature, Primitive, PrimitiveKind, Sphere};
     use crate::relation::{Mode, RelationKind};
 
@@ -954,5 +993,35 @@ mod tests {
         doc.insert(PrimitiveId(10), placed.clone());
         assert_eq!(doc.add(placed), PrimitiveId(11));
         assert_eq!(doc.len(), 4);
+    }
+
+    #[test]
+    fn names_belong_to_their_parts_and_go_with_them() {
+        let placed = Placed {
+            primitive: Primitive::Sphere(Sphere {
+                center: DVec3::ZERO,
+                radius: 1.0,
+            }),
+            fit: Fit::default(),
+        };
+        let mut doc = Document::new();
+        let a = doc.add(placed.clone());
+        let b = doc.add(placed);
+        assert!(doc.set_name(a, "  Knob\n"));
+        assert_eq!(doc.name(a), Some("Knob"), "cleaned");
+        assert_eq!(doc.name(b), None);
+        assert!(!doc.set_name(PrimitiveId(9), "ghost"), "no such part");
+        assert_eq!(doc.name(PrimitiveId(9)), None);
+        let named = doc.clone();
+        assert!(doc.set_name(a, "   "));
+        assert_eq!(doc.name(a), None, "a blank name takes the name away");
+        assert_ne!(doc, named, "names are part of the document");
+        assert!(doc.set_name(a, "Knob"));
+        doc.remove(a);
+        let c = doc.add(doc.get(b).cloned().expect("b"));
+        assert_eq!(doc.name(c), None, "a removed part's name does not linger");
+        assert_eq!(doc.unit(), LengthUnit::Millimetre);
+        doc.set_unit(LengthUnit::Inch);
+        assert_eq!(doc.unit(), LengthUnit::Inch);
     }
 }
