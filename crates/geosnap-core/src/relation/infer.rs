@@ -530,11 +530,10 @@ impl Inference<'_, '_> {
     }
 
     /// Whether `p` nearly holds: within the thresholds widened by the drawing's noise
-    /// ([`Self::settings_for`]), or with its members' tilts moved within what their
-    /// drawn ends show ([`tilt`]).
+    /// ([`Self::settings_for`]). Tilts moved within what the drawn ends show
+    /// ([`Self::within_tilt`]) are weighed apart: they make suggestions only.
     fn holds(&self, p: &Proposal) -> bool {
-        self.settings.enabled(p.kind)
-            && (self.test(p, &self.settings_for(p)) || self.within_tilt(p))
+        self.settings.enabled(p.kind) && self.test(p, &self.settings_for(p))
     }
 
     /// Whether `p` (parallel or coaxial) holds once its members' tilts move within
@@ -650,7 +649,7 @@ impl Inference<'_, '_> {
         // members' tilt slack, not within the thresholds, is at their edge: the drawing
         // does not show it exact, so it is at most a suggestion.
         let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings)
-            .or_else(|| self.holds(&p).then_some(1.0))
+            .or_else(|| (self.holds(&p) || self.within_tilt(&p)).then_some(1.0))
         else {
             return false;
         };
@@ -706,20 +705,33 @@ impl Inference<'_, '_> {
             }
         }
         let mut parallel_somewhere = coaxial;
+        // Parallels that hold only with the tilts moved: weighed after orthogonal, which
+        // a joint drawn square in 3D wins.
+        let mut on_paper = Vec::new();
         for &a in directions(&new_part) {
             for &b in directions(&other_part) {
                 let p = self.pair(RelationKind::Parallel, other, a, b);
-                parallel_somewhere |= self.holds(&p);
-                self.propose(p);
+                if self.holds(&p) {
+                    parallel_somewhere = true;
+                    self.propose(p);
+                } else {
+                    on_paper.push(p);
+                }
             }
         }
         let touching =
             self.hops[other] == Some(1) && self.graph.between(self.new, other) != Contact::Apart;
+        let mut square = false;
         if !parallel_somewhere && touching {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
-                    self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
+                    square |= self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
                 }
+            }
+        }
+        if !square {
+            for p in on_paper {
+                self.propose(p);
             }
         }
         coaxial
