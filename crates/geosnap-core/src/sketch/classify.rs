@@ -664,15 +664,11 @@ impl EllipseFit {
                 .map(|e| refine_ellipse_within(&e, points, options.fit_tolerance))
                 .map(|ellipse| {
                     let mean_radius = (ellipse.semi_major * ellipse.semi_minor).sqrt();
-                    let relative_residual = ellipse.rms_distance(points) / mean_radius;
+                    let (rms, span) = ellipse.rms_distance_and_span(points);
+                    let relative_residual = rms / mean_radius;
                     let (lo, hi) = bounds(points);
                     let size_ratio = ellipse.semi_major / (hi - lo).length().max(f64::MIN_POSITIVE);
-                    (
-                        ellipse,
-                        relative_residual,
-                        size_ratio,
-                        ellipse.angular_span(points),
-                    )
+                    (ellipse, relative_residual, size_ratio, span)
                 }),
         )
     }
