@@ -309,3 +309,80 @@ fn run_shows_progress_on_a_terminal() {
         assert!(text.contains(expected), "expected {expected:?} in: {text}");
     }
 }
+
+/// Acceptance of issue 19: `geosnap run` on a 300-step script shows progress from its
+/// first second. On a terminal (through `script`), the run's first line comes within a
+/// second of the command's start, and the steps are reported one by one as they end,
+/// long before the run would (its time limit cuts it short after a few steps).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_300_step_run_shows_progress_from_its_first_second() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+
+    let available = Command::new("script").arg("--version").output();
+    if !available.is_ok_and(|o| o.status.success()) {
+        eprintln!("`script` is not installed: skipped");
+        return;
+    }
+    let dir = Scratch::new("first-second");
+    let script = dir.long_script(300);
+    let line = format!(
+        "{} run {} --out {} --time-limit 3",
+        env!("CARGO_BIN_EXE_geosnap"),
+        script.display(),
+        dir.path("long.model.json").display()
+    );
+    let started = Instant::now();
+    let mut child = Command::new("script")
+        .args(["-qec", &line, "/dev/null"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("script runs");
+    let output = child.stdout.take().expect("piped");
+    // Each line of the terminal with when it came.
+    let lines: Vec<(Duration, String)> = BufReader::new(output)
+        .lines()
+        .map_while(Result::ok)
+        .map(|l| (started.elapsed(), l))
+        .collect();
+    let ended = started.elapsed();
+    child.wait().expect("script ends");
+    let shown = |what: &str| {
+        lines
+            .iter()
+            .find(|(_, l)| l.contains(what))
+            .map(|(t, _)| *t)
+    };
+    let all = || {
+        lines
+            .iter()
+            .map(|(t, l)| format!("{:6.0} ms  {}", t.as_secs_f64() * 1e3, l.trim_end()))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let first = shown("running 300 step(s)…").unwrap_or_else(|| panic!("no progress: {}", all()));
+    assert!(
+        first < Duration::from_secs(1),
+        "first shown at {first:?}:\n{}",
+        all()
+    );
+    let steps: Vec<Duration> = lines
+        .iter()
+        .filter(|(_, l)| l.contains("/300] step "))
+        .map(|(t, _)| *t)
+        .collect();
+    assert!(steps.len() >= 2, "steps shown:\n{}", all());
+    assert!(
+        steps.windows(2).all(|w| w[0] <= w[1]) && steps[0] + Duration::from_millis(200) < ended,
+        "each step as it ends:\n{}",
+        all()
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|(_, l)| l.contains("time limit of 3 s reached")),
+        "{}",
+        all()
+    );
+}

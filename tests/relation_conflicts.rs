@@ -331,3 +331,50 @@ fn relations_that_would_collapse_a_part_are_a_named_conflict() {
         assert!((5.0..=20.0).contains(&radius), "part {i}: radius {radius}");
     }
 }
+
+/// Issue 19, case 1: a relation without features was read, checked and reported as
+/// enforced without being enforced (parallel and orthogonal rods at 45° stayed at 45°).
+/// It now takes the documented default feature and holds after `solve`; a relation
+/// naming a feature its part does not have is refused with its place, nothing written.
+#[test]
+fn relations_without_features_hold_and_unknown_features_are_refused() {
+    let model = json!({
+        "format": "geosnap-model", "version": 1, "sketch": "none.svg",
+        "primitives": [cylinder(0, 0.0, [0.0, 1.0, 0.0]), cylinder(1, 50.0, [1.0, 1.0, 0.0]),
+                       cylinder(2, 100.0, [-1.0, 1.0, 0.0])],
+        "relations": [{ "kind": "parallel", "members": [0, 1], "mode": "hard" },
+                      { "kind": "orthogonal", "members": [0, 2], "mode": "hard" }]
+    });
+    let (run, _, written) = solve("bare-features", &model);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let solved: Value = serde_json::from_slice(&written.expect("written")).expect("json");
+    for r in solved["relations"].as_array().expect("relations") {
+        assert_eq!(r["features"], json!(["top", "top"]), "{r}");
+        assert_eq!(r["mode"], "hard", "{r}");
+    }
+    let axis = |i: usize| -> [f64; 3] {
+        let a = &solved["primitives"][i]["axis"];
+        [0, 1, 2].map(|k| a[k].as_f64().expect("a number"))
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let parallel = dot(axis(0), axis(1)).abs();
+    let orthogonal = dot(axis(0), axis(2)).abs();
+    assert!(parallel > 1.0 - 1e-5, "parallel holds: {parallel}");
+    assert!(orthogonal < 1e-3, "orthogonal holds: {orthogonal}");
+
+    let mut lid = model;
+    lid["relations"][0]["features"] = json!(["top", "lid"]);
+    let (run, _, written) = solve("unknown-feature", &lid);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "refused: {stderr}");
+    assert!(
+        stderr.contains("relation 0") && stderr.contains("unknown feature `lid`"),
+        "{stderr}"
+    );
+    assert!(written.is_none(), "nothing written");
+}

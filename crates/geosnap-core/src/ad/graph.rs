@@ -270,6 +270,28 @@ impl Graph {
         self.node(Op::SegmentDistance, &ids)
     }
 
+    /// The distance from the fixed point `p` to the polyline through `points`, as one
+    /// node (a segment's node for two points, the constant 0 for fewer): the least of
+    /// its segments' distances ([`Graph::segment_distance`]), with the gradient of the
+    /// nearest segment's, the first on a tie. Its value and gradient are those of folding
+    /// the segments' distances with [`Expr::min`] from first to last, with one node
+    /// instead of 2n − 3, and the square root of most segments spared.
+    pub fn polyline_distance<'g>(&'g self, points: &[[Expr<'g>; 2]], p: glam::DVec2) -> Expr<'g> {
+        match points {
+            [] | [_] => self.constant(0.0),
+            [a, b] => self.segment_distance(*a, *b, p),
+            _ => {
+                let (px, py) = (self.constant(p.x), self.constant(p.y));
+                let ids: Vec<NodeId> = points
+                    .iter()
+                    .flat_map(|q| [q[0].id, q[1].id])
+                    .chain([px.id, py.id])
+                    .collect();
+                self.node(Op::PolylineDistance, &ids)
+            }
+        }
+    }
+
     /// The number of nodes built so far (after sharing and folding).
     pub fn node_count(&self) -> usize {
         self.inner.borrow().nodes.len()

@@ -49,6 +49,11 @@ pub(crate) enum Op {
     /// The Euclidean distance from a point p to the segment from a to b. Arguments:
     /// aₓ, a_y, bₓ, b_y, pₓ, p_y.
     SegmentDistance,
+    /// The Euclidean distance from a point p to the polyline through n ≥ 2 vertices: the
+    /// least of its segments' [`Op::SegmentDistance`]s, the first on a tie, with that
+    /// segment's partials (see [`polyline_distance`]). Arguments: x₀, y₀, …, xₙ₋₁, yₙ₋₁,
+    /// pₓ, p_y.
+    PolylineDistance,
 }
 
 impl Op {
@@ -212,26 +217,16 @@ impl Op {
                 )
             }
             Self::SegmentDistance => {
-                let (ax, ay, bx, by, px, py) =
-                    (args[0], args[1], args[2], args[3], args[4], args[5]);
-                let (ux, uy) = (bx - ax, by - ay);
-                let len2 = ux * ux + uy * uy;
-                let t = if len2 > 0.0 {
-                    (((px - ax) * ux + (py - ay) * uy) / len2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let (qx, qy) = (ax + t * ux, ay + t * uy);
-                let d = (qx - px).hypot(qy - py);
-                let (gx, gy) = if d > 0.0 {
-                    ((qx - px) / d, (qy - py) / d)
-                } else {
-                    (0.0, 0.0)
-                };
-                out!(
-                    d,
-                    [(1.0 - t) * gx, (1.0 - t) * gy, t * gx, t * gy, -gx, -gy]
-                )
+                let foot =
+                    SegmentFoot::of([args[0], args[1]], [args[2], args[3]], [args[4], args[5]]);
+                let d = foot.distance();
+                if PARTIALS {
+                    partials[..6].copy_from_slice(&foot.partials(d));
+                }
+                d
+            }
+            Self::PolylineDistance => {
+                polyline_distance::<PARTIALS>(args.len(), |i| args[i], partials)
             }
         }
     }
@@ -260,7 +255,7 @@ impl Op {
             | Self::Hypot
             | Self::Min
             | Self::Max => Some(2),
-            Self::Sum => None,
+            Self::Sum | Self::PolylineDistance => None,
             Self::EllipseDistance => Some(8),
             Self::SegmentDistance => Some(6),
         }
@@ -270,6 +265,170 @@ impl Op {
     pub(crate) fn is_leaf(self) -> bool {
         matches!(self, Self::Var(_) | Self::Param(_) | Self::Const(_))
     }
+}
+
+/// The closest point q = a + t·(b − a) of a segment to a point p, as
+/// [`Op::SegmentDistance`] and [`Op::PolylineDistance`] compute it.
+#[derive(Clone, Copy, Debug)]
+struct SegmentFoot {
+    /// The fraction along the segment.
+    t: f64,
+    /// q − p.
+    dx: f64,
+    dy: f64,
+}
+
+impl SegmentFoot {
+    #[inline(always)]
+    #[expect(
+        clippy::inline_always,
+        reason = "the innermost step of the tape's distance ops, called per segment"
+    )]
+    fn of([ax, ay]: [f64; 2], [bx, by]: [f64; 2], [px, py]: [f64; 2]) -> Self {
+        let (ux, uy) = (bx - ax, by - ay);
+        let len2 = ux * ux + uy * uy;
+        let t = if len2 > 0.0 {
+            (((px - ax) * ux + (py - ay) * uy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (qx, qy) = (ax + t * ux, ay + t * uy);
+        Self {
+            t,
+            dx: qx - px,
+            dy: qy - py,
+        }
+    }
+
+    /// |q − p|², as a sum of two squares (within a few units in the last place).
+    fn square(&self) -> f64 {
+        self.dx * self.dx + self.dy * self.dy
+    }
+
+    /// |q − p|.
+    fn distance(&self) -> f64 {
+        self.dx.hypot(self.dy)
+    }
+
+    /// The partials of the distance `d` (= [`SegmentFoot::distance`]) with respect to
+    /// aₓ, a_y, bₓ, b_y, pₓ, p_y.
+    fn partials(&self, d: f64) -> [f64; 6] {
+        let t = self.t;
+        let (gx, gy) = if d > 0.0 {
+            (self.dx / d, self.dy / d)
+        } else {
+            (0.0, 0.0)
+        };
+        [(1.0 - t) * gx, (1.0 - t) * gy, t * gx, t * gy, -gx, -gy]
+    }
+}
+
+/// How much larger than the least squared distance a segment's squared distance may be
+/// and its distance still be computed by [`polyline_distance`]: far more than the
+/// rounding of a sum of two squares (a few units in the last place), so that a segment
+/// ruled out is farther than the nearest one by more than the rounding of `hypot`.
+const RULED_OUT: f64 = 1e-9;
+
+/// Below this squared distance no segment is ruled out (the squares may underflow).
+const TINY_SQUARE: f64 = 1e-300;
+
+/// At most this many segments may be within [`RULED_OUT`] of the nearest one in
+/// [`polyline_distance`] (ties at the vertices they share, mostly) before it falls back
+/// to the plain fold.
+const NEAREST: usize = 4;
+
+/// [`Op::PolylineDistance`] of `n` arguments read through `arg`: exactly (value and
+/// partials) what folding the [`Op::SegmentDistance`]s of the segments with [`Op::Min`],
+/// first to last, gives (the first segment wins a tie; a NaN distance wins over the ones
+/// before it), without the square root of most segments.
+///
+/// A segment whose squared distance `dx² + dy²` (of the same foot whose `hypot` the
+/// fold takes) exceeds the least one by more than [`RULED_OUT`] cannot be the nearest,
+/// nor tie with it once rounded, so only the segments within that margin of the least
+/// square are folded, in order. A non-finite square (an overflow, a NaN), or more than
+/// [`NEAREST`] segments within the margin, and every segment is folded as by the ops.
+#[inline]
+pub(crate) fn polyline_distance<const PARTIALS: bool>(
+    n: usize,
+    arg: impl Fn(usize) -> f64,
+    partials: &mut [f64],
+) -> f64 {
+    if PARTIALS {
+        partials.fill(0.0);
+    }
+    let vertices = n.saturating_sub(2) / 2;
+    if vertices < 2 {
+        return 0.0;
+    }
+    let p = [arg(n - 2), arg(n - 1)];
+    let vertex = |i: usize| [arg(2 * i), arg(2 * i + 1)];
+    let limit = |least: f64| least * (1.0 + RULED_OUT) + TINY_SQUARE;
+    // The segments within the margin of the least square so far, in order:
+    // (segment, foot, square).
+    let none = (0, SegmentFoot::of([0.0; 2], [0.0; 2], [0.0; 2]), 0.0);
+    let mut nearest = [none; NEAREST];
+    let mut count = 0;
+    let mut least = f64::INFINITY;
+    let mut plain = false;
+    let mut a = vertex(0);
+    for i in 0..vertices - 1 {
+        let b = vertex(i + 1);
+        let foot = SegmentFoot::of(a, b, p);
+        a = b;
+        let square = foot.square();
+        if !square.is_finite() {
+            plain = true;
+            break;
+        }
+        if square > limit(least) {
+            continue;
+        }
+        if square < least {
+            least = square;
+            let mut kept = 0;
+            for k in 0..count {
+                if nearest[k].2 <= limit(least) {
+                    nearest[kept] = nearest[k];
+                    kept += 1;
+                }
+            }
+            count = kept;
+        }
+        if count == NEAREST {
+            plain = true;
+            break;
+        }
+        nearest[count] = (i, foot, square);
+        count += 1;
+    }
+    // The fold's running minimum: (distance, segment, its foot).
+    let mut best: Option<(f64, usize, SegmentFoot)> = None;
+    let mut fold = |i: usize, foot: SegmentFoot| {
+        let d = foot.distance();
+        // `Op::Min`: the running minimum stays unless it is ≤ the new distance.
+        if best.is_none_or(|(m, ..)| !(m <= d)) {
+            best = Some((d, i, foot));
+        }
+    };
+    if plain {
+        for i in 0..vertices - 1 {
+            fold(i, SegmentFoot::of(vertex(i), vertex(i + 1), p));
+        }
+    } else {
+        for &(i, foot, _) in &nearest[..count] {
+            fold(i, foot);
+        }
+    }
+    let Some((d, i, foot)) = best else {
+        return 0.0;
+    };
+    if PARTIALS {
+        let [dax, day, dbx, dby, dpx, dpy] = foot.partials(d);
+        partials[2 * i..2 * i + 4].copy_from_slice(&[dax, day, dbx, dby]);
+        partials[n - 2] = dpx;
+        partials[n - 1] = dpy;
+    }
+    d
 }
 
 /// The parameter θ of the point of E(θ) = c + A·cos θ + B·sin θ closest to p: the best
@@ -404,6 +563,123 @@ mod tests {
         assert!((flat - 2.0).abs() < 1e-9, "{flat}");
         let seg = Op::SegmentDistance.apply(&[0.0, 0.0, 2.0, 0.0, 3.0, 4.0], None);
         assert!((seg - 17f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// A small deterministic generator of numbers in [0, 1).
+    fn noise(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Value and gradient of the distance from `p` to the polyline of `vertices` (as
+    /// variables), one node or the segments folded with `min` (`fused`).
+    fn polyline_distance(vertices: &[[f64; 2]], p: [f64; 2], fused: bool) -> (f64, Vec<f64>) {
+        use crate::ad::{Graph, Tape};
+        let g = Graph::new();
+        let x: Vec<f64> = vertices.iter().flatten().copied().collect();
+        let vars = g.vars(x.len());
+        let points: Vec<[_; 2]> = vars.chunks(2).map(|c| [c[0], c[1]]).collect();
+        let p = glam::DVec2::from_array(p);
+        let d = if fused {
+            g.polyline_distance(&points, p)
+        } else {
+            points
+                .windows(2)
+                .map(|w| g.segment_distance(w[0], w[1], p))
+                .reduce(crate::ad::Expr::min)
+                .unwrap_or_else(|| g.constant(0.0))
+        };
+        // Through a square, as the snapping objective uses it.
+        let mut tape = Tape::compile(&g, &[d.square() * 0.5 + d]);
+        let mut grad = vec![0.0; x.len()];
+        let value = tape.gradient(&x, &mut grad);
+        (value, grad)
+    }
+
+    #[test]
+    fn a_polyline_distance_is_the_fold_of_its_segments_to_the_bit() {
+        let mut seed = 19;
+        let bits = |(v, g): (f64, Vec<f64>)| {
+            (
+                v.to_bits(),
+                g.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
+            )
+        };
+        let mut cases: Vec<(Vec<[f64; 2]>, [f64; 2])> = Vec::new();
+        for n in [2, 3, 5, 17] {
+            for _ in 0..300 {
+                let mut at = [0.0, 0.0];
+                let vertices: Vec<[f64; 2]> = (0..n)
+                    .map(|_| {
+                        at = [
+                            at[0] + noise(&mut seed) - 0.2,
+                            at[1] + noise(&mut seed) - 0.5,
+                        ];
+                        at
+                    })
+                    .collect();
+                let p = [
+                    noise(&mut seed) * n as f64 - 1.0,
+                    noise(&mut seed) * 2.0 - 1.0,
+                ];
+                cases.push((vertices, p));
+            }
+        }
+        // Ties: a point as far from two segments (symmetric), on a vertex, on a segment,
+        // repeated vertices, a closed outline, and non-finite vertices.
+        let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]];
+        for p in [
+            [0.5, 0.5],
+            [1.0, 0.0],
+            [0.5, 0.0],
+            [2.0, 2.0],
+            [0.5, 0.25],
+            [-1.0, -1.0],
+        ] {
+            cases.push((square.clone(), p));
+        }
+        cases.push((
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0]],
+            [1.0, 1.0],
+        ));
+        cases.push((vec![[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]], [0.0, 0.0]));
+        cases.push((vec![[0.0, 0.0], [1e200, 0.0], [2.0, 1.0]], [1.0, 3.0]));
+        cases.push((
+            vec![[0.0, 0.0], [1.0, f64::NAN], [2.0, 1.0], [3.0, 0.0]],
+            [1.0, 3.0],
+        ));
+        cases.push((
+            vec![[0.0, 0.0], [1.0, 0.0], [2.0, f64::INFINITY]],
+            [1.0, 3.0],
+        ));
+        cases.push((
+            vec![[1e-170, 0.0], [0.0, 1e-170], [-1e-170, 0.0]],
+            [0.0, 0.0],
+        ));
+        // Many segments as near: a hexagon round the point, a stroke retraced five times.
+        let hexagon: Vec<[f64; 2]> = (0..=6)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k) / 6.0;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        cases.push((hexagon, [0.0, 0.0]));
+        let retraced: Vec<[f64; 2]> = (0..11).map(|k| [f64::from(k % 2), 0.0]).collect();
+        cases.push((retraced.clone(), [0.5, 1.0]));
+        cases.push((retraced, [2.0, 1.0]));
+        // A long polyline, with a NaN far along it.
+        let mut long: Vec<[f64; 2]> = (0..40).map(|i| [f64::from(i), 0.0]).collect();
+        cases.push((long.clone(), [36.5, 1.0]));
+        long[35][1] = f64::NAN;
+        cases.push((long.clone(), [36.5, 1.0]));
+        cases.push((long, [3.5, 1.0]));
+        for (vertices, p) in &cases {
+            let fused = polyline_distance(vertices, *p, true);
+            let folded = polyline_distance(vertices, *p, false);
+            assert_eq!(bits(fused), bits(folded), "{vertices:?} from {p:?}");
+        }
     }
 
     #[test]

@@ -229,6 +229,15 @@ impl Tape {
                     }
                     args.iter().map(|&a| self.values[a as usize]).sum()
                 }
+                // So does a polyline's distance, which has as many as its vertices.
+                Op::PolylineDistance => {
+                    let values = &self.values;
+                    super::ops::polyline_distance::<PARTIALS>(
+                        args.len(),
+                        |i| values[args[i] as usize],
+                        &mut self.partials[start..end],
+                    )
+                }
                 op => {
                     for (s, &a) in scratch.iter_mut().zip(args) {
                         *s = self.values[a as usize];

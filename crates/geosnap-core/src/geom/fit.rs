@@ -235,11 +235,24 @@ impl Ellipse2 {
     /// The root mean square of the points' Euclidean distances to the ellipse
     /// (0 for no points).
     pub fn rms_distance(&self, points: &[DVec2]) -> f64 {
+        self.rms_distance_and_span(points).0
+    }
+
+    /// [`Ellipse2::rms_distance`] and [`Ellipse2::angular_span`] of the same points, with
+    /// each point's closest point found once for both.
+    pub fn rms_distance_and_span(&self, points: &[DVec2]) -> (f64, Option<AngularSpan>) {
         if points.is_empty() {
-            return 0.0;
+            return (0.0, None);
         }
-        let sum: f64 = points.iter().map(|&p| self.distance(p).powi(2)).sum();
-        (sum / points.len() as f64).sqrt()
+        let u = self.major_axis();
+        let mut thetas = Vec::with_capacity(points.len());
+        let mut sum = 0.0;
+        for &p in points {
+            let foot = self.foot(u, p);
+            sum += p.distance(foot.point).powi(2);
+            thetas.push(foot.theta);
+        }
+        ((sum / points.len() as f64).sqrt(), span_of(thetas))
     }
 
     /// The arc of the ellipse that `points` cover: each point is mapped to the parameter
@@ -252,24 +265,28 @@ impl Ellipse2 {
     /// fastest near the ends of the minor axis: a quarter of the parameter circle is a
     /// quarter of the ellipse between two vertices, not a quarter of its length.
     pub fn angular_span(&self, points: &[DVec2]) -> Option<AngularSpan> {
-        let mut thetas: Vec<f64> = points.iter().map(|&p| self.closest_point(p).0).collect();
-        thetas.sort_by(f64::total_cmp);
-        let (&first, &last) = (thetas.first()?, thetas.last()?);
-        // The wrap-around gap first, then the gaps between neighbours.
-        let mut gap = first + TAU - last;
-        let mut start = first;
-        for w in thetas.windows(2) {
-            let g = w[1] - w[0];
-            if g > gap {
-                gap = g;
-                start = w[1];
-            }
-        }
-        Some(AngularSpan {
-            start,
-            sweep: (TAU - gap).clamp(0.0, TAU),
-        })
+        self.rms_distance_and_span(points).1
     }
+}
+
+/// The arc of parameters `thetas` cover (see [`Ellipse2::angular_span`]).
+fn span_of(mut thetas: Vec<f64>) -> Option<AngularSpan> {
+    thetas.sort_by(f64::total_cmp);
+    let (&first, &last) = (thetas.first()?, thetas.last()?);
+    // The wrap-around gap first, then the gaps between neighbours.
+    let mut gap = first + TAU - last;
+    let mut start = first;
+    for w in thetas.windows(2) {
+        let g = w[1] - w[0];
+        if g > gap {
+            gap = g;
+            start = w[1];
+        }
+    }
+    Some(AngularSpan {
+        start,
+        sweep: (TAU - gap).clamp(0.0, TAU),
+    })
 }
 
 /// Fits a straight line to `points` by principal component analysis (total least

@@ -326,15 +326,35 @@ fn classify_among(
     };
     let size = sketch.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length());
     let sketch_gap = options.junction_gap_sketch * if size.is_finite() { size } else { 0.0 };
-    candidates.fit_joining(&near, sketch_gap);
+    // The arcs whose ends meet two silhouettes at all, in parallel: the arcs the rule
+    // below may make features are among them (an anchor is a silhouette that may anchor
+    // some arc), and the ellipses of the shallowest of them are fitted before it asks.
+    let may_be: Vec<usize> = (0..analyses.len())
+        .filter(|&i| candidates.may_be(i))
+        .collect();
+    let joining: Vec<usize> = {
+        let joins = parallel::map(&may_be, |&i| {
+            joins_two_silhouettes(
+                &analyses[i],
+                &near,
+                |j| may_anchor(&analyses, j),
+                sketch_gap,
+                options,
+            )
+        });
+        may_be
+            .into_iter()
+            .zip(joins)
+            .filter_map(|(i, joins)| joins.then_some(i))
+            .collect()
+    };
+    candidates.fit_joining(&joining);
     let mut out: Vec<Classification> = analyses.iter().map(|a| a.classification).collect();
-    for (i, a) in analyses.iter().enumerate() {
+    for &i in &joining {
+        let a = &analyses[i];
         // The junctions first: they are cheaper than the ellipse an arc may still need.
         let anchors_it = |j| candidates.anchors(j, a.length);
-        if candidates.may_be(i)
-            && joins_two_silhouettes(a, &near, anchors_it, sketch_gap, options)
-            && candidates.is(i)
-        {
+        if joins_two_silhouettes(a, &near, anchors_it, sketch_gap, options) && candidates.is(i) {
             out[i].class = StrokeClass::Feature;
             out[i].reason = ClassReason::ArcBetweenSilhouettes;
             if let Some(fit) = candidates.fits[i].get() {
@@ -342,15 +362,22 @@ fn classify_among(
             }
         }
     }
-    for (i, a) in analyses.iter().enumerate() {
+    // Elliptical arcs that are outlines after all, each on its own, in parallel.
+    let outlines = parallel::map(&analyses, |a| {
         let c = &a.classification;
-        if c.reason == ClassReason::Ellipse && !c.closes && has_parallel_twin(a, &near, options) {
-            out[i].class = StrokeClass::Silhouette;
-            out[i].reason = ClassReason::ParallelOutline;
+        let arc = c.reason == ClassReason::Ellipse && !c.closes;
+        if arc && hangs_from_a_rim(a, &near, sketch_gap) {
+            Some(ClassReason::OutlineUnderRim)
+        } else if arc && has_parallel_twin(a, &near, options) {
+            Some(ClassReason::ParallelOutline)
+        } else {
+            None
         }
-        if c.reason == ClassReason::Ellipse && !c.closes && hangs_from_a_rim(a, &near, sketch_gap) {
-            out[i].class = StrokeClass::Silhouette;
-            out[i].reason = ClassReason::OutlineUnderRim;
+    });
+    for (c, reason) in out.iter_mut().zip(outlines) {
+        if let Some(reason) = reason {
+            c.class = StrokeClass::Silhouette;
+            c.reason = reason;
         }
     }
     out
@@ -405,30 +432,20 @@ impl<'a> Candidates<'a> {
         self.may_anchor(j) && (arc_length <= self.all[j].length / 2.0 || !self.is(j))
     }
 
-    /// Whether stroke `j` may anchor some arc: an open silhouette.
+    /// Whether stroke `j` may anchor some arc (see [`may_anchor`]).
     fn may_anchor(&self, j: usize) -> bool {
-        self.all.get(j).is_some_and(|a| {
-            let c = &a.classification;
-            c.class == StrokeClass::Silhouette && !c.closes
-        })
+        may_anchor(self.all, j)
     }
 
-    /// Fits, in parallel, the ellipses of the arcs of [`Candidacy::IfItFits`] whose ends
-    /// meet silhouettes as the neighbour rule wants, before it asks for them one by one.
-    /// Any silhouette may anchor here, so every arc the rule will ask about is among
-    /// them.
-    fn fit_joining(&self, near: &Neighbours<'_>, sketch_gap: f64) {
-        let wanted: Vec<usize> = (0..self.all.len())
-            .filter(|&i| {
-                self.candidacy[i] == Candidacy::IfItFits
-                    && joins_two_silhouettes(
-                        &self.all[i],
-                        near,
-                        |j| self.may_anchor(j),
-                        sketch_gap,
-                        self.options,
-                    )
-            })
+    /// Fits, in parallel, the ellipses of the arcs of [`Candidacy::IfItFits`] among
+    /// `joining`, the arcs whose ends meet silhouettes as the neighbour rule wants (any
+    /// silhouette that may anchor some arc), before it asks for them one by one: every
+    /// arc the rule will ask about is among them.
+    fn fit_joining(&self, joining: &[usize]) {
+        let wanted: Vec<usize> = joining
+            .iter()
+            .copied()
+            .filter(|&i| self.candidacy[i] == Candidacy::IfItFits)
             .collect();
         let fits = parallel::map(&wanted, |&i| {
             EllipseFit::of(&self.all[i].points, self.options)
@@ -438,6 +455,14 @@ impl<'a> Candidates<'a> {
             let _ = self.fits[i].set(fit);
         }
     }
+}
+
+/// Whether stroke `j` of `all` may anchor some arc: an open silhouette.
+fn may_anchor(all: &[Analysis], j: usize) -> bool {
+    all.get(j).is_some_and(|a| {
+        let c = &a.classification;
+        c.class == StrokeClass::Silhouette && !c.closes
+    })
 }
 
 /// The strokes of a sketch as the neighbour rules see them, with an index of their
@@ -664,15 +689,11 @@ impl EllipseFit {
                 .map(|e| refine_ellipse_within(&e, points, options.fit_tolerance))
                 .map(|ellipse| {
                     let mean_radius = (ellipse.semi_major * ellipse.semi_minor).sqrt();
-                    let relative_residual = ellipse.rms_distance(points) / mean_radius;
+                    let (rms, span) = ellipse.rms_distance_and_span(points);
+                    let relative_residual = rms / mean_radius;
                     let (lo, hi) = bounds(points);
                     let size_ratio = ellipse.semi_major / (hi - lo).length().max(f64::MIN_POSITIVE);
-                    (
-                        ellipse,
-                        relative_residual,
-                        size_ratio,
-                        ellipse.angular_span(points),
-                    )
+                    (ellipse, relative_residual, size_ratio, span)
                 }),
         )
     }

@@ -206,14 +206,22 @@ pub(crate) fn assign_within(
     }
     lo -= DVec2::splat(gate);
     hi += DVec2::splat(gate);
-    let lengths: Vec<f64> = curves.iter().map(|c| curve_length(&c.curve)).collect();
+    let reaches: Vec<Reach> = curves
+        .iter()
+        .zip(&caps)
+        .map(|(c, cap)| Reach {
+            length: curve_length(&c.curve),
+            gate: curve_gate(&c.curve, gate).min(*cap),
+            bounds: curve_bounds(&c.curve),
+        })
+        .collect();
     let mut scored: Vec<Vec<(f64, AssignedStroke)>> = vec![Vec::new(); curves.len()];
     for stroke in &context.strokes {
         let (slo, shi) = stroke.bounds;
         if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
             continue;
         }
-        for (score, k, c) in pieces(stroke, curves, &lengths, gate, &caps) {
+        for (score, k, c) in pieces(stroke, curves, &reaches) {
             scored[k].push((score, c));
         }
     }
@@ -238,17 +246,15 @@ pub(crate) fn assign_within(
 fn pieces(
     stroke: &SnapStroke,
     curves: &[ProjectedCurve<f64>],
-    lengths: &[f64],
-    gate: f64,
-    caps: &[f64],
+    reaches: &[Reach],
 ) -> Vec<(f64, usize, AssignedStroke)> {
     let samples = subsample(&stroke.points);
     let mut candidates: Vec<Piece> = Vec::new();
-    for (k, curve) in curves.iter().enumerate() {
-        if !curve.visible {
+    for (k, (curve, reach)) in curves.iter().zip(reaches).enumerate() {
+        if !curve.visible || reach.beyond(stroke.bounds) {
             continue;
         }
-        if let Some(piece) = candidate(stroke, &samples, k, curve, lengths[k], gate, caps[k]) {
+        if let Some(piece) = candidate(stroke, &samples, k, curve, reach) {
             candidates.push(piece);
         }
     }
@@ -281,11 +287,9 @@ fn candidate(
     samples: &[DVec2],
     k: usize,
     curve: &ProjectedCurve<f64>,
-    length: f64,
-    gate: f64,
-    cap: f64,
+    reach: &Reach,
 ) -> Option<Piece> {
-    let gate = curve_gate(&curve.curve, gate).min(cap);
+    let (gate, length) = (reach.gate, reach.length);
     let d: Vec<f64> = samples
         .iter()
         .map(|p| curve_distance(&curve.curve, *p))
@@ -322,6 +326,28 @@ fn candidate(
         indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
         distances: d,
     })
+}
+
+/// How far a curve reaches for strokes: its gate (`curve_gate`, within its outline cap),
+/// its length and its bounds.
+struct Reach {
+    length: f64,
+    gate: f64,
+    bounds: (DVec2, DVec2),
+}
+
+impl Reach {
+    /// Whether every point within `bounds` (a stroke's) lies beyond the gate of the
+    /// curve: the gap between the two boxes exceeds it, with a margin far above the
+    /// rounding of a measured distance. No sample of such a stroke can be near the curve,
+    /// so [`candidate`] would find nothing; measuring its distances (an ellipse's costs
+    /// a search) is spared.
+    fn beyond(&self, (lo, hi): (DVec2, DVec2)) -> bool {
+        let (clo, chi) = self.bounds;
+        let gap = (clo - hi).max(lo - chi).max(DVec2::ZERO);
+        let scale = clo.abs().max(chi.abs()).max_element() + self.gate;
+        gap.length() > self.gate + 1e-9 * scale
+    }
 }
 
 /// The pieces accepted from candidates sorted best first: the best alone when it is the

@@ -125,8 +125,8 @@ fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f
         } else {
             2.5
         };
-        let rms = fit.rms_distance(&points);
-        let covered = fit.angular_span(&points).map_or(0.0, |s| s.sweep);
+        let (rms, span) = fit.rms_distance_and_span(&points);
+        let covered = span.map_or(0.0, |s| s.sweep);
         if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
             out.push(Drawn {
                 ellipse: fit,

@@ -84,12 +84,8 @@ fn distance<'g>(g: &'g Graph, curve: &Curve2<Expr<'g>>, p: DVec2) -> Expr<'g> {
             g.ellipse_distance(center.to_array(), a.to_array(), b.to_array(), p)
         }
         Curve2::Polyline(points) => {
-            let mut best: Option<Expr<'g>> = None;
-            for w in points.windows(2) {
-                let d = g.segment_distance(w[0].to_array(), w[1].to_array(), p);
-                best = Some(best.map_or(d, |m| m.min(d)));
-            }
-            best.unwrap_or_else(|| g.constant(0.0))
+            let points: Vec<[Expr<'g>; 2]> = points.iter().map(|q| q.to_array()).collect();
+            g.polyline_distance(&points, p)
         }
     }
 }
