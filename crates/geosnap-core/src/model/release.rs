@@ -109,14 +109,15 @@ impl Document {
         let sizes: Vec<Measures> = ids
             .iter()
             .zip(&placed)
-            .map(|(id, p)| {
+            .zip(&features)
+            .map(|((id, p), f)| {
                 let size = p.primitive.size();
                 let noise = if size > 0.0 { p.fit.rms / size } else { 0.0 };
                 Measures {
                     kind: p.primitive.kind(),
                     size,
                     noise,
-                    tilt: self.tilt_slack(*id),
+                    tilt: self.tilt_slack(*id, f),
                 }
             })
             .collect();
@@ -176,8 +177,9 @@ impl Document {
     /// left open by its strokes ([`tilt::slack`]): a solid of revolution's axis is pinned
     /// by whichever of its ends is drawn, a bent tube's ends each by their own; a part
     /// with no end drawn leaves its tilt free. Parts placed without strokes, and parts
-    /// without ends, have none.
-    fn tilt_slack(&self, id: PrimitiveId) -> [f64; 2] {
+    /// without ends, have none. `features` are the part's feature curves at its current
+    /// pose (computed once per release for every part).
+    fn tilt_slack(&self, id: PrimitiveId, features: &[FeatureCurve<f64>]) -> [f64; 2] {
         let (Some(placed), Some(record)) = (self.primitives.get(&id), self.snaps.get(&id)) else {
             return [0.0; 2];
         };
@@ -189,7 +191,6 @@ impl Document {
             return [0.0; 2];
         }
         let drawn = DrawnEnds::of(p, &record.assignment);
-        let features = p.current_shape().features;
         let radius = |feature: Feature, end: EndDrawn| {
             (end != EndDrawn::Blank)
                 .then(|| {
