@@ -82,13 +82,14 @@ use serde::Deserialize;
 
 /// The target: at least this fraction of the intended relations between placed
 /// parts is found among the enforced or suggested relations (pooled over all sketches).
-/// Not met yet (0.67): most misses are parts whose own snap is off (the lego studs lean
-/// 29° from their brick, cups of one design snapped 15 % apart in length), which no
-/// relation test can pass. It is printed; [`RECALL_FLOOR`] is asserted.
+/// Not met yet (0.82): most misses are parts whose own snap is off (cups of one design
+/// snapped 15 % apart in length, a lego stud snapped 35 % wider than the others, tubes
+/// on the ball whose snapped depths put them 74° apart), which no relation test can
+/// pass. It is printed; [`RECALL_FLOOR`] is asserted.
 const RECALL_TARGET: f64 = 0.85;
 /// The recall asserted: today's, less a little; a floor against regressions, not the
 /// goal.
-const RECALL_FLOOR: f64 = 0.62;
+const RECALL_FLOOR: f64 = 0.79;
 /// The target: at most this fraction of the hard relations is unwanted (neither
 /// intended nor acceptable, directly or through a chain; pooled over all sketches).
 const UNWANTED_HARD_CEILING: f64 = 0.03;

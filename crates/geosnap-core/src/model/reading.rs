@@ -128,6 +128,85 @@ impl DrawnEnds {
     }
 }
 
+/// A drawn silhouette shorter than this many times its samples' spread across it is a
+/// blob, not a line: it shows no direction.
+const LINE_ASPECT: f64 = 3.0;
+
+/// Which way the side outlines of a cylinder or cone run on the paper, read off the
+/// strokes of its snap (`assignment`, one entry per projected curve): the principal
+/// direction of each silhouette's samples, weighted by their extent and turned to point
+/// along the part's projected axis. `None` for other kinds, for a part whose silhouettes
+/// have no strokes, or strokes too short for their spread to show a direction.
+///
+/// A freehand drawing can disagree with itself: an end ellipse drawn slanted leans the
+/// snapped part, while its side lines stand up straight. This is what the side lines
+/// say.
+pub fn drawn_axis(primitive: &Primitive, assignment: &Assignment) -> Option<DVec2> {
+    let axis = match primitive {
+        Primitive::Cylinder(c) => c.axis,
+        Primitive::Cone(c) => c.axis,
+        _ => return None,
+    }
+    .truncate();
+    let shape = primitive.current_shape();
+    let mut sum = DVec2::ZERO;
+    for (k, curve) in shape.curves.iter().enumerate() {
+        if curve.class != CurveClass::Silhouette {
+            continue;
+        }
+        let samples: Vec<DVec2> = assignment
+            .curves
+            .get(k)
+            .into_iter()
+            .flatten()
+            .flat_map(|a| a.samples.iter().copied())
+            .collect();
+        if let Some((direction, extent)) = principal_line(&samples) {
+            let toward = if direction.dot(axis) < 0.0 {
+                -direction
+            } else {
+                direction
+            };
+            sum += toward * extent;
+        }
+    }
+    (sum.length() > 0.0).then(|| sum.normalize())
+}
+
+/// The principal direction of `points` and their extent along it, when they lie along a
+/// line ([`LINE_ASPECT`]); `None` for fewer than two points or a blob.
+fn principal_line(points: &[DVec2]) -> Option<(DVec2, f64)> {
+    if points.len() < 2 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec2>() / n;
+    let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let d = *p - mean;
+        xx += d.x * d.x;
+        xy += d.x * d.y;
+        yy += d.y * d.y;
+    }
+    // The larger eigenvector of the 2×2 scatter [[xx, xy], [xy, yy]].
+    let angle = 0.5 * (2.0 * xy).atan2(xx - yy);
+    let direction = DVec2::from_angle(angle);
+    let across = direction.perp();
+    let (lo, hi) = points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+        let t = (*p - mean).dot(direction);
+        (lo.min(t), hi.max(t))
+    });
+    let extent = hi - lo;
+    let spread = (points
+        .iter()
+        .map(|p| (*p - mean).dot(across).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    (extent.is_finite() && extent > LINE_ASPECT * spread && extent > 0.0)
+        .then_some((direction, extent))
+}
+
 /// Strokes along the ellipses of a solid of revolution `p` as a person draws it: the
 /// `top` whole, the `bottom` on its half away from the top only (or whole when
 /// `hidden`), each curve its own stroke.
@@ -169,10 +248,10 @@ pub(crate) fn drawn(p: &Primitive, hidden: bool) -> Assignment {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
+    use glam::{DVec2, DVec3};
 
-    use super::{drawn, DrawnEnds, EndDrawn};
-    use crate::primitive::{Cylinder, Primitive};
+    use super::{drawn, drawn_axis, DrawnEnds, EndDrawn};
+    use crate::primitive::{CurveClass, Cylinder, Primitive};
 
     /// A can leaning its top towards the viewer.
     fn can() -> Primitive {
@@ -182,6 +261,31 @@ mod tests {
             length: 40.0,
             radius: 10.0,
         })
+    }
+
+    #[test]
+    fn the_side_lines_give_the_drawn_axis() {
+        let p = can();
+        let axis = drawn_axis(&p, &drawn(&p, false)).expect("side lines drawn");
+        let along = DVec2::new(0.0, 1.0);
+        assert!(axis.dot(along) > 0.9999, "{axis}");
+        // Side lines drawn upright under ends drawn leaning: the side lines speak.
+        let leaning = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.4, 0.8, 0.44).normalize(),
+            length: 40.0,
+            radius: 10.0,
+        });
+        let axis = drawn_axis(&leaning, &drawn(&p, false)).expect("side lines drawn");
+        assert!(axis.dot(along) > 0.9999, "{axis}");
+        // No side lines, no direction.
+        let mut bare = drawn(&p, false);
+        for (k, c) in p.current_shape().curves.iter().enumerate() {
+            if c.class == CurveClass::Silhouette {
+                bare.curves[k].clear();
+            }
+        }
+        assert_eq!(drawn_axis(&p, &bare), None);
     }
 
     #[test]

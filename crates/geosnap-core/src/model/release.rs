@@ -20,9 +20,9 @@
 
 use std::collections::BTreeMap;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use super::reading::{DrawnEnds, EndDrawn};
+use super::reading::{drawn_axis, DrawnEnds, EndDrawn};
 use super::{
     Companions, Document, GlobalOutcome, GlobalSettings, PrimitiveId, Relation, RelationId,
 };
@@ -110,16 +110,7 @@ impl Document {
             .iter()
             .zip(&placed)
             .zip(&features)
-            .map(|((id, p), f)| {
-                let size = p.primitive.size();
-                let noise = if size > 0.0 { p.fit.rms / size } else { 0.0 };
-                Measures {
-                    kind: p.primitive.kind(),
-                    size,
-                    noise,
-                    tilt: self.tilt_slack(*id, f),
-                }
-            })
+            .map(|((id, p), f)| self.measures(*id, p, f))
             .collect();
         let existing = self.known_proposals(&ids, &features);
         let snapped = self.primitives[&id].primitive.clone();
@@ -171,6 +162,31 @@ impl Document {
             placed.primitive = chosen;
         }
         self.add_inferred(&ids, found)
+    }
+
+    /// What inference reads of part `id` (`placed`, with its feature curves
+    /// `features`) besides its curves.
+    fn measures(
+        &self,
+        id: PrimitiveId,
+        placed: &super::Placed,
+        features: &[FeatureCurve<f64>],
+    ) -> Measures {
+        let size = placed.primitive.size();
+        Measures {
+            kind: placed.primitive.kind(),
+            size,
+            noise: if size > 0.0 {
+                placed.fit.rms / size
+            } else {
+                0.0
+            },
+            tilt: self.tilt_slack(id, features),
+            drawn_axis: self
+                .snaps
+                .get(&id)
+                .and_then(|r| drawn_axis(&placed.primitive, &r.assignment)),
+        }
     }
 
     /// How far the depth components of part `id`'s end normals (`bottom`, `top`) are
@@ -471,13 +487,14 @@ impl Document {
     }
 }
 
-/// What inference reads of a part besides its curves: its kind, size, noise and tilt
-/// slack (see [`Part`]).
+/// What inference reads of a part besides its curves: its kind, size, noise, tilt
+/// slack and the direction its side lines are drawn in (see [`Part`]).
 struct Measures {
     kind: PrimitiveKind,
     size: f64,
     noise: f64,
     tilt: [f64; 2],
+    drawn_axis: Option<DVec2>,
 }
 
 /// The parts as inference sees them: each one's measures, feature curves and outline, in
@@ -498,6 +515,7 @@ fn parts_of<'a>(
             size: m.size,
             noise: m.noise,
             tilt: m.tilt,
+            drawn_axis: m.drawn_axis,
         })
         .collect()
 }

@@ -97,7 +97,8 @@ pub struct Evidence {
     /// stacked on each other (legs, prongs, candles).
     pub repeated: bool,
     /// How far inside its thresholds the relation holds, as a fraction of them (0
-    /// exact, 1 at the edge).
+    /// exact, 1 at the edge); above 1 for a part standing on a face drawn leaning
+    /// ([`super::standing`]): its angle as a multiple of the angle threshold.
     pub closeness: f64,
     /// The drawing's noise for these parts: their largest fit RMS relative to their
     /// size, in the relative units of the thresholds.
@@ -121,6 +122,14 @@ impl Evidence {
         });
         let within = if self.closeness <= 0.0 {
             "exactly".to_owned()
+        } else if self.closeness > 1.0 {
+            // A part standing on a face, drawn leaning (`super::standing`).
+            return format!(
+                "{}; {} only {:.1}× past its threshold: the drawing leans it",
+                parts.join("; "),
+                kind.name().replace('_', " "),
+                self.closeness
+            );
         } else {
             format!("to {:.0} % of its threshold", 100.0 * self.closeness)
         };
@@ -158,6 +167,9 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
         // Outlines crossing at a right angle with no end on the other are most often
         // parts drawn one behind the other.
         RelationKind::Orthogonal if joint => 0.85,
+        // Alike parts on one hub (tubes on a ball, spokes): square is a common layout,
+        // not a sure one.
+        RelationKind::Orthogonal if repeated => HUB_SQUARE,
         RelationKind::Orthogonal => 0.2,
         RelationKind::Concentric | RelationKind::OnSphere if joint => 0.9,
         RelationKind::Concentric | RelationKind::OnSphere => 0.4,
@@ -174,6 +186,13 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
 /// The prior of a relation between alike parts further apart than
 /// [`super::infer::MAX_HOPS`] joints: under the hard tier, over the suggestion tier.
 const FAR_REPEATED: f64 = 0.5;
+
+/// The prior of orthogonal between alike parts joined to one same part (inference
+/// proposes it between those only when they do not touch each other): a ball's tubes, a
+/// hub's spokes. Their directions are as often at other angles (a star of five, legs
+/// splayed under a stool), so even exact it is worth a suggestion, never a hard
+/// relation by the default tiers.
+const HUB_SQUARE: f64 = 0.55;
 
 /// The relative error a drawing of this `noise` leaves a relation that holds exactly
 /// in the design: twice the noise.

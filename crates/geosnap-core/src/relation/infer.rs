@@ -39,7 +39,10 @@ use std::collections::{BTreeSet, HashMap};
 
 use super::contact::{ContactGraph, Outline};
 use super::evidence::{confidence, prior, Contact, Evidence, Inferred};
-use super::{closeness_by, coplanar, holds, tilt, InferenceSettings, Member, Mode, RelationKind};
+use super::{
+    closeness_by, coplanar, holds, standing, tilt, InferenceSettings, Member, Mode, RelationKind,
+    MIN_PROJECTED_AXIS,
+};
 use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
 
 /// How many joints apart two parts may be and still be related: a table's leg reaches
@@ -82,6 +85,10 @@ pub struct Part<'a> {
     /// and still match the drawing ([`tilt::slack`]; 0 for parts without ends, and for
     /// parts placed without strokes).
     pub tilt: [f64; 2],
+    /// The direction its side lines are drawn in on the paper, where they show one
+    /// ([`crate::model::reading::drawn_axis`]); `None` where none is drawn (or the part
+    /// was placed without strokes).
+    pub drawn_axis: Option<glam::DVec2>,
 }
 
 impl Part<'_> {
@@ -653,9 +660,80 @@ impl Inference<'_, '_> {
         else {
             return false;
         };
+        self.keep(p, closeness, false)
+    }
+
+    /// How far inside the thresholds widened for a part standing on a face
+    /// ([`standing`]) `p` holds, as a fraction of them; `None` where it fails there too.
+    fn standing_fraction(&self, p: &Proposal) -> Option<f64> {
+        if !self.drawn_standing(p) {
+            return None;
+        }
+        let wide = standing::settings(&self.settings_for(p));
+        closeness_by(|s| self.test(p, s), &wide)
+    }
+
+    /// Whether the drawing leaves a member of the pair `p` standing up from the other:
+    /// its side lines are not drawn, or drawn along the other member's normal on the
+    /// paper within the angle threshold (or that normal points nearly at the viewer),
+    /// so that its end ellipse alone leans it
+    /// ([`standing`]). Side lines drawn leaning (a tripod's legs under a camera) show
+    /// the lean meant.
+    fn drawn_standing(&self, p: &Proposal) -> bool {
+        if p.members.len() != 2 {
+            return false;
+        }
+        let sin = self.settings.angle_degrees.to_radians().sin();
+        (0..2).any(|i| {
+            let (stander, base) = (self.parts[p.members[i]], self.parts[p.members[1 - i]]);
+            if !matches!(p.features[i], Some(Feature::Top | Feature::Bottom)) {
+                return false;
+            }
+            let Some(feature) = p.features[1 - i] else {
+                return false;
+            };
+            let Some(drawn) = stander.drawn_axis else {
+                return true;
+            };
+            plane_of(&base, feature).is_some_and(|(_, normal)| {
+                // A face seen nearly face on shows no direction for its normal on the
+                // paper: the side lines cannot disagree with it.
+                let n = normal.truncate();
+                n.length() < MIN_PROJECTED_AXIS || drawn.perp_dot(n.normalize()).abs() <= sin
+            })
+        })
+    }
+
+    /// Weighs `p` between a part and the face one of its ends sits on, leaning beyond
+    /// the angle threshold ([`standing`]): kept as a suggestion at most, if it holds
+    /// with the angle widened, is confident enough and says something new; whether it
+    /// was kept.
+    fn propose_standing(&mut self, p: Proposal) -> bool {
+        if !self.settings.enabled(p.kind) {
+            return false;
+        }
+        let Some(fraction) = self.standing_fraction(&p) else {
+            return false;
+        };
+        let closeness = standing::closeness(fraction, self.settings).max(1.0);
+        self.keep(p, closeness, true)
+    }
+
+    /// Whether the new part and `other` meet with an end on a face and one of them
+    /// has ends: a part that may stand on the other ([`standing`]).
+    fn stands_on(&self, other: usize) -> bool {
+        self.hops[other] == Some(1)
+            && self.graph.between(self.new, other) == Contact::EndOnFace
+            && !(ends(&self.parts[self.new]).is_empty() && ends(&self.parts[other]).is_empty())
+    }
+
+    /// Keeps `p`, which holds to `closeness` of its thresholds, hard or as a suggestion
+    /// by its confidence (a suggestion at most when `at_most_suggested`), if it says
+    /// something new; whether it was kept.
+    fn keep(&mut self, p: Proposal, closeness: f64, at_most_suggested: bool) -> bool {
         let evidence = self.evidence(&p, closeness);
         let confidence = confidence(&evidence, self.threshold(p.kind));
-        let mode = if confidence >= self.settings.hard_confidence() {
+        let mode = if confidence >= self.settings.hard_confidence() && !at_most_suggested {
             if !self.enforced.add(self.parts, &p) {
                 return false;
             }
@@ -691,7 +769,8 @@ impl Inference<'_, '_> {
 
     /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
     /// some direction is parallel and only between parts that touch in the drawing (at a
-    /// joint, or crossing).
+    /// joint, or crossing) or repeat one another on one hub; then, for a part standing
+    /// on the other's face, parallel leaning ([`standing`]).
     /// Returns whether the parts are coaxial.
     fn axes(&mut self, other: usize) -> bool {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
@@ -721,17 +800,38 @@ impl Inference<'_, '_> {
         }
         let touching =
             self.hops[other] == Some(1) && self.graph.between(self.new, other) != Contact::Apart;
-        let mut square = false;
-        if !parallel_somewhere && touching {
+        // Alike parts on one hub (tubes on a ball): square is a layout, weakly.
+        let on_one_hub =
+            self.repeated(self.new, other) && self.graph.share_a_joint(self.new, other);
+        let mut square = Vec::new();
+        if !parallel_somewhere && (touching || on_one_hub) {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
-                    square |= self.propose(self.pair(RelationKind::Orthogonal, other, a, b));
+                    if self.propose(self.pair(RelationKind::Orthogonal, other, a, b)) {
+                        square.push((a, b));
+                    }
                 }
             }
         }
-        if !square {
+        if square.is_empty() {
             for p in on_paper {
-                self.propose(p);
+                parallel_somewhere |= self.propose(p);
+            }
+        }
+        if !parallel_somewhere && self.stands_on(other) {
+            // Standing up from the face, drawn leaning: the pair of directions nearest
+            // each other, unless it was just found square.
+            let best = directions(&new_part)
+                .iter()
+                .flat_map(|&a| directions(&other_part).iter().map(move |&b| (a, b)))
+                .filter(|pair| !square.contains(pair))
+                .filter_map(|(a, b)| {
+                    let p = self.pair(RelationKind::Parallel, other, a, b);
+                    self.standing_fraction(&p).map(|f| (f, p))
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            if let Some((_, p)) = best {
+                self.propose_standing(p);
             }
         }
         coaxial
@@ -771,19 +871,61 @@ impl Inference<'_, '_> {
         }
         // At most one plane per pair of parts: a leg's top drawn inside a table top's
         // outline lies, in the drawing, within both faces of the top, but it can meet
-        // one only. The faces in contact (outward normals opposed: a leg's top under
-        // the table's underside, a stud's bottom on a brick's top) win, then the pair
-        // whose centres are nearer in the drawing.
+        // one only.
+        let plane = self.meeting_planes(
+            other,
+            // One axis and one centre: one plane already.
+            |a, b| coaxial && centred.contains(&(a, b)),
+            Self::holds,
+        );
+        if let Some(p) = plane {
+            self.propose(p);
+        } else if self.stands_on(other) {
+            // The end of one sitting on the other's face, drawn leaning: the two
+            // facing each other (outward normals opposed), as sitting on it asks.
+            let plane = self.meeting_planes(
+                other,
+                |_, _| false,
+                |inference, p| inference.facing(p) && inference.standing_fraction(p).is_some(),
+            );
+            if let Some(p) = plane {
+                self.propose_standing(p);
+            }
+        }
+    }
+
+    /// Whether the two flat features of `p` face each other: outward normals opposed.
+    fn facing(&self, p: &Proposal) -> bool {
+        let normal = |i: usize| {
+            p.features[i].and_then(|f| plane_of(&self.parts[p.members[i]], f).map(|(_, n)| n))
+        };
+        p.members.len() == 2
+            && matches!((normal(0), normal(1)), (Some(a), Some(b)) if a.dot(b) < 0.0)
+    }
+
+    /// The coplanar candidate between a plane `a` of the new part and a plane `b` of
+    /// `other` (pairs `skip` names left out) that `test` passes, tried both ways round
+    /// (the tests ask for the second centre inside the first outline): of those, the
+    /// faces in contact (outward normals opposed: a leg's top under the table's
+    /// underside, a stud's bottom on a brick's top) first, then the pair whose centres
+    /// are nearer in the drawing.
+    fn meeting_planes(
+        &self,
+        other: usize,
+        skip: impl Fn(Feature, Feature) -> bool,
+        test: impl Fn(&Self, &Proposal) -> bool,
+    ) -> Option<Proposal> {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
         let mut planar: Vec<(bool, f64, Proposal)> = Vec::new();
         for &a in planes(&new_part) {
             for &b in planes(&other_part) {
-                if coaxial && centred.contains(&(a, b)) {
-                    continue; // one axis and one centre: one plane already
+                if skip(a, b) {
+                    continue;
                 }
                 let p = self.pair(RelationKind::Coplanar, other, a, b);
-                let p = if self.holds(&p.clone().swapped()) {
+                let p = if test(self, &p.clone().swapped()) {
                     p.swapped()
-                } else if self.holds(&p) {
+                } else if test(self, &p) {
                     p
                 } else {
                     continue;
@@ -797,9 +939,7 @@ impl Inference<'_, '_> {
             }
         }
         planar.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.total_cmp(&y.1)));
-        if let Some((_, _, p)) = planar.into_iter().next() {
-            self.propose(p);
-        }
+        planar.into_iter().next().map(|(_, _, p)| p)
     }
 
     /// Whole solids: equal lengths, and a tube on a ball either way round.
@@ -868,7 +1008,7 @@ impl Proposal {
 
 #[cfg(test)]
 mod tests {
-    use glam::{DQuat, DVec3};
+    use glam::{DQuat, DVec2, DVec3};
 
     use super::{infer, Found, Part, Proposal};
     use crate::primitive::{Axis, Bgc, Cuboid, Cylinder, Feature, FeatureCurve, Primitive};
@@ -884,6 +1024,26 @@ mod tests {
 
     /// As [`place_all_found`], with each part's tilt slack (`bottom`, `top`).
     fn place_all_tilted(primitives: &[Primitive], tilts: &[[f64; 2]]) -> Vec<Found> {
+        let drawn: Vec<Option<DVec2>> = primitives.iter().map(side_lines).collect();
+        place_all_drawn(primitives, tilts, &drawn)
+    }
+
+    /// The direction a cylinder's or cone's side lines run on the paper when drawn as
+    /// it is.
+    fn side_lines(p: &Primitive) -> Option<DVec2> {
+        match p {
+            Primitive::Cylinder(c) => c.axis.truncate().try_normalize(),
+            Primitive::Cone(c) => c.axis.truncate().try_normalize(),
+            _ => None,
+        }
+    }
+
+    /// As [`place_all_tilted`], with the direction each part's side lines are drawn in.
+    fn place_all_drawn(
+        primitives: &[Primitive],
+        tilts: &[[f64; 2]],
+        drawn: &[Option<DVec2>],
+    ) -> Vec<Found> {
         let features: Vec<Vec<FeatureCurve<f64>>> = primitives
             .iter()
             .map(|p| p.current_shape().features)
@@ -894,13 +1054,15 @@ mod tests {
             .zip(&features)
             .zip(&outlines)
             .zip(tilts)
-            .map(|(((p, f), o), tilt)| Part {
+            .zip(drawn)
+            .map(|((((p, f), o), tilt), drawn_axis)| Part {
                 kind: p.kind(),
                 features: f,
                 outline: o,
                 size: p.size(),
                 noise: 0.005,
                 tilt: *tilt,
+                drawn_axis: *drawn_axis,
             })
             .collect();
         let mut found: Vec<Found> = Vec::new();
@@ -1117,6 +1279,138 @@ mod tests {
         assert_eq!(
             on.features,
             vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)]
+        );
+    }
+
+    /// A brick seen from above at a slant, and a stud on its top face leaning `lean`
+    /// (radians) off the face's normal towards the brick's side.
+    fn brick_and_leaning_stud(lean: f64) -> [Primitive; 2] {
+        let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let up = view * DVec3::Y;
+        let axis = view * DVec3::new(lean.sin(), lean.cos(), 0.0);
+        let brick = Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: view,
+            size: DVec3::new(80.0, 20.0, 40.0),
+        });
+        let bottom = up * 10.0 + view * DVec3::new(25.0, 0.0, 10.0);
+        let stud = Primitive::Cylinder(Cylinder {
+            center: bottom + axis * 3.0,
+            axis,
+            length: 6.0,
+            radius: 5.0,
+        });
+        [brick, stud]
+    }
+
+    /// Places the brick and a stud leaning `lean` (radians) whose side lines are drawn
+    /// upright on the brick (`upright`) or as the stud leans.
+    fn place_stud(lean: f64, upright: bool) -> Vec<Found> {
+        let parts = brick_and_leaning_stud(lean);
+        let up = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6) * DVec3::Y;
+        let sides = if upright {
+            up.truncate().try_normalize()
+        } else {
+            side_lines(&parts[1])
+        };
+        place_all_drawn(&parts, &[[0.0; 2]; 2], &[None, sides])
+    }
+
+    #[test]
+    fn a_stud_drawn_leaning_on_the_brick_is_suggested_upright_on_it() {
+        let found = place_stud(25f64.to_radians(), true);
+        let of = |kind| found.iter().find(|f| f.proposal.kind == kind);
+        let upright = of(RelationKind::Parallel).expect("parallel suggested");
+        assert_eq!(upright.mode, Mode::Suggested, "{found:#?}");
+        assert_eq!(
+            upright.proposal.features[0..2],
+            [Some(Feature::Top), Some(Feature::face(Axis::Y, true))]
+        );
+        assert!(upright.inferred.evidence.closeness > 1.0, "{upright:#?}");
+        assert!(upright
+            .inferred
+            .evidence
+            .describe(RelationKind::Parallel)
+            .contains("leans"));
+        let on = of(RelationKind::Coplanar).expect("coplanar suggested");
+        assert_eq!(on.mode, Mode::Suggested, "{found:#?}");
+        assert!(on.proposal.features.contains(&Some(Feature::Bottom)));
+        assert!(on
+            .proposal
+            .features
+            .contains(&Some(Feature::face(Axis::Y, true))));
+        // Side lines drawn leaning as its end: meant leaning (a tripod's legs).
+        let leaning = place_stud(25f64.to_radians(), false);
+        assert!(
+            leaning.iter().all(|f| !matches!(
+                f.proposal.kind,
+                RelationKind::Parallel | RelationKind::Coplanar
+            )),
+            "{leaning:#?}"
+        );
+        // Within the threshold it is hard, as before.
+        let straight = place_all_found(&brick_and_leaning_stud(3f64.to_radians()));
+        assert!(straight
+            .iter()
+            .any(|f| f.proposal.kind == RelationKind::Parallel && f.mode == Mode::Hard));
+    }
+
+    #[test]
+    fn a_part_lying_on_the_face_is_not_suggested_upright() {
+        let found = place_stud(60f64.to_radians(), true);
+        assert!(
+            found.iter().all(|f| !(matches!(
+                f.proposal.kind,
+                RelationKind::Parallel | RelationKind::Coplanar
+            ) && f
+                .proposal
+                .features
+                .contains(&Some(Feature::face(Axis::Y, true))))),
+            "{found:#?}"
+        );
+    }
+
+    #[test]
+    fn tubes_square_on_one_ball_are_suggested_orthogonal() {
+        let ball = Primitive::Sphere(crate::primitive::Sphere {
+            center: DVec3::ZERO,
+            radius: 20.0,
+        });
+        let tube = |axis: DVec3| {
+            let axis = axis.normalize();
+            Primitive::Cylinder(Cylinder {
+                center: axis * 35.0,
+                axis,
+                length: 30.0,
+                radius: 6.0,
+            })
+        };
+        let found = place_all_found(&[
+            ball,
+            tube(DVec3::new(1.0, 0.0, 0.3)),
+            tube(DVec3::new(0.0, 1.0, 0.0)),
+        ]);
+        let square = found
+            .iter()
+            .find(|f| f.proposal.kind == RelationKind::Orthogonal)
+            .expect("orthogonal suggested");
+        assert_eq!(square.mode, Mode::Suggested, "{found:#?}");
+        assert!(square.inferred.evidence.repeated);
+        assert_eq!(square.inferred.evidence.hops, 2);
+        // At another angle (a star of five): nothing.
+        let found = place_all_found(&[
+            Primitive::Sphere(crate::primitive::Sphere {
+                center: DVec3::ZERO,
+                radius: 20.0,
+            }),
+            tube(DVec3::new(1.0, 0.0, 0.0)),
+            tube(DVec3::new(0.31, 0.95, 0.0)),
+        ]);
+        assert!(
+            found
+                .iter()
+                .all(|f| f.proposal.kind != RelationKind::Orthogonal),
+            "{found:#?}"
         );
     }
 

@@ -41,6 +41,7 @@ pub mod on_sphere;
 pub mod orthogonal;
 pub mod parallel;
 pub mod same_radius;
+pub mod standing;
 pub mod tilt;
 
 use serde::{Deserialize, Serialize};
@@ -375,6 +376,19 @@ impl InferenceSettings {
             radius: self.radius * s,
             length: self.length * s,
             noise: self.noise * s,
+            ..self.clone()
+        }
+    }
+
+    /// These settings with the angle threshold `degrees` (in (0, 90); kept as it is
+    /// otherwise), everything else as it is.
+    pub(crate) fn with_angle(&self, degrees: f64) -> Self {
+        Self {
+            angle_degrees: if degrees > 0.0 && degrees < 90.0 {
+                degrees
+            } else {
+                self.angle_degrees
+            },
             ..self.clone()
         }
     }
