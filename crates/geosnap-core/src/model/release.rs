@@ -28,7 +28,7 @@ use super::{
 };
 use crate::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive, PrimitiveKind};
 use crate::relation::contact::{ContactGraph, Outline};
-use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal};
+use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal, ALIKE_HOPS};
 use crate::relation::{residuals, tilt, InferenceSettings, Member, Mode};
 
 /// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
@@ -106,7 +106,7 @@ impl Document {
             .map(|p| p.primitive.current_shape().features)
             .collect();
         let outlines: Vec<Outline> = placed.iter().map(|p| Outline::of(&p.primitive)).collect();
-        let sizes: Vec<Measures> = ids
+        let mut sizes: Vec<Measures> = ids
             .iter()
             .zip(&placed)
             .zip(&features)
@@ -121,6 +121,15 @@ impl Document {
         // A mirror image in depth draws the same outline: one contact graph serves every
         // variant and the pass over the parts the new one joins.
         let graph = ContactGraph::new(&parts_of(&sizes, &features, &outlines), settings.distance());
+        // The lengths' spreads of the parts equal lengths may be inferred with: the new
+        // part and the alike parts within reach.
+        let reach = graph.hops_from(new, ALIKE_HOPS);
+        let kind = sizes[new].kind;
+        for (i, m) in sizes.iter_mut().enumerate() {
+            if i == new || (m.kind == kind && reach[i].is_some()) {
+                m.length_spread = self.length_spread(ids[i]);
+            }
+        }
         let mut best: Option<(i32, Primitive, Vec<Found>)> = None;
         for variant in depth_variants(&snapped) {
             let reading = drawn.map_or(0, |d| d.agreement(&variant));
@@ -186,7 +195,27 @@ impl Document {
                 .snaps
                 .get(&id)
                 .and_then(|r| drawn_axis(&placed.primitive, &r.assignment)),
+            length_spread: 0.0,
         }
+    }
+
+    /// How loosely the strokes of part `id` pin its length: one standard deviation,
+    /// relative ([`crate::snap::Spread::length`] of its snap's fit at its current pose);
+    /// 0 where not known (no snap, a kind without a straight length, a fit whose
+    /// curvature cannot be read). It costs a fit's curvature, so a release asks it only
+    /// of the parts it may relate lengths of.
+    fn length_spread(&self, id: PrimitiveId) -> f64 {
+        let (Some(placed), Some(record)) = (self.primitives.get(&id), self.snaps.get(&id)) else {
+            return 0.0;
+        };
+        if !matches!(
+            placed.primitive.kind(),
+            PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc
+        ) {
+            return 0.0;
+        }
+        crate::snap::spread_of(&placed.primitive, &record.assignment, record.rms)
+            .map_or(0.0, |s| s.length)
     }
 
     /// How far the depth components of part `id`'s end normals (`bottom`, `top`) are
@@ -495,6 +524,7 @@ struct Measures {
     noise: f64,
     tilt: [f64; 2],
     drawn_axis: Option<DVec2>,
+    length_spread: f64,
 }
 
 /// The parts as inference sees them: each one's measures, feature curves and outline, in
@@ -516,6 +546,7 @@ fn parts_of<'a>(
             noise: m.noise,
             tilt: m.tilt,
             drawn_axis: m.drawn_axis,
+            length_spread: m.length_spread,
         })
         .collect()
 }

@@ -33,6 +33,22 @@ pub(super) fn holds(m: &[Member<'_, f64>], settings: &InferenceSettings) -> bool
     settings.same_size(l1, l2, settings.length)
 }
 
+/// Whether the two members' lengths are one within what their strokes pin: `spread`
+/// holds each member's one-standard-deviation error of its length, relative to it (as
+/// the snap's fit leaves it; infinite where the strokes do not pin it), and the
+/// difference must lie within [`super::evidence::NOISE_ERRORS`] combined deviations.
+/// False where a member has no two ends, or no spread is known (0).
+pub(super) fn within_spread(m: &[Member<'_, f64>], spread: [f64; 2]) -> bool {
+    let (Ok(l1), Ok(l2)) = (length(m, 0), length(m, 1)) else {
+        return false;
+    };
+    if spread.iter().any(|s| s.is_nan() || *s <= 0.0) {
+        return false;
+    }
+    let deviation = (spread[0] * l1).hypot(spread[1] * l2);
+    (l1 - l2).abs() <= super::evidence::NOISE_ERRORS * deviation
+}
+
 #[cfg(test)]
 mod tests {
     use glam::DVec3;
@@ -40,6 +56,34 @@ mod tests {
     use super::super::testing::{features, invariant_psi};
     use super::super::{holds, InferenceSettings, Member, RelationKind};
     use crate::primitive::{Cylinder, Primitive, Sphere};
+
+    #[test]
+    fn lengths_the_strokes_leave_open_may_be_one() {
+        let leg = |l: f64| {
+            features(&Primitive::Cylinder(Cylinder {
+                center: DVec3::ZERO,
+                axis: DVec3::Y,
+                length: l,
+                radius: 2.0,
+            }))
+        };
+        let (a, b) = (leg(100.0), leg(120.0));
+        let m = [
+            Member {
+                features: &a,
+                feature: None,
+            },
+            Member {
+                features: &b,
+                feature: None,
+            },
+        ];
+        // 20 apart: within two deviations of ±10 % each, not of ±2 %.
+        assert!(super::within_spread(&m, [0.1, 0.1]));
+        assert!(!super::within_spread(&m, [0.02, 0.02]));
+        assert!(super::within_spread(&m, [f64::INFINITY, 0.02]));
+        assert!(!super::within_spread(&m, [0.0, 0.5]));
+    }
 
     #[test]
     fn legs_of_one_length() {

@@ -40,8 +40,8 @@ use std::collections::{BTreeSet, HashMap};
 use super::contact::{ContactGraph, Outline};
 use super::evidence::{confidence, prior, Contact, Evidence, Inferred};
 use super::{
-    closeness_by, coplanar, holds, standing, tilt, InferenceSettings, Member, Mode, RelationKind,
-    MIN_PROJECTED_AXIS,
+    closeness_by, coplanar, equal_length, holds, standing, tilt, InferenceSettings, Member, Mode,
+    RelationKind, MIN_PROJECTED_AXIS,
 };
 use crate::primitive::{Axis, Feature, FeatureCurve, FeatureGeometry, PrimitiveKind};
 
@@ -89,6 +89,9 @@ pub struct Part<'a> {
     /// ([`crate::model::reading::drawn_axis`]); `None` where none is drawn (or the part
     /// was placed without strokes).
     pub drawn_axis: Option<glam::DVec2>,
+    /// One standard deviation of its length as its strokes pin it, relative to the
+    /// length (infinite where they do not pin it; 0 where it is not known).
+    pub length_spread: f64,
 }
 
 impl Part<'_> {
@@ -655,12 +658,42 @@ impl Inference<'_, '_> {
         // One that holds only within the drawing's noise, the axial slack or its
         // members' tilt slack, not within the thresholds, is at their edge: the drawing
         // does not show it exact, so it is at most a suggestion.
-        let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings)
+        if let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings)
             .or_else(|| (self.holds(&p) || self.within_tilt(&p)).then_some(1.0))
-        else {
-            return false;
-        };
-        self.keep(p, closeness, false)
+        {
+            return self.keep(p, closeness, false);
+        }
+        // Lengths the strokes leave open, or sizes of repeated parts that differ no more
+        // than parts that repeat one another do: at most a suggestion.
+        (self.within_spread(&p) || self.alike_sizes(&p)) && self.keep(p, 1.0, true)
+    }
+
+    /// Whether `p` (same radius or equal length) is between parts that repeat one
+    /// another ([`Self::repeated`]) whose sizes differ by no more than repeated parts'
+    /// do ([`REPEAT_SIZE`]): cups of one design on a menorah, sketched a little longer or
+    /// shorter each, are meant alike.
+    fn alike_sizes(&self, p: &Proposal) -> bool {
+        matches!(p.kind, RelationKind::EqualLength | RelationKind::SameRadius)
+            && p.members.len() == 2
+            && self.repeated(p.members[0], p.members[1])
+            && holds(
+                p.kind,
+                &self.members(p),
+                &self.settings.with_sizes_at_least(REPEAT_SIZE / 2.0),
+            )
+    }
+
+    /// Whether `p` (equal length) holds within what its members' strokes pin of their
+    /// lengths ([`Part::length_spread`]): a stud whose bottom is hidden behind the brick's
+    /// edge, cups whose rims are sketched loosely.
+    fn within_spread(&self, p: &Proposal) -> bool {
+        p.kind == RelationKind::EqualLength
+            && p.members.len() == 2
+            && p.members[0] != p.members[1]
+            && equal_length::within_spread(
+                &self.members(p),
+                [0, 1].map(|i| self.parts[p.members[i]].length_spread),
+            )
     }
 
     /// How far inside the thresholds widened for a part standing on a face
@@ -1063,6 +1096,7 @@ mod tests {
                 noise: 0.005,
                 tilt: *tilt,
                 drawn_axis: *drawn_axis,
+                length_spread: 0.0,
             })
             .collect();
         let mut found: Vec<Found> = Vec::new();
@@ -1145,6 +1179,43 @@ mod tests {
         assert!(equal.inferred.evidence.repeated, "{equal:#?}");
         assert_eq!(equal.inferred.evidence.hops, 2, "{equal:#?}");
         assert!(equal.inferred.confidence > 0.8, "{equal:#?}");
+    }
+
+    /// A table whose legs (under a top at one height) have the given lengths, each
+    /// reaching up to the top.
+    fn table_with_legs(lengths: [f64; 3]) -> Vec<Primitive> {
+        let axis = TILT.normalize();
+        let mut parts = vec![Primitive::Cylinder(Cylinder {
+            center: DVec3::X * 40.0 + axis * 62.0,
+            axis,
+            length: 4.0,
+            radius: 60.0,
+        })];
+        parts.extend(
+            [0.0, 25.0, 80.0]
+                .iter()
+                .zip(lengths)
+                .map(|(x, l)| cylinder(DVec3::X * *x + axis * (60.0 - l / 2.0), l, 3.0)),
+        );
+        parts
+    }
+
+    #[test]
+    fn repeated_legs_sketched_a_little_apart_in_length_are_suggested_equal() {
+        let equal = |lengths| {
+            place_all_found(&table_with_legs(lengths))
+                .into_iter()
+                .filter(|f| f.proposal.kind == RelationKind::EqualLength)
+                .map(|f| f.mode)
+                .collect::<Vec<_>>()
+        };
+        // 10 % apart: repeated parts, meant alike; beyond the threshold, so the odd one
+        // is suggested equal to each neighbour, the other two hard.
+        let mut modes = equal([60.0, 66.0, 60.0]);
+        modes.sort_by_key(|m| m.name());
+        assert_eq!(modes, [Mode::Hard, Mode::Suggested, Mode::Suggested]);
+        // 40 % apart: meant different.
+        assert_eq!(equal([60.0, 84.0, 60.0]), [Mode::Hard]);
     }
 
     #[test]

@@ -393,6 +393,16 @@ impl InferenceSettings {
         }
     }
 
+    /// These settings with the radius and length thresholds at least `relative` (of
+    /// the sum of the two sizes), everything else as it is.
+    pub(crate) fn with_sizes_at_least(&self, relative: f64) -> Self {
+        Self {
+            radius: self.radius.max(relative),
+            length: self.length.max(relative),
+            ..self.clone()
+        }
+    }
+
     /// These settings for one candidate: `noise` is the drawing's noise for its members
     /// (sketch units: how far their snapped curves lie from their strokes, combined), and
     /// `axial_slack` how many times the position tolerance stacked ends may lie apart

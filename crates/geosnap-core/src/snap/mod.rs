@@ -26,6 +26,7 @@ pub use assign::{
 pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
 pub use context::{Prepared, SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame};
+pub(crate) use spread::spread as spread_of;
 pub use spread::{Dimension, Spread};
 
 use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
