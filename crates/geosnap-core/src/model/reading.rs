@@ -13,6 +13,7 @@
 
 use glam::DVec2;
 
+use crate::geom::fit_line;
 use crate::primitive::{Curve2, CurveClass, Primitive};
 use crate::snap::Assignment;
 
@@ -63,13 +64,7 @@ impl DrawnEnds {
             let (Some(k), Some(other)) = (k, other) else {
                 return EndDrawn::Blank;
             };
-            let samples: Vec<DVec2> = assignment
-                .curves
-                .get(k)
-                .into_iter()
-                .flatten()
-                .flat_map(|a| a.samples.iter().copied())
-                .collect();
+            let samples = samples_of(assignment, k);
             let (Some((c, a, b)), Some((o, _, _))) = (centre(k), centre(other)) else {
                 return EndDrawn::Blank;
             };
@@ -154,14 +149,7 @@ pub fn drawn_axis(primitive: &Primitive, assignment: &Assignment) -> Option<DVec
         if curve.class != CurveClass::Silhouette {
             continue;
         }
-        let samples: Vec<DVec2> = assignment
-            .curves
-            .get(k)
-            .into_iter()
-            .flatten()
-            .flat_map(|a| a.samples.iter().copied())
-            .collect();
-        if let Some((direction, extent)) = principal_line(&samples) {
+        if let Some((direction, extent)) = principal_line(&samples_of(assignment, k)) {
             let toward = if direction.dot(axis) < 0.0 {
                 -direction
             } else {
@@ -173,38 +161,24 @@ pub fn drawn_axis(primitive: &Primitive, assignment: &Assignment) -> Option<DVec
     (sum.length() > 0.0).then(|| sum.normalize())
 }
 
-/// The principal direction of `points` and their extent along it, when they lie along a
-/// line ([`LINE_ASPECT`]); `None` for fewer than two points or a blob.
+/// The samples of every stroke assigned to curve `k`.
+fn samples_of(assignment: &Assignment, k: usize) -> Vec<DVec2> {
+    assignment
+        .curves
+        .get(k)
+        .into_iter()
+        .flatten()
+        .flat_map(|a| a.samples.iter().copied())
+        .collect()
+}
+
+/// The principal direction of `points` ([`fit_line`]) and their extent along it, when
+/// they lie along a line ([`LINE_ASPECT`]); `None` for fewer than two points or a blob.
 fn principal_line(points: &[DVec2]) -> Option<(DVec2, f64)> {
-    if points.len() < 2 {
-        return None;
-    }
-    let n = points.len() as f64;
-    let mean = points.iter().copied().sum::<DVec2>() / n;
-    let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
-    for p in points {
-        let d = *p - mean;
-        xx += d.x * d.x;
-        xy += d.x * d.y;
-        yy += d.y * d.y;
-    }
-    // The larger eigenvector of the 2×2 scatter [[xx, xy], [xy, yy]].
-    let angle = 0.5 * (2.0 * xy).atan2(xx - yy);
-    let direction = DVec2::from_angle(angle);
-    let across = direction.perp();
-    let (lo, hi) = points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
-        let t = (*p - mean).dot(direction);
-        (lo.min(t), hi.max(t))
-    });
-    let extent = hi - lo;
-    let spread = (points
-        .iter()
-        .map(|p| (*p - mean).dot(across).powi(2))
-        .sum::<f64>()
-        / n)
-        .sqrt();
-    (extent.is_finite() && extent > LINE_ASPECT * spread && extent > 0.0)
-        .then_some((direction, extent))
+    let line = fit_line(points)?;
+    let extent = line.t_max - line.t_min;
+    (extent.is_finite() && extent > 0.0 && extent > LINE_ASPECT * line.rms_residual)
+        .then_some((line.direction, extent))
 }
 
 /// Strokes along the ellipses of a solid of revolution `p` as a person draws it: the

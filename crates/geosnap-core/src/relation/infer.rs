@@ -1140,19 +1140,7 @@ mod tests {
     /// Three legs of `length` under a round top centred at x = 40, at x = 0, 25, 80 (the
     /// top placed first).
     fn table(length: f64) -> Vec<Primitive> {
-        let axis = TILT.normalize();
-        let mut parts = vec![Primitive::Cylinder(Cylinder {
-            center: DVec3::X * 40.0 + axis * (length / 2.0 + 2.0),
-            axis,
-            length: 4.0,
-            radius: 60.0,
-        })];
-        parts.extend(
-            [0.0, 25.0, 80.0]
-                .iter()
-                .map(|x| cylinder(DVec3::X * *x, length, 3.0)),
-        );
-        parts
+        table_with_legs([length; 3])
     }
 
     #[test]
@@ -1181,8 +1169,8 @@ mod tests {
         assert!(equal.inferred.confidence > 0.8, "{equal:#?}");
     }
 
-    /// A table whose legs (under a top at one height) have the given lengths, each
-    /// reaching up to the top.
+    /// A table whose three legs (at x = 0, 25, 80, under a round top centred at x = 40,
+    /// placed first) have the given lengths, each reaching up to the top.
     fn table_with_legs(lengths: [f64; 3]) -> Vec<Primitive> {
         let axis = TILT.normalize();
         let mut parts = vec![Primitive::Cylinder(Cylinder {
