@@ -738,16 +738,13 @@ impl Inference<'_, '_> {
     }
 
     /// Weighs `p` between a part and the face one of its ends sits on, leaning beyond
-    /// the angle threshold ([`standing`]): kept as a suggestion at most, if it holds
-    /// with the angle widened, is confident enough and says something new; whether it
-    /// was kept.
-    fn propose_standing(&mut self, p: Proposal) -> bool {
+    /// the angle threshold ([`standing`]), which holds at `fraction` of the widened
+    /// thresholds ([`Self::standing_fraction`]): kept as a suggestion at most, if it is
+    /// confident enough and says something new; whether it was kept.
+    fn propose_standing(&mut self, p: Proposal, fraction: f64) -> bool {
         if !self.settings.enabled(p.kind) {
             return false;
         }
-        let Some(fraction) = self.standing_fraction(&p) else {
-            return false;
-        };
         let closeness = standing::closeness(fraction, self.settings).max(1.0);
         self.keep(p, closeness, true)
     }
@@ -863,8 +860,8 @@ impl Inference<'_, '_> {
                     self.standing_fraction(&p).map(|f| (f, p))
                 })
                 .min_by(|x, y| x.0.total_cmp(&y.0));
-            if let Some((_, p)) = best {
-                self.propose_standing(p);
+            if let Some((fraction, p)) = best {
+                self.propose_standing(p, fraction);
             }
         }
         coaxial
@@ -921,8 +918,10 @@ impl Inference<'_, '_> {
                 |_, _| false,
                 |inference, p| inference.facing(p) && inference.standing_fraction(p).is_some(),
             );
-            if let Some(p) = plane {
-                self.propose_standing(p);
+            if let Some((p, fraction)) =
+                plane.and_then(|p| self.standing_fraction(&p).map(|f| (p, f)))
+            {
+                self.propose_standing(p, fraction);
             }
         }
     }

@@ -686,6 +686,16 @@ pub(crate) mod testing {
         p.current_shape().features
     }
 
+    /// A cylinder at `center` along `axis` (normalised) of `length` and `radius`.
+    pub(crate) fn cylinder(center: DVec3, axis: DVec3, length: f64, radius: f64) -> Primitive {
+        Primitive::Cylinder(crate::primitive::Cylinder {
+            center,
+            axis: axis.normalize(),
+            length,
+            radius,
+        })
+    }
+
     /// A feature moved by the similarity x ↦ s·R·x + t.
     fn moved(f: &FeatureCurve<f64>, r: DQuat, t: DVec3, s: f64) -> FeatureCurve<f64> {
         let point = |v: Vec3<f64>| Vec3::from_dvec3(r * v.to_dvec3() * s + t);

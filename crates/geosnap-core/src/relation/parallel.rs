@@ -26,15 +26,10 @@ mod tests {
     use super::super::testing::features;
     use super::super::testing::invariant_psi;
     use super::super::{holds, InferenceSettings, Member, RelationKind};
-    use crate::primitive::{Axis, Cuboid, Cylinder, Feature, Primitive};
+    use crate::primitive::{Axis, Cuboid, Feature, Primitive};
 
     fn cylinder(center: DVec3, axis: DVec3) -> Primitive {
-        Primitive::Cylinder(Cylinder {
-            center,
-            axis: axis.normalize(),
-            length: 30.0,
-            radius: 4.0,
-        })
+        super::super::testing::cylinder(center, axis, 30.0, 4.0)
     }
 
     #[test]

@@ -112,15 +112,10 @@ mod tests {
     use super::super::testing::features;
     use super::super::{InferenceSettings, Member, RelationKind};
     use super::{holds, retilted, slack, FREE};
-    use crate::primitive::{Cylinder, Feature, Primitive};
+    use crate::primitive::{Feature, Primitive};
 
     fn cylinder(center: DVec3, axis: DVec3) -> Primitive {
-        Primitive::Cylinder(Cylinder {
-            center,
-            axis: axis.normalize(),
-            length: 40.0,
-            radius: 5.0,
-        })
+        super::super::testing::cylinder(center, axis, 40.0, 5.0)
     }
 
     /// The axis leaning `lean` (radians) off the paper's up direction towards the viewer.
