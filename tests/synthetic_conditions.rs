@@ -49,8 +49,10 @@
 //! `GEOSNAP_SYNTH_CONDITION_ASSEMBLIES` (assemblies per kind and condition of the
 //! acceptance run, default [`ACCEPTANCE_ASSEMBLIES`]); `GEOSNAP_SYNTH_CONDITION_PNG` (a
 //! folder: an overlay PNG of every failed case, strokes grey, truth green, dropped blue,
-//! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case);
-//! `GEOSNAP_SYNTH_CONDITION_PROGRESS` (set: prints each drawing to stderr as it starts
+//! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case, with its snap's verdict and evidence);
+//! `GEOSNAP_SYNTH_CONDITION_ALL` (set, with `GEOSNAP_SYNTH_CONDITION_LIST`: lists every
+//! case, recovered or not, each with its confidence and evidence, to weigh the
+//! evidence against the outcomes); `GEOSNAP_SYNTH_CONDITION_PROGRESS` (set: prints each drawing to stderr as it starts
 //! and ends); `GEOSNAP_SYNTH_CONDITION_ONLY` (comma-separated kind, assembly kind and
 //! condition names: runs only those drawings, for example `sgc,table,near-axial`; the
 //! floors and targets still apply to what ran);
@@ -459,7 +461,7 @@ fn judge_part(
         misclassified: misclassified(context, strokes, own),
         elapsed,
     };
-    if outcome.ok() && !shown {
+    if outcome.ok() && !shown && std::env::var_os("GEOSNAP_SYNTH_CONDITION_ALL").is_none() {
         return outcome;
     }
     let part_name = part.map_or_else(String::new, |p| {
@@ -477,7 +479,7 @@ fn judge_part(
     };
     let _ = writeln!(
         report,
-        "  {}{part_name} (seed {:#x}{}): {verdict}{persists}; classes wrong {}/{}",
+        "  {}{part_name} (seed {:#x}{}): {verdict}{persists}; classes wrong {}/{}; {}",
         job.name(),
         job.seed(),
         if job.hidden_lines() {
@@ -486,7 +488,12 @@ fn judge_part(
             ""
         },
         outcome.misclassified.0,
-        outcome.misclassified.1
+        outcome.misclassified.1,
+        if outcome.evidence.is_empty() {
+            "refused"
+        } else {
+            &outcome.evidence
+        }
     );
     if shown {
         let _ = writeln!(report, "    truth   {}", describe(truth));
@@ -1039,13 +1046,13 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 78.8 % \
-            (cylinder 81.2, cone 88.4, sphere 100, box 80.9, SGC 85.6, BGC 36.6); \
-            conditions plain 89.6, near-axial 57.5, side-on 78.8, missing 88.8, overshoots \
-            79.6, sketchy 87.5, joined 69.6, fragments 79.2; assembly parts 88.0 % (stack \
-            90.7, table 73.7 with tops 57.8, ball+tubes 97.6, brick+studs 90.6, box+pipes \
+            assemblies per kind and condition (release): single primitives 79.1 % \
+            (cylinder 80.9, cone 88.8, sphere 100, box 80.9, SGC 85.3, BGC 38.8); \
+            conditions plain 90.0, near-axial 57.9, side-on 77.5, missing 89.2, overshoots \
+            80.4, sketchy 87.5, joined 70.8, fragments 79.6; assembly parts 87.9 % (stack \
+            90.7, table 73.7 with tops 57.8, ball+tubes 97.2, brick+studs 90.6, box+pipes \
             91.2); assembly conditions from 75.5 (near-axial) to 96.4 (plain); wrong parts \
-            called doubtful or refused 273 of 558 (49 %), good ones 98 of 2617 (3.7 %)"]
+            called doubtful or refused 257 of 553 (46 %), good ones 99 of 2622 (3.8 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),

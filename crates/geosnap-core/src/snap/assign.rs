@@ -20,7 +20,11 @@
 //!
 //! Straight strokes must also run within 35° of a straight curve's direction. Several
 //! strokes may share a curve (a silhouette drawn in pieces, gaps are normal), and a stroke
-//! may serve several primitives. The result depends only on the inputs (no hashing, no
+//! may serve several primitives. One stroke may also serve several curves of one part, in
+//! pieces (a U drawn down an outline, round an end and back up; an L round a box corner):
+//! even a stroke that one outline's gate takes whole is split where other curves draw
+//! runs of it several times more closely (a U round a thin tube's end lies within either
+//! outline's gate). The result depends only on the inputs (no hashing, no
 //! threads), so it is deterministic.
 
 use glam::DVec2;
@@ -323,6 +327,8 @@ fn candidate(
         factor,
         k,
         whole: part.is_none(),
+        gate,
+        outline: curve.class == CurveClass::Silhouette,
         indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
         distances: d,
     })
@@ -350,41 +356,118 @@ impl Reach {
     }
 }
 
-/// The pieces accepted from candidates sorted best first: the best alone when it is the
-/// whole stroke; else the pieces, each sample going to the nearest curve among those whose
-/// pieces hold it, and a piece left with fewer than 4 samples or less than half of its own
-/// dropped.
+/// The pieces accepted from candidates sorted best first. With a candidate that takes
+/// the stroke whole: the pieces [`split_from_whole`] finds, if any; else that candidate
+/// alone, when it is the best. Else the pieces, each sample going to the nearest curve
+/// among those whose pieces hold it, and a piece left with fewer than 4 samples or less
+/// than half of its own dropped.
 fn accepted_pieces(mut candidates: Vec<Piece>, sample_count: usize) -> Vec<Piece> {
-    match candidates.first() {
-        None => Vec::new(),
-        // The stroke fits one curve whole: it draws that curve.
-        Some(first) if first.whole => candidates.into_iter().take(1).collect(),
-        // Pieces: where two meet (a corner, an outline running into its end), a sample
-        // near both curves goes to the nearer; a piece left with less than half of its
-        // samples was mostly another curve's and is dropped.
-        Some(_) => {
-            candidates.retain(|p| !p.whole);
-            let owner: Vec<Option<usize>> = (0..sample_count)
-                .map(|i| {
-                    candidates
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, p)| p.indices.binary_search(&i).is_ok())
-                        .min_by(|(_, a), (_, b)| a.distances[i].total_cmp(&b.distances[i]))
-                        .map(|(c, _)| c)
-                })
-                .collect();
-            let mut kept = Vec::new();
-            for (c, mut piece) in candidates.into_iter().enumerate() {
-                let before = piece.indices.len();
-                piece.indices.retain(|i| owner[*i] == Some(c));
-                if piece.indices.len() >= 4 && 2 * piece.indices.len() >= before {
-                    kept.push(piece);
-                }
-            }
-            kept
+    if let Some(w) = candidates.iter().position(|p| p.whole) {
+        // The best whole candidate first: a U round a thin tube's end lies within the
+        // wide gate of either outline, and only its pieces draw them.
+        let whole = candidates.remove(w);
+        candidates.insert(0, whole);
+        if let Some(split) = split_from_whole(&candidates, sample_count) {
+            return split;
+        }
+        if w == 0 {
+            // The stroke fits one curve whole: it draws that curve.
+            candidates.truncate(1);
+            return candidates;
         }
     }
+    // Pieces: where two meet (a corner, an outline running into its end), a sample near
+    // both curves goes to the nearer; a piece left with less than half of its samples
+    // was mostly another curve's and is dropped.
+    candidates.retain(|p| !p.whole);
+    let owner = owners(&candidates, sample_count);
+    let mut kept = Vec::new();
+    for (c, mut piece) in candidates.into_iter().enumerate() {
+        let before = piece.indices.len();
+        piece.indices.retain(|i| owner[*i] == Some(c));
+        if piece.indices.len() >= 4 && 2 * piece.indices.len() >= before {
+            kept.push(piece);
+        }
+    }
+    kept
+}
+
+/// Per sample, the candidate nearest to it among those whose pieces hold it.
+fn owners(candidates: &[Piece], sample_count: usize) -> Vec<Option<usize>> {
+    (0..sample_count)
+        .map(|i| {
+            candidates
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.indices.binary_search(&i).is_ok())
+                .min_by(|(_, a), (_, b)| a.distances[i].total_cmp(&b.distances[i]))
+                .map(|(c, _)| c)
+        })
+        .collect()
+}
+
+/// How much more closely another curve must draw a run of a stroke than the curve that
+/// takes it whole, for that run to be split off: its samples' mean distance to the whole
+/// curve over their mean distance to their own.
+const SPLIT_RATIO: f64 = 3.0;
+
+/// A stroke that an outline (`candidates[0]`) takes whole, split where other curves
+/// draw runs of it far more closely: each sample goes to the nearest candidate that holds
+/// it, and another candidate's samples (at least 4) split off when they lie, on average,
+/// at least [`SPLIT_RATIO`] times further from the outline than from their own curve and
+/// beyond a tenth of the outline's gate (farther than a hand's wobble). The rest stay
+/// with the outline, which keeps them when at least 4 are left. `None` when nothing
+/// splits off.
+///
+/// A stroke drawing one outline has every sample near it, so no run lies several times
+/// further from it than from another curve; a U drawn down one outline of a thin tube,
+/// round its end and back up the other lies within the wide gate of both outlines, and
+/// only its pieces draw them. Only an outline is split so: a box edge keeps a stroke
+/// whose tip runs on round a corner, as the hand overshot it.
+fn split_from_whole(candidates: &[Piece], sample_count: usize) -> Option<Vec<Piece>> {
+    let whole = candidates.first().filter(|w| w.whole && w.outline)?;
+    let owner = owners(candidates, sample_count);
+    let mean = |indices: &[usize], distances: &[f64]| {
+        indices.iter().map(|i| distances[*i]).sum::<f64>() / indices.len().max(1) as f64
+    };
+    let floor = 0.1 * whole.gate;
+    let split: Vec<(usize, Vec<usize>)> = candidates
+        .iter()
+        .enumerate()
+        .skip(1)
+        .filter_map(|(c, piece)| {
+            let mine: Vec<usize> = (0..sample_count).filter(|i| owner[*i] == Some(c)).collect();
+            let (own, far) = (mean(&mine, &piece.distances), mean(&mine, &whole.distances));
+            (mine.len() >= 4 && far >= SPLIT_RATIO * own && far > floor).then_some((c, mine))
+        })
+        .collect();
+    if split.is_empty() {
+        return None;
+    }
+    let taken: Vec<usize> = split.iter().flat_map(|(_, mine)| mine.clone()).collect();
+    let rest: Vec<usize> = (0..sample_count).filter(|i| !taken.contains(i)).collect();
+    let mut kept = Vec::new();
+    for (c, piece) in candidates.iter().enumerate() {
+        let indices = if c == 0 {
+            rest.clone()
+        } else if let Some((_, mine)) = split.iter().find(|(k, _)| *k == c) {
+            mine.clone()
+        } else {
+            continue;
+        };
+        if indices.len() >= 4 {
+            kept.push(Piece {
+                factor: piece.factor,
+                k: piece.k,
+                whole: false,
+                gate: piece.gate,
+                outline: piece.outline,
+                indices,
+                distances: piece.distances.clone(),
+            });
+        }
+    }
+    Some(kept)
 }
 
 /// A stroke, or a piece of one, that suits a curve.
@@ -395,6 +478,10 @@ struct Piece {
     k: usize,
     /// Whether it is the whole stroke.
     whole: bool,
+    /// The curve's gate (see `Reach`).
+    gate: f64,
+    /// Whether the curve is an outline.
+    outline: bool,
     /// The indices of its samples among the stroke's.
     indices: Vec<usize>,
     /// The distance of every sample of the stroke to the curve.
@@ -697,6 +784,71 @@ mod tests {
             "{n} samples taken, {} distinct",
             seen.len()
         );
+    }
+
+    #[test]
+    fn a_u_round_a_thin_tubes_end_within_both_outlines_gates_is_split_between_them() {
+        // A rod of radius 3 seen from the side and a little above: the gate (10) is wider
+        // than the rod, so the whole U (left outline, the front arc of its bottom end,
+        // right outline; sketch space, y down) lies within either outline's gate; only
+        // its pieces draw them.
+        let rod = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 3.0,
+        });
+        let shape = rod.current_shape();
+        let mut u: Vec<DVec2> = (0..=12)
+            .map(|i| DVec2::new(-3.0, -19.2 + 3.2 * f64::from(i)))
+            .collect();
+        u.extend((1..8).map(|i| {
+            let t = std::f64::consts::PI * (1.0 - f64::from(i) / 8.0);
+            DVec2::new(3.0 * t.cos(), 19.2 + 0.84 * t.sin())
+        }));
+        u.extend((0..=12).map(|i| DVec2::new(3.0, 19.2 - 3.2 * f64::from(i))));
+        let ctx = SnapContext::new([(StrokeId(0), u.as_slice(), StrokeClass::Silhouette)]);
+        let a = assign(&ctx, &shape.curves, 10.0);
+        for (curve, taken) in shape.curves.iter().zip(&a.curves) {
+            if curve.name != "left" && curve.name != "right" {
+                continue;
+            }
+            let [piece] = taken.as_slice() else {
+                panic!("{}: {taken:?}", curve.name);
+            };
+            let x = if curve.name == "left" { -3.0 } else { 3.0 };
+            assert!(piece.part.is_some(), "{}: taken whole", curve.name);
+            assert!(
+                piece.samples.iter().all(|p| (p.x - x).abs() < 1.5),
+                "{}: {:?}",
+                curve.name,
+                piece.samples
+            );
+        }
+    }
+
+    #[test]
+    fn a_stroke_drawn_a_little_past_its_outline_stays_whole() {
+        // The rod above, its left outline drawn whole: no run of it lies far from it.
+        let rod = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: 3.0,
+        });
+        let shape = rod.current_shape();
+        let line: Vec<DVec2> = (0..=20)
+            .map(|i| DVec2::new(-3.0 + 0.2 * f64::from(i % 2), -20.0 + 2.0 * f64::from(i)))
+            .collect();
+        let ctx = SnapContext::new([(StrokeId(0), line.as_slice(), StrokeClass::Silhouette)]);
+        let a = assign(&ctx, &shape.curves, 10.0);
+        let taken: Vec<(String, bool)> = shape
+            .curves
+            .iter()
+            .zip(&a.curves)
+            .flat_map(|(c, t)| t.iter().map(|s| (c.name.clone(), s.part.is_none())))
+            .collect();
+        assert_eq!(taken, vec![("left".to_owned(), true)]);
     }
 
     #[test]

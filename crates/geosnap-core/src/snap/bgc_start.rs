@@ -30,7 +30,9 @@
 //! arc), paired across a silhouette; the strokes that then find a partner across the
 //! tube for at least half their samples are the outlines, and every other stroke may be
 //! an end (an end arc drawn flat is often classified a silhouette), a feature stroke
-//! before any other.
+//! before any other. A stroke need not follow one curve: one drawn down an outline, round
+//! the end and back up the other outline is read in runs cut at its turns ([`turns`]),
+//! its legs paired as outlines and the turn between them read as an end.
 //!
 //! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
 //! measured half-widths linearly. `None` when the strokes show no tube near the drop, and
@@ -47,6 +49,7 @@ use crate::sketch::{StrokeClass, StrokeId};
 use crate::solve::SolveContext;
 
 mod medial;
+mod turns;
 
 /// A tube's outlines pair when they are between these multiples of its dropped radius
 /// apart.
@@ -68,6 +71,7 @@ const DENSE: usize = 200;
 fn end_ellipses(
     context: &SnapContext,
     outlines: &[StrokeId],
+    loose: &[(Vec<DVec2>, StrokeClass)],
     ends: [DVec2; 2],
     taus: [DVec2; 2],
     widths: [f64; 2],
@@ -76,12 +80,25 @@ fn end_ellipses(
     // first among its peers. Per end: ((overruled, distance), ellipse, drawn whole).
     type Candidate = ((bool, f64), Ellipse2, bool);
     let mut best: [Option<Candidate>; 2] = [None, None];
-    for stroke in &context.strokes {
-        if outlines.contains(&stroke.id) || stroke.points.len() < 5 {
+    let strokes = context
+        .strokes
+        .iter()
+        .filter(|s| !outlines.contains(&s.id))
+        .map(|s| (s.points.as_slice(), s.class))
+        .chain(
+            loose
+                .iter()
+                .map(|(points, class)| (points.as_slice(), *class)),
+        );
+    for (points, class) in strokes {
+        if points.len() < 5 {
             continue;
         }
-        let overruled = stroke.class != StrokeClass::Feature;
-        let (lo, hi) = stroke.bounds;
+        let overruled = class != StrokeClass::Feature;
+        let (lo, hi) = points.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
         let centre = (lo + hi) / 2.0;
         let side = usize::from(centre.distance(ends[1]) < centre.distance(ends[0]));
         let (at, radius) = (ends[side], widths[side]);
@@ -89,12 +106,12 @@ fn end_ellipses(
         if near.distance(at) > 2.0 * radius {
             continue;
         }
-        let Some((fit, whole)) = whole_ellipse(&stroke.points)
-            .or_else(|| front_arc(&stroke.points, at, across_of(&stroke.points, taus[side])))
+        let Some((fit, whole)) =
+            whole_ellipse(points).or_else(|| front_arc(points, at, across_of(points, taus[side])))
         else {
             continue;
         };
-        let rms = fit.rms_distance(&stroke.points);
+        let rms = fit.rms_distance(points);
         let d = fit.center.distance(at);
         let ratio = fit.semi_major / radius;
         if rms <= 0.15 * fit.semi_major
@@ -125,8 +142,15 @@ fn across_of(points: &[DVec2], tau: DVec2) -> DVec2 {
 }
 
 /// A reading of the drawing: medial samples (midpoint, half-width), the strokes to fit
-/// to (see [`Start`]), and the strokes read as the tube's outlines.
-type Reading = (Vec<(DVec2, f64)>, Option<Clipped>, Vec<StrokeId>);
+/// to (see [`Start`]), the strokes read as the tube's outlines, and the pieces of those
+/// strokes that are not (the end arc of a U drawn down one outline and up the other, see
+/// [`turns`]), with their strokes' classes.
+type Reading = (
+    Vec<(DVec2, f64)>,
+    Option<Clipped>,
+    Vec<StrokeId>,
+    Vec<(Vec<DVec2>, StrokeClass)>,
+);
 
 /// A stroke whose samples near the drop found a partner across the tube at least this
 /// often is one of the tube's outlines, whatever its class (see [`medial::paired_shares`]).
@@ -179,22 +203,12 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
                 && (s.class == StrokeClass::Silhouette || runs_along(&s.points, drop, r))
         })
         .collect();
-    let outlines: Vec<&[DVec2]> = indices
-        .iter()
-        .map(|i| context.strokes[*i].points.as_slice())
-        .collect();
-    let mut samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
-    // A feature stroke is overruled as an outline only across a silhouette: two features
-    // side by side are more likely the halves of one end ellipse than a tube.
-    let silhouette = |k: usize| context.strokes[indices[k]].class == StrokeClass::Silhouette;
-    samples.retain(|m| silhouette(m.pair.0) || silhouette(m.pair.1));
-    let shares = medial::paired_shares(&outlines, center, reach, &samples);
-    let outline_ids: Vec<StrokeId> = indices
-        .iter()
-        .zip(&shares)
-        .filter(|(_, share)| **share >= OUTLINE_SHARE)
-        .map(|(i, _)| context.strokes[*i].id)
-        .collect();
+    let Outlines {
+        runs,
+        samples,
+        ids: outline_ids,
+        loose,
+    } = outlines_near(context, &indices, center, reach, r);
     let all: Vec<(DVec2, f64)> = samples.iter().map(|m| (m.at, m.half)).collect();
     let chains = medial::chains(samples);
     let pieces = medial::cut_at_junctions(&chains, drop);
@@ -202,11 +216,21 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     if tube.stops.is_empty() {
         // No junction: every pair near the drop is read together (a hand's outline that
         // breaks up or wanders off its partner for a stretch breaks the chains).
-        return vec![(all, None, outline_ids)];
+        return vec![(all, None, outline_ids, loose)];
     }
     let mut clipped = context.clone();
-    for (k, index) in indices.iter().enumerate() {
-        let mine: Vec<&medial::Stop> = tube.stops.iter().filter(|s| s.stroke == k).collect();
+    // The stops on each stroke, at arc lengths along the whole stroke.
+    let stops: Vec<medial::Stop> = tube
+        .stops
+        .iter()
+        .map(|s| medial::Stop {
+            stroke: runs[s.stroke].0,
+            inside: s.inside + runs[s.stroke].2,
+            ..*s
+        })
+        .collect();
+    for index in &indices {
+        let mine: Vec<&medial::Stop> = stops.iter().filter(|s| s.stroke == *index).collect();
         if mine.is_empty() {
             continue;
         }
@@ -219,7 +243,7 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     }
     // Other strokes drawn on across the part the tube meets (an outline drawn in two
     // strokes, the second running on past the junction) stop there too.
-    let own: Vec<usize> = tube.stops.iter().map(|s| indices[s.stroke]).collect();
+    let own: Vec<usize> = stops.iter().map(|s| s.stroke).collect();
     for (i, stroke) in clipped.strokes.iter_mut().enumerate() {
         if own.contains(&i) || stroke.class != StrokeClass::Silhouette {
             continue;
@@ -239,7 +263,7 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     let across: Vec<_> = tube
         .across
         .iter()
-        .map(|k| context.strokes[indices[*k]].id)
+        .map(|k| context.strokes[runs[*k].0].id)
         .collect();
     clipped
         .strokes
@@ -250,7 +274,85 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
         tube.samples,
         Some((clipped, whole, tube.walls)),
         outline_ids,
+        loose,
     )]
+}
+
+/// The outlines a tube's medial axis is read from (see [`outlines_near`]).
+struct Outlines {
+    /// The strokes' runs (see [`turns`]): per run, the stroke's index, its points and
+    /// the arc length along the stroke where it starts.
+    runs: Vec<(usize, std::ops::Range<usize>, f64)>,
+    /// The medial samples; their pairs index `runs`.
+    samples: Vec<medial::Medial>,
+    /// The strokes read as the tube's outlines.
+    ids: Vec<StrokeId>,
+    /// The runs of those strokes that are not outlines (a U's end), with their class.
+    loose: Vec<(Vec<DVec2>, StrokeClass)>,
+}
+
+/// The medial samples of the strokes `indices` near `center` for a tube of radius about
+/// `r`, the strokes that are its outlines and the pieces of them that are not.
+fn outlines_near(
+    context: &SnapContext,
+    indices: &[usize],
+    center: DVec2,
+    reach: f64,
+    r: f64,
+) -> Outlines {
+    // Each stroke in runs cut at its sharp turns (see `turns`): a U drawn down one
+    // outline, round the end and up the other pairs with itself, and its end is read.
+    // Per run: the stroke's index, its points, and the arc length where it starts.
+    let runs: Vec<(usize, std::ops::Range<usize>, f64)> = indices
+        .iter()
+        .flat_map(|i| {
+            let points = &context.strokes[*i].points;
+            turns::u_runs(points, r, WIDTHS)
+                .into_iter()
+                .map(move |range| {
+                    let offset = points[..=range.start]
+                        .windows(2)
+                        .map(|w| w[0].distance(w[1]))
+                        .sum::<f64>();
+                    (*i, range, offset)
+                })
+        })
+        .collect();
+    let outlines: Vec<&[DVec2]> = runs
+        .iter()
+        .map(|(i, range, _)| &context.strokes[*i].points[range.clone()])
+        .collect();
+    let mut samples = medial::medial_samples(&outlines, center, reach, r, WIDTHS);
+    // A feature stroke is overruled as an outline only across a silhouette: two features
+    // side by side are more likely the halves of one end ellipse than a tube.
+    let silhouette = |k: usize| context.strokes[runs[k].0].class == StrokeClass::Silhouette;
+    samples.retain(|m| silhouette(m.pair.0) || silhouette(m.pair.1));
+    let shares = medial::paired_shares(&outlines, center, reach, &samples);
+    let mut ids: Vec<StrokeId> = Vec::new();
+    for ((i, _, _), share) in runs.iter().zip(&shares) {
+        let id = context.strokes[*i].id;
+        if *share >= OUTLINE_SHARE && !ids.contains(&id) {
+            ids.push(id);
+        }
+    }
+    let split = |i: usize| runs.iter().filter(|(j, ..)| *j == i).count() > 1;
+    let loose: Vec<(Vec<DVec2>, StrokeClass)> = runs
+        .iter()
+        .zip(&shares)
+        .filter(|((i, ..), share)| {
+            **share < OUTLINE_SHARE && split(*i) && ids.contains(&context.strokes[*i].id)
+        })
+        .map(|((i, range, _), _)| {
+            let stroke = &context.strokes[*i];
+            (stroke.points[range.clone()].to_vec(), stroke.class)
+        })
+        .collect();
+    Outlines {
+        runs,
+        samples,
+        ids,
+        loose,
+    }
 }
 
 /// A whole ellipse (a free fit) to a stroke drawn all round it: (ellipse, true), or
@@ -345,8 +447,8 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<St
     let readings = medial_axis(context, [first, last], length + 3.0 * r, r);
     let starts: Vec<Start> = readings
         .into_iter()
-        .filter_map(|(medial, clipped, outlines)| {
-            pose_from(context, dropped, &medial, &outlines).map(|pose| Start {
+        .filter_map(|(medial, clipped, outlines, loose)| {
+            pose_from(context, dropped, &medial, &outlines, &loose).map(|pose| Start {
                 pose,
                 context: clipped,
             })
@@ -362,6 +464,7 @@ fn pose_from(
     dropped: &Bgc,
     medial: &[(DVec2, f64)],
     outlines: &[StrokeId],
+    loose: &[(Vec<DVec2>, StrokeClass)],
 ) -> Option<Primitive> {
     let k = dropped.spine.len();
     let first = dropped.spine.first()?.truncate();
@@ -393,6 +496,7 @@ fn pose_from(
     let [bottom, top] = end_ellipses(
         context,
         outlines,
+        loose,
         [curve(x0), curve(x1)],
         [slope_dir(x0), slope_dir(x1)],
         [width(x0), width(x1)],
