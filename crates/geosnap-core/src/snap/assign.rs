@@ -367,7 +367,7 @@ fn accepted_pieces(mut candidates: Vec<Piece>, sample_count: usize) -> Vec<Piece
         // wide gate of either outline, and only its pieces draw them.
         let whole = candidates.remove(w);
         candidates.insert(0, whole);
-        if let Some(split) = split_from_whole(&candidates, sample_count) {
+        if let Some(split) = split_from_whole(&candidates, w, sample_count) {
             return split;
         }
         if w == 0 {
@@ -411,11 +411,14 @@ fn owners(candidates: &[Piece], sample_count: usize) -> Vec<Option<usize>> {
 /// curve over their mean distance to their own.
 const SPLIT_RATIO: f64 = 3.0;
 
-/// A stroke that an outline (`candidates[0]`) takes whole, split where other curves
-/// draw runs of it far more closely: each sample goes to the nearest candidate that holds
-/// it, and another candidate's samples (at least 4) split off when they lie, on average,
-/// at least [`SPLIT_RATIO`] times further from the outline than from their own curve and
-/// beyond a tenth of the outline's gate (farther than a hand's wobble). The rest stay
+/// A stroke that an outline (`candidates[0]`, which came `w`-th among the candidates
+/// best first) takes whole, split where other curves draw runs of it far more closely:
+/// each sample goes to the nearest candidate that holds it, and another outline's
+/// samples, or those of a curve that fits its piece better than the outline fits the
+/// whole stroke (one that came before it), split off when there are at least 4 and they
+/// lie, on average, at least [`SPLIT_RATIO`] times further from the outline than from
+/// their own curve and beyond a tenth of the outline's gate (farther than a hand's
+/// wobble). The rest stay
 /// with the outline, which keeps them when at least 4 are left. `None` when nothing
 /// splits off.
 ///
@@ -424,7 +427,7 @@ const SPLIT_RATIO: f64 = 3.0;
 /// round its end and back up the other lies within the wide gate of both outlines, and
 /// only its pieces draw them. Only an outline is split so: a box edge keeps a stroke
 /// whose tip runs on round a corner, as the hand overshot it.
-fn split_from_whole(candidates: &[Piece], sample_count: usize) -> Option<Vec<Piece>> {
+fn split_from_whole(candidates: &[Piece], w: usize, sample_count: usize) -> Option<Vec<Piece>> {
     let whole = candidates.first().filter(|w| w.whole && w.outline)?;
     let owner = owners(candidates, sample_count);
     let mean = |indices: &[usize], distances: &[f64]| {
@@ -438,7 +441,11 @@ fn split_from_whole(candidates: &[Piece], sample_count: usize) -> Option<Vec<Pie
         .filter_map(|(c, piece)| {
             let mine: Vec<usize> = (0..sample_count).filter(|i| owner[*i] == Some(c)).collect();
             let (own, far) = (mean(&mine, &piece.distances), mean(&mine, &whole.distances));
-            (mine.len() >= 4 && far >= SPLIT_RATIO * own && far > floor).then_some((c, mine))
+            (mine.len() >= 4
+                && (piece.outline || c <= w)
+                && far >= SPLIT_RATIO * own
+                && far > floor)
+                .then_some((c, mine))
         })
         .collect();
     if split.is_empty() {
