@@ -387,7 +387,7 @@ pub fn infer_in(
     }
     let hops = within_reach(graph, parts, new, usize::MAX);
     let others: Vec<usize> = (0..parts.len())
-        .filter(|&i| i != new && hops[i].is_some())
+        .filter(|&i| i != new && hops[i].is_some() && !graph.kept_apart(new, i))
         .collect();
     infer_among(parts, new, &others, existing, settings, graph, &hops)
 }
@@ -443,7 +443,13 @@ pub fn infer_bridged(
         let before = within_reach(graph, parts, n, via);
         let hops = within_reach(graph, parts, n, usize::MAX);
         let others: Vec<usize> = (0..parts.len())
-            .filter(|&j| j != n && j != via && hops[j].is_some() && before[j].is_none())
+            .filter(|&j| {
+                j != n
+                    && j != via
+                    && hops[j].is_some()
+                    && before[j].is_none()
+                    && !graph.kept_apart(n, j)
+            })
             .collect();
         if others.is_empty() {
             continue;
