@@ -23,14 +23,14 @@
 //! together they keep every relation among them, and the new part keeps its reading.
 //!
 //! One drawn part read twice (a drop meant for one of a row of valves that snapped onto
-//! its neighbour: the same strokes, each centred inside the other) is not related to
+//! its neighbour: mostly the same samples of the drawing) is not related to
 //! itself ([`crate::relation::contact::ContactGraph::separate`]).
 //!
 //! [`Document::release`] is the whole release: inference, then the part is settled in
 //! depth where its relations hold ([`Document::settle_depth`]: the drawing leaves its
 //! depth free), then the global solve of the parts it changed.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{DVec2, DVec3};
 
@@ -43,6 +43,7 @@ use crate::relation::contact::{ContactGraph, Outline};
 use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal, ALIKE_HOPS};
 use crate::relation::{residuals, tilt, InferenceSettings, Member, Mode};
 use crate::sketch::StrokeId;
+use crate::snap::Assignment;
 
 /// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
 /// the part is settled in depth is made a suggestion: about 11° between directions, or
@@ -86,16 +87,36 @@ fn coincide(a: &Primitive, b: &Primitive) -> bool {
         .all(|f| theirs.iter().any(|g| near(centre(f), centre(g))))
 }
 
-/// Whether two parts snapped to the strokes `ours` and `theirs` were read off the same
-/// strokes: more than half of each one's strokes are the other's. Two parts of a
-/// drawing share strokes only where they meet (a stroke drawn on round a joint); parts
-/// that share most of their strokes are one part read twice (a drop meant for one of a
-/// row of valves that snapped onto its neighbour). Both ways: a part whose strokes a
-/// greedy earlier snap took in with many others of its own is still a part of its own.
-/// A part without strokes (placed freely) is read off none.
-fn same_strokes(ours: &[StrokeId], theirs: &[StrokeId]) -> bool {
-    let shared = ours.iter().filter(|s| theirs.contains(s)).count();
-    !ours.is_empty() && 2 * shared > ours.len() && 2 * shared > theirs.len()
+/// The samples of the drawing an assignment takes: (stroke, index among the stroke's
+/// samples) pairs, a whole stroke for all of its samples.
+fn taken(assignment: &Assignment) -> BTreeSet<(StrokeId, usize)> {
+    assignment
+        .curves
+        .iter()
+        .flatten()
+        .flat_map(|a| {
+            let indices: Vec<usize> = a
+                .part
+                .clone()
+                .unwrap_or_else(|| (0..a.samples.len()).collect());
+            indices.into_iter().map(move |i| (a.stroke, i))
+        })
+        .collect()
+}
+
+/// Whether two parts snapped with the assignments `ours` and `theirs` were read off the
+/// same strokes: more than half of each one's samples are the other's. Two parts of a
+/// drawing share samples only where they meet (a stroke drawn on round a joint), and a
+/// stroke drawn on from one part to the next (across a stem, between two arms) is taken
+/// in pieces, each part its own; parts that share most of their samples are one part
+/// read twice (a drop meant for one of a row of valves that snapped onto its
+/// neighbour). Both ways: a part whose strokes a greedy earlier snap took in with many
+/// others of its own is still a part of its own. A part without strokes (placed
+/// freely) is read off none.
+fn same_samples(ours: &Assignment, theirs: &Assignment) -> bool {
+    let (a, b) = (taken(ours), taken(theirs));
+    let shared = a.intersection(&b).count();
+    !a.is_empty() && 2 * shared > a.len() && 2 * shared > b.len()
 }
 
 /// How many of `found` are hard.
@@ -159,7 +180,7 @@ impl Document {
         // variant and the pass over the parts the new one joins.
         let mut graph =
             ContactGraph::new(&parts_of(&sizes, &features, &outlines), settings.distance());
-        self.separate_read_twice(&mut graph, &ids, &outlines);
+        self.separate_read_twice(&mut graph, &ids);
         // The lengths' spreads of the parts equal lengths may be inferred with: the new
         // part and the alike parts within reach.
         let reach = graph.hops_from(new, ALIKE_HOPS);
@@ -318,22 +339,16 @@ impl Document {
         }
     }
 
-    /// Keeps apart in `graph` (over the parts `ids`, with their `outlines`) the parts
-    /// that are one drawn part read twice ([`ContactGraph::separate`]): read off the same
-    /// strokes ([`same_strokes`]), each centred inside the other's outline. A stroke
-    /// drawn on across a stem and taken in pieces by the arms either side is two arms.
-    fn separate_read_twice(
-        &self,
-        graph: &mut ContactGraph,
-        ids: &[PrimitiveId],
-        outlines: &[Outline],
-    ) {
-        graph.separate(|a, b| {
-            let (pa, pb) = (&self.primitives[&ids[a]], &self.primitives[&ids[b]]);
-            same_strokes(&pa.fit.strokes, &pb.fit.strokes)
-                && outlines[a].distance_to_point(pb.primitive.center().truncate()) <= 0.0
-                && outlines[b].distance_to_point(pa.primitive.center().truncate()) <= 0.0
-        });
+    /// Keeps apart in `graph` (over the parts `ids`) the parts that are one drawn part
+    /// read twice ([`ContactGraph::separate`]): their snaps took mostly the same samples
+    /// of the drawing ([`same_samples`]).
+    fn separate_read_twice(&self, graph: &mut ContactGraph, ids: &[PrimitiveId]) {
+        graph.separate(
+            |a, b| match (self.snaps.get(&ids[a]), self.snaps.get(&ids[b])) {
+                (Some(x), Some(y)) => same_samples(&x.assignment, &y.assignment),
+                _ => false,
+            },
+        );
     }
 
     /// What inference reads of part `id` (`placed`, with its feature curves
@@ -918,12 +933,17 @@ mod tests {
             let mut doc = Document::new();
             let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
             let b = doc.add(leg(2.0, DVec3::new(0.0, -0.9, 0.44)));
-            for (id, hidden) in [(a, first_hidden), (b, false)] {
+            for (k, (id, hidden)) in [(a, first_hidden), (b, false)].into_iter().enumerate() {
                 let p = doc.get(id).expect("placed").primitive.clone();
+                // Strokes of its own.
+                let mut assignment = drawn(&p, hidden);
+                for s in assignment.curves.iter_mut().flatten() {
+                    s.stroke = crate::sketch::StrokeId(k as u32);
+                }
                 doc.snaps.insert(
                     id,
                     SnapRecord {
-                        assignment: drawn(&p, hidden),
+                        assignment,
                         rms: 0.0,
                     },
                 );
@@ -945,42 +965,68 @@ mod tests {
         assert!(a > 0.0 && b > 0.0 && !parallel, "{a} {b} {parallel}");
     }
 
+    /// An assignment taking the `strokes` (id, and the range of its ten samples taken;
+    /// the whole stroke for 0..10).
+    fn taking(strokes: &[(u32, std::ops::Range<usize>)]) -> crate::snap::Assignment {
+        crate::snap::Assignment {
+            curves: vec![strokes
+                .iter()
+                .map(|(id, range)| crate::snap::AssignedStroke {
+                    stroke: crate::sketch::StrokeId(*id),
+                    samples: range
+                        .clone()
+                        .map(|i| glam::DVec2::new(i as f64, 0.0))
+                        .collect(),
+                    mean_distance: 0.0,
+                    part: (*range != (0..10)).then(|| range.clone().collect()),
+                })
+                .collect()],
+        }
+    }
+
     #[test]
     fn a_part_read_off_another_parts_strokes_is_not_related_to_it() {
-        use super::same_strokes;
-        use crate::sketch::StrokeId;
+        use super::same_samples;
 
-        let ids = |s: &[u32]| s.iter().map(|&s| StrokeId(s)).collect::<Vec<_>>();
+        let whole = |ids: &[u32]| taking(&ids.iter().map(|&i| (i, 0..10)).collect::<Vec<_>>());
         // Three of four strokes each way: one part read twice.
-        assert!(same_strokes(&ids(&[1, 2, 3, 4]), &ids(&[2, 3, 4, 5])));
+        assert!(same_samples(&whole(&[1, 2, 3, 4]), &whole(&[2, 3, 4, 5])));
         // One stroke shared at a joint: two parts.
-        assert!(!same_strokes(&ids(&[1, 2, 3, 4]), &ids(&[4, 5, 6, 7])));
+        assert!(!same_samples(&whole(&[1, 2, 3, 4]), &whole(&[4, 5, 6, 7])));
+        // Strokes drawn on from one arm to the other, each arm taking its own pieces.
+        let left = taking(&[(1, 0..5), (2, 0..5), (3, 0..10)]);
+        let right = taking(&[(1, 5..10), (2, 5..10), (4, 0..10)]);
+        assert!(!same_samples(&left, &right));
         // A part whose strokes an earlier greedy snap took in among many of its own.
-        assert!(!same_strokes(
-            &ids(&[20, 21, 22]),
-            &ids(&[10, 11, 12, 13, 20, 21])
+        assert!(!same_samples(
+            &whole(&[20, 21, 22]),
+            &whole(&[10, 11, 12, 13, 20, 21])
         ));
         // Placed freely: read off none.
-        assert!(!same_strokes(&[], &ids(&[1])));
+        assert!(!same_samples(&whole(&[]), &whole(&[1])));
 
         // Two legs side by side, the second snapped onto the first one's strokes (a
         // little aside): parallel and coaxial would hold, but they are one drawn leg.
         let axis = DVec3::new(0.0, 0.9, 0.44);
-        let on = |x: f64, strokes: &[u32]| {
-            let mut p = leg(x, axis);
-            p.fit.strokes = ids(strokes);
-            p
-        };
         let mut doc = Document::new();
-        doc.add(on(0.0, &[1, 2, 3, 4]));
-        let again = doc.add(on(0.3, &[1, 2, 3, 5]));
-        // (a little aside: each centred inside the other)
+        let on = |doc: &mut Document, x: f64, strokes: &[u32]| {
+            let id = doc.add(leg(x, axis));
+            doc.snaps.insert(
+                id,
+                SnapRecord {
+                    assignment: whole(strokes),
+                    rms: 0.0,
+                },
+            );
+            id
+        };
+        on(&mut doc, 0.0, &[1, 2, 3, 4]);
+        let again = on(&mut doc, 0.3, &[1, 2, 3, 5]);
         assert!(doc
             .infer_relations(again, &InferenceSettings::default())
             .is_empty());
-        // Beside them on strokes of its own, or on theirs but beside them (a stroke
-        // drawn on from one part to the next): a part of its own.
-        let beside = doc.add(on(2.0, &[1, 2, 3, 6]));
+        // Beside them on strokes of its own: a part of its own.
+        let beside = on(&mut doc, 2.0, &[6, 7, 8, 9]);
         assert!(!doc
             .infer_relations(beside, &InferenceSettings::default())
             .is_empty());
