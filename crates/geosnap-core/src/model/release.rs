@@ -14,11 +14,23 @@
 //! and bent tubes are not mirrored: which of their edges and end halves are drawn tells
 //! the two poses apart already.
 //!
+//! The free choice may have been made wrong earlier: a table top drawn with hidden
+//! lines keeps its snapped mirror, and the legs, whose drawn ends say which way they
+//! face, are then parallel to it only against their drawing. Where the reading the
+//! drawing refuses would have had more hard relations, the earlier parts those would
+//! have been with, and every part related to them, are mirrored together instead, when
+//! the strokes of each leave its reading open ([`Document::mirror_free`]): mirrored
+//! together they keep every relation among them, and the new part keeps its reading.
+//!
+//! One drawn part read twice (a drop meant for one of a row of valves that snapped onto
+//! its neighbour: mostly the same samples of the drawing) is not related to
+//! itself ([`crate::relation::contact::ContactGraph::separate`]).
+//!
 //! [`Document::release`] is the whole release: inference, then the part is settled in
 //! depth where its relations hold ([`Document::settle_depth`]: the drawing leaves its
 //! depth free), then the global solve of the parts it changed.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{DVec2, DVec3};
 
@@ -30,6 +42,8 @@ use crate::primitive::{Feature, FeatureCurve, FeatureGeometry, Primitive, Primit
 use crate::relation::contact::{ContactGraph, Outline};
 use crate::relation::infer::{infer_bridged, infer_in, Found, Part, Proposal, ALIKE_HOPS};
 use crate::relation::{residuals, tilt, InferenceSettings, Member, Mode};
+use crate::sketch::StrokeId;
+use crate::snap::Assignment;
 
 /// The residual ‖ψ‖ (scale-free) above which a new hard relation that still misses after
 /// the part is settled in depth is made a suggestion: about 11° between directions, or
@@ -73,13 +87,57 @@ fn coincide(a: &Primitive, b: &Primitive) -> bool {
         .all(|f| theirs.iter().any(|g| near(centre(f), centre(g))))
 }
 
+/// The samples of the drawing an assignment takes: (stroke, index among the stroke's
+/// samples) pairs, a whole stroke for all of its samples.
+fn taken(assignment: &Assignment) -> BTreeSet<(StrokeId, usize)> {
+    assignment
+        .curves
+        .iter()
+        .flatten()
+        .flat_map(|a| {
+            let indices: Vec<usize> = a
+                .part
+                .clone()
+                .unwrap_or_else(|| (0..a.samples.len()).collect());
+            indices.into_iter().map(move |i| (a.stroke, i))
+        })
+        .collect()
+}
+
+/// Whether two parts snapped with the assignments `ours` and `theirs` were read off the
+/// same strokes: more than half of each one's samples are the other's. Two parts of a
+/// drawing share samples only where they meet (a stroke drawn on round a joint), and a
+/// stroke drawn on from one part to the next (across a stem, between two arms) is taken
+/// in pieces, each part its own; parts that share most of their samples are one part
+/// read twice (a drop meant for one of a row of valves that snapped onto its
+/// neighbour). Both ways: a part whose strokes a greedy earlier snap took in with many
+/// others of its own is still a part of its own. A part without strokes (placed
+/// freely) is read off none.
+fn same_samples(ours: &Assignment, theirs: &Assignment) -> bool {
+    let (a, b) = (taken(ours), taken(theirs));
+    let shared = a.intersection(&b).count();
+    !a.is_empty() && 2 * shared > a.len() && 2 * shared > b.len()
+}
+
+/// How many of `found` are hard.
+fn hard_count(found: &[Found]) -> usize {
+    found.iter().filter(|f| f.mode == Mode::Hard).count()
+}
+
 impl Document {
     /// Infers the relations between part `id` and the other parts
     /// ([`crate::relation::infer`]), adds them (hard or suggested, with their confidence
     /// and evidence) and returns their ids. The part may be replaced by its mirror image
     /// in depth when that one has more relations and its strokes do not tell the two
-    /// apart (see the module docs and [`reading`](super::reading)). Relations already in
-    /// the model (not off) count as known, so nothing redundant is added.
+    /// apart (see the module docs and [`reading`](super::reading)); earlier parts whose
+    /// strokes leave their reading open may be mirrored instead, when the new part's
+    /// strokes settle its own. Relations already in the model
+    /// (not off) count as known, so nothing redundant is added.
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one release in order: the parts, their contacts, both mirror readings, \
+                  the turn of earlier parts the drawing leaves free, the parts joined"
+    )]
     pub fn infer_relations(
         &mut self,
         id: PrimitiveId,
@@ -120,7 +178,9 @@ impl Document {
             .map(|record| DrawnEnds::of(&snapped, &record.assignment));
         // A mirror image in depth draws the same outline: one contact graph serves every
         // variant and the pass over the parts the new one joins.
-        let graph = ContactGraph::new(&parts_of(&sizes, &features, &outlines), settings.distance());
+        let mut graph =
+            ContactGraph::new(&parts_of(&sizes, &features, &outlines), settings.distance());
+        self.separate_read_twice(&mut graph, &ids);
         // The lengths' spreads of the parts equal lengths may be inferred with: the new
         // part and the alike parts within reach.
         let reach = graph.hops_from(new, ALIKE_HOPS);
@@ -130,39 +190,76 @@ impl Document {
                 m.length_spread = self.length_spread(ids[i]);
             }
         }
-        let mut best: Option<(i32, Primitive, Vec<Found>)> = None;
+        let mut tried: Vec<(i32, Primitive, Vec<Found>)> = Vec::new();
         for variant in depth_variants(&snapped) {
             let reading = drawn.map_or(0, |d| d.agreement(&variant));
             features[new] = variant.current_shape().features;
             let parts = parts_of(&sizes, &features, &outlines);
             let found = infer_in(&graph, &parts, new, &existing, settings);
             log::debug!(
-                "part #{} as {:?} (reading {reading}): {} relation(s) {:?}",
+                "part #{} as {:?} (reading {reading}): {} relation(s)",
                 id.0,
                 variant.params(),
                 found.len(),
-                found
-                    .iter()
-                    .map(|f| (f.proposal.kind.name(), f.mode.name()))
-                    .collect::<Vec<_>>()
             );
-            // The drawing first: a reading its strokes contradict is never taken for
-            // more relations. Among readings the strokes support alike, the one with
-            // more hard relations, then more in all, wins (the snapped one on a tie).
-            let hard = found.iter().filter(|f| f.mode == Mode::Hard).count();
-            let better = best.as_ref().is_none_or(|(r, _, b)| {
-                let b_hard = b.iter().filter(|f| f.mode == Mode::Hard).count();
-                (reading, hard, found.len()) > (*r, b_hard, b.len())
-            });
-            if better {
-                best = Some((reading, variant, found));
-            }
+            tried.push((reading, variant, found));
         }
-        let Some((_, chosen, mut found)) = best else {
+        // The drawing first: a reading its strokes contradict is never taken for more
+        // relations. Among readings the strokes support alike, the one with more hard
+        // relations, then more in all, wins (the snapped one on a tie).
+        let Some(pick) = (0..tried.len()).reduce(|b, i| {
+            let key = |t: &(i32, Primitive, Vec<Found>)| (t.0, hard_count(&t.2), t.2.len());
+            if key(&tried[i]) > key(&tried[b]) {
+                i
+            } else {
+                b
+            }
+        }) else {
             return Vec::new();
         };
-        // The parts the new one joins (placed before it) are related now too.
+        let (reading, chosen, mut found) = tried.swap_remove(pick);
         features[new] = chosen.current_shape().features;
+        // The reading the drawing refused would have had more hard relations: the parts
+        // they were with may be the ones read in the wrong mirror, where their own
+        // strokes leave it open.
+        if let Some((_, _, refused)) = tried
+            .iter()
+            .find(|t| t.0 < reading && hard_count(&t.2) > hard_count(&found))
+        {
+            let seeds: Vec<usize> = refused
+                .iter()
+                .filter(|f| f.mode == Mode::Hard)
+                .flat_map(|f| f.proposal.members.iter().copied())
+                .filter(|&m| m != new)
+                .collect();
+            if let Some(turned) = self.free_group(&ids, new, &seeds) {
+                let before: Vec<Vec<FeatureCurve<f64>>> =
+                    turned.iter().map(|(i, _)| features[*i].clone()).collect();
+                for (i, p) in &turned {
+                    features[*i] = p.current_shape().features;
+                }
+                let again = infer_in(
+                    &graph,
+                    &parts_of(&sizes, &features, &outlines),
+                    new,
+                    &existing,
+                    settings,
+                );
+                if hard_count(&again) > hard_count(&found) {
+                    found = again;
+                    for (i, p) in turned {
+                        if let Some(placed) = self.primitives.get_mut(&ids[i]) {
+                            placed.primitive = p;
+                        }
+                    }
+                } else {
+                    for ((i, _), f) in turned.iter().zip(before) {
+                        features[*i] = f;
+                    }
+                }
+            }
+        }
+        // The parts the new one joins (placed before it) are related now too.
         let parts = parts_of(&sizes, &features, &outlines);
         let mut known = existing;
         known.extend(found.iter().map(|f| (f.proposal.clone(), f.mode)));
@@ -171,6 +268,87 @@ impl Document {
             placed.primitive = chosen;
         }
         self.add_inferred(&ids, found)
+    }
+
+    /// The parts (positions in `ids`, with their mirror images) related, through the
+    /// relations that are not off, to the parts `seeds` (positions in `ids`; `new`, the
+    /// part being released, left out), each mirrored in depth about their mean depth,
+    /// when every one of them is free to be: its strokes leave its mirror reading open
+    /// ([`Document::mirror_free`]). `None` when some part is not, or there are none.
+    /// Mirrored together, the group keeps every relation among its parts.
+    fn free_group(
+        &self,
+        ids: &[PrimitiveId],
+        new: usize,
+        seeds: &[usize],
+    ) -> Option<Vec<(usize, Primitive)>> {
+        let mut group: Vec<usize> = Vec::new();
+        let mut frontier: Vec<usize> = seeds.to_vec();
+        while let Some(i) = frontier.pop() {
+            if i == new || group.contains(&i) {
+                continue;
+            }
+            group.push(i);
+            for r in self.relations.iter().filter(|r| r.mode != Mode::Off) {
+                if r.members.contains(&ids[i]) {
+                    frontier.extend(
+                        r.members
+                            .iter()
+                            .filter_map(|m| ids.iter().position(|x| x == m)),
+                    );
+                }
+            }
+        }
+        if group.is_empty() || !group.iter().all(|&i| self.mirror_free(ids[i])) {
+            return None;
+        }
+        let depth = group
+            .iter()
+            .map(|&i| self.primitives[&ids[i]].primitive.center().z)
+            .sum::<f64>()
+            / group.len() as f64;
+        Some(
+            group
+                .into_iter()
+                .map(|i| {
+                    let p = &self.primitives[&ids[i]].primitive;
+                    let shift = DVec3::new(0.0, 0.0, -2.0 * (p.center().z - depth));
+                    (i, p.mirrored_in_depth().transformed(shift, 1.0))
+                })
+                .collect(),
+        )
+    }
+
+    /// Whether part `id`'s strokes leave its mirror reading in depth open: a ball, or a
+    /// solid of revolution whose drawn ends agree with both readings alike (both drawn
+    /// whole, with hidden lines; or not drawn). Boxes and bent tubes are not (which of
+    /// their edges and halves are drawn tells the two apart), nor parts placed without
+    /// a snap.
+    fn mirror_free(&self, id: PrimitiveId) -> bool {
+        let (Some(placed), Some(record)) = (self.primitives.get(&id), self.snaps.get(&id)) else {
+            return false;
+        };
+        let p = &placed.primitive;
+        match p.kind() {
+            PrimitiveKind::Sphere => true,
+            PrimitiveKind::Cylinder | PrimitiveKind::Cone | PrimitiveKind::Sgc => {
+                let drawn = DrawnEnds::of(p, &record.assignment);
+                drawn.agreement(p) == drawn.agreement(&p.mirrored_in_depth())
+            }
+            PrimitiveKind::Cuboid | PrimitiveKind::Bgc => false,
+        }
+    }
+
+    /// Keeps apart in `graph` (over the parts `ids`) the parts that are one drawn part
+    /// read twice ([`ContactGraph::separate`]): their snaps took mostly the same samples
+    /// of the drawing ([`same_samples`]).
+    fn separate_read_twice(&self, graph: &mut ContactGraph, ids: &[PrimitiveId]) {
+        graph.separate(
+            |a, b| match (self.snaps.get(&ids[a]), self.snaps.get(&ids[b])) {
+                (Some(x), Some(y)) => same_samples(&x.assignment, &y.assignment),
+                _ => false,
+            },
+        );
     }
 
     /// What inference reads of part `id` (`placed`, with its feature curves
@@ -743,6 +921,115 @@ mod tests {
         let flipped = doc.primitives[&mirrored].primitive.mirrored_in_depth();
         doc.primitives.get_mut(&mirrored).expect("added").primitive = flipped;
         assert_eq!(doc.duplicate_of(mirrored), Some(first));
+    }
+
+    #[test]
+    fn earlier_parts_whose_strokes_leave_the_mirror_open_are_turned_for_the_drawing() {
+        // Two legs side by side. The first drawn with hidden lines (both ends whole):
+        // either mirror reading. The second drawn with its top whole and its bottom a
+        // half: its top faces the viewer, as snapped, and it is parallel to the first
+        // only once the first is mirrored.
+        let place = |first_hidden: bool| {
+            let mut doc = Document::new();
+            let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+            let b = doc.add(leg(2.0, DVec3::new(0.0, -0.9, 0.44)));
+            for (k, (id, hidden)) in [(a, first_hidden), (b, false)].into_iter().enumerate() {
+                let p = doc.get(id).expect("placed").primitive.clone();
+                // Strokes of its own.
+                let mut assignment = drawn(&p, hidden);
+                for s in assignment.curves.iter_mut().flatten() {
+                    s.stroke = crate::sketch::StrokeId(k as u32);
+                }
+                doc.snaps.insert(
+                    id,
+                    SnapRecord {
+                        assignment,
+                        rms: 0.0,
+                    },
+                );
+            }
+            doc.infer_relations(b, &InferenceSettings::default());
+            let parallel = doc.relations().iter().any(|r| {
+                r.kind == RelationKind::Parallel
+                    && r.mode == Mode::Hard
+                    && r.members.contains(&a)
+                    && r.members.contains(&b)
+            });
+            (axis_z(&doc, a), axis_z(&doc, b), parallel)
+        };
+        let (a, b, parallel) = place(true);
+        assert!(a < 0.0 && b > 0.0 && parallel, "{a} {b} {parallel}");
+        // The first drawn without hidden lines, its top whole: its reading stands too,
+        // and the two are not parallel.
+        let (a, b, parallel) = place(false);
+        assert!(a > 0.0 && b > 0.0 && !parallel, "{a} {b} {parallel}");
+    }
+
+    /// An assignment taking the `strokes` (id, and the range of its ten samples taken;
+    /// the whole stroke for 0..10).
+    fn taking(strokes: &[(u32, std::ops::Range<usize>)]) -> crate::snap::Assignment {
+        crate::snap::Assignment {
+            curves: vec![strokes
+                .iter()
+                .map(|(id, range)| crate::snap::AssignedStroke {
+                    stroke: crate::sketch::StrokeId(*id),
+                    samples: range
+                        .clone()
+                        .map(|i| glam::DVec2::new(i as f64, 0.0))
+                        .collect(),
+                    mean_distance: 0.0,
+                    part: (*range != (0..10)).then(|| range.clone().collect()),
+                })
+                .collect()],
+        }
+    }
+
+    #[test]
+    fn a_part_read_off_another_parts_strokes_is_not_related_to_it() {
+        use super::same_samples;
+
+        let whole = |ids: &[u32]| taking(&ids.iter().map(|&i| (i, 0..10)).collect::<Vec<_>>());
+        // Three of four strokes each way: one part read twice.
+        assert!(same_samples(&whole(&[1, 2, 3, 4]), &whole(&[2, 3, 4, 5])));
+        // One stroke shared at a joint: two parts.
+        assert!(!same_samples(&whole(&[1, 2, 3, 4]), &whole(&[4, 5, 6, 7])));
+        // Strokes drawn on from one arm to the other, each arm taking its own pieces.
+        let left = taking(&[(1, 0..5), (2, 0..5), (3, 0..10)]);
+        let right = taking(&[(1, 5..10), (2, 5..10), (4, 0..10)]);
+        assert!(!same_samples(&left, &right));
+        // A part whose strokes an earlier greedy snap took in among many of its own.
+        assert!(!same_samples(
+            &whole(&[20, 21, 22]),
+            &whole(&[10, 11, 12, 13, 20, 21])
+        ));
+        // Placed freely: read off none.
+        assert!(!same_samples(&whole(&[]), &whole(&[1])));
+
+        // Two legs side by side, the second snapped onto the first one's strokes (a
+        // little aside): parallel and coaxial would hold, but they are one drawn leg.
+        let axis = DVec3::new(0.0, 0.9, 0.44);
+        let mut doc = Document::new();
+        let on = |doc: &mut Document, x: f64, strokes: &[u32]| {
+            let id = doc.add(leg(x, axis));
+            doc.snaps.insert(
+                id,
+                SnapRecord {
+                    assignment: whole(strokes),
+                    rms: 0.0,
+                },
+            );
+            id
+        };
+        on(&mut doc, 0.0, &[1, 2, 3, 4]);
+        let again = on(&mut doc, 0.3, &[1, 2, 3, 5]);
+        assert!(doc
+            .infer_relations(again, &InferenceSettings::default())
+            .is_empty());
+        // Beside them on strokes of its own: a part of its own.
+        let beside = on(&mut doc, 2.0, &[6, 7, 8, 9]);
+        assert!(!doc
+            .infer_relations(beside, &InferenceSettings::default())
+            .is_empty());
     }
 
     #[test]

@@ -343,10 +343,13 @@ pub fn contact(a: &Part<'_>, b: &Part<'_>, grow: f64) -> Contact {
     }
 }
 
-/// The contacts between parts: for each part, the parts it touches and how.
+/// The contacts between parts: for each part, the parts it touches and how, and the
+/// pairs of parts that are one drawn part read twice ([`ContactGraph::separate`]).
 #[derive(Clone, Debug, Default)]
 pub struct ContactGraph {
     touching: Vec<Vec<(usize, Contact)>>,
+    /// Pairs (lower index first) never to be related.
+    apart: Vec<(usize, usize)>,
 }
 
 impl ContactGraph {
@@ -362,7 +365,34 @@ impl ContactGraph {
                 }
             }
         }
-        Self { touching }
+        Self {
+            touching,
+            apart: Vec::new(),
+        }
+    }
+
+    /// Keeps apart the touching parts that `same` says are one drawn part read twice
+    /// (snapped to mostly the same strokes: a drop meant for one of a row of alike
+    /// parts that snapped onto its neighbour): inference never relates the two
+    /// ([`ContactGraph::kept_apart`]). Whatever they would share (an axis, an end) is
+    /// the drawing's one part agreeing with itself, not a relation a designer made.
+    /// Their contacts stay: each still reaches the others through the other's joints
+    /// (a candle read onto the arm it stands on still reaches the other candles). Only
+    /// touching parts are asked: parts read off the same strokes overlap.
+    pub fn separate(&mut self, same: impl Fn(usize, usize) -> bool) {
+        for (a, touching) in self.touching.iter().enumerate() {
+            for (b, _) in touching {
+                if a < *b && same(a, *b) {
+                    self.apart.push((a, *b));
+                }
+            }
+        }
+    }
+
+    /// Whether parts `a` and `b` are one drawn part read twice
+    /// ([`ContactGraph::separate`]): never related.
+    pub fn kept_apart(&self, a: usize, b: usize) -> bool {
+        self.apart.contains(&(a.min(b), a.max(b)))
     }
 
     /// How parts `a` and `b` touch ([`Contact::Apart`] when they do not).
@@ -438,6 +468,24 @@ mod tests {
     use glam::DVec2;
 
     use super::{hull, polygon_distance, Outline};
+
+    #[test]
+    fn parts_read_off_the_same_strokes_are_kept_apart() {
+        use super::{Contact, ContactGraph};
+
+        let mut graph = ContactGraph {
+            touching: vec![
+                vec![(1, Contact::Crossing), (2, Contact::EndOnSide)],
+                vec![(0, Contact::Crossing)],
+                vec![(0, Contact::EndOnSide)],
+            ],
+            apart: Vec::new(),
+        };
+        graph.separate(|a, b| (a, b) == (0, 1));
+        assert!(graph.kept_apart(1, 0) && graph.kept_apart(0, 1));
+        assert!(!graph.kept_apart(0, 2));
+        assert_eq!(graph.between(0, 2), Contact::EndOnSide);
+    }
 
     #[test]
     fn hulls_and_distances() {

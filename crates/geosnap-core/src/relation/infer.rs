@@ -16,6 +16,12 @@
 //! prior per kind and situation. A confident candidate becomes a hard relation, a
 //! middling one a suggestion ([`Mode::Suggested`]), a weak one is not kept.
 //!
+//! Two parts meet in one plane at most, and repeated parts meet what they share the
+//! same way: where a part repeating the new one already has one of its planes in one
+//! with a plane of the other part (a stud's bottom on the brick's top), that pair comes
+//! first, before faces facing each other and nearness on the paper. Parts read off the
+//! same strokes ([`ContactGraph::separate`]) are never related to each other.
+//!
 //! A candidate is dropped when what it says already follows from the relations kept so
 //! far (hard ones for a hard candidate; hard and suggested ones for a suggestion):
 //! - parallel, coaxial, concentric, coplanar, same radius and equal length are
@@ -387,7 +393,7 @@ pub fn infer_in(
     }
     let hops = within_reach(graph, parts, new, usize::MAX);
     let others: Vec<usize> = (0..parts.len())
-        .filter(|&i| i != new && hops[i].is_some())
+        .filter(|&i| i != new && hops[i].is_some() && !graph.kept_apart(new, i))
         .collect();
     infer_among(parts, new, &others, existing, settings, graph, &hops)
 }
@@ -443,7 +449,13 @@ pub fn infer_bridged(
         let before = within_reach(graph, parts, n, via);
         let hops = within_reach(graph, parts, n, usize::MAX);
         let others: Vec<usize> = (0..parts.len())
-            .filter(|&j| j != n && j != via && hops[j].is_some() && before[j].is_none())
+            .filter(|&j| {
+                j != n
+                    && j != via
+                    && hops[j].is_some()
+                    && before[j].is_none()
+                    && !graph.kept_apart(n, j)
+            })
             .collect();
         if others.is_empty() {
             continue;
@@ -902,11 +914,13 @@ impl Inference<'_, '_> {
         // At most one plane per pair of parts: a leg's top drawn inside a table top's
         // outline lies, in the drawing, within both faces of the top, but it can meet
         // one only.
+        let alike = self.met_by_repeated(other);
         let plane = self.meeting_planes(
             other,
             // One axis and one centre: one plane already.
             |a, b| coaxial && centred.contains(&(a, b)),
             Self::holds,
+            &alike,
         );
         if let Some(p) = plane {
             self.propose(p);
@@ -917,6 +931,7 @@ impl Inference<'_, '_> {
                 other,
                 |_, _| false,
                 |inference, p| inference.facing(p) && inference.standing_fraction(p).is_some(),
+                &alike,
             );
             if let Some((p, fraction)) =
                 plane.and_then(|p| self.standing_fraction(&p).map(|f| (p, f)))
@@ -935,20 +950,48 @@ impl Inference<'_, '_> {
             && matches!((normal(0), normal(1)), (Some(a), Some(b)) if a.dot(b) < 0.0)
     }
 
+    /// The pairs (a plane of the new part, a plane of `other`) already in one plane
+    /// for some part that repeats the new one ([`Self::repeated`]), as far as the
+    /// relations kept say: the feet of the legs already under this top, the bottoms of
+    /// the studs already on this brick. Repeated parts meet what they share the same
+    /// way.
+    fn met_by_repeated(&mut self, other: usize) -> Vec<(Feature, Feature)> {
+        let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let mut pairs = Vec::new();
+        for r in 0..self.parts.len() {
+            if r == self.new || r == other || !self.repeated(self.new, r) {
+                continue;
+            }
+            for &a in planes(&new_part) {
+                for &b in planes(&other_part) {
+                    if self.all.coplanar.find((r, Slot::Feature(a)))
+                        == self.all.coplanar.find((other, Slot::Feature(b)))
+                        && !pairs.contains(&(a, b))
+                    {
+                        pairs.push((a, b));
+                    }
+                }
+            }
+        }
+        pairs
+    }
+
     /// The coplanar candidate between a plane `a` of the new part and a plane `b` of
     /// `other` (pairs `skip` names left out) that `test` passes, tried both ways round
     /// (the tests ask for the second centre inside the first outline): of those, the
-    /// faces in contact (outward normals opposed: a leg's top under the table's
-    /// underside, a stud's bottom on a brick's top) first, then the pair whose centres
-    /// are nearer in the drawing.
+    /// pairs parts repeating the new one already meet `other` by (`alike`, see
+    /// [`Self::met_by_repeated`]) first, then the faces in contact (outward normals
+    /// opposed: a leg's top under the table's underside, a stud's bottom on a brick's
+    /// top), then the pair whose centres are nearer in the drawing.
     fn meeting_planes(
         &self,
         other: usize,
         skip: impl Fn(Feature, Feature) -> bool,
         test: impl Fn(&Self, &Proposal) -> bool,
+        alike: &[(Feature, Feature)],
     ) -> Option<Proposal> {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
-        let mut planar: Vec<(bool, f64, Proposal)> = Vec::new();
+        let mut planar: Vec<(bool, bool, f64, Proposal)> = Vec::new();
         for &a in planes(&new_part) {
             for &b in planes(&other_part) {
                 if skip(a, b) {
@@ -967,11 +1010,16 @@ impl Inference<'_, '_> {
                 else {
                     continue;
                 };
-                planar.push((na.dot(nb) < 0.0, ca.distance(cb), p));
+                planar.push((
+                    alike.contains(&(a, b)),
+                    na.dot(nb) < 0.0,
+                    ca.distance(cb),
+                    p,
+                ));
             }
         }
-        planar.sort_by(|x, y| y.0.cmp(&x.0).then(x.1.total_cmp(&y.1)));
-        planar.into_iter().next().map(|(_, _, p)| p)
+        planar.sort_by(|x, y| y.0.cmp(&x.0).then(y.1.cmp(&x.1)).then(x.2.total_cmp(&y.2)));
+        planar.into_iter().next().map(|(_, _, _, p)| p)
     }
 
     /// Whole solids: equal lengths, and a tube on a ball either way round.
@@ -1338,6 +1386,41 @@ mod tests {
             on.features,
             vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)]
         );
+    }
+
+    #[test]
+    fn repeated_studs_sit_on_the_brick_the_same_way() {
+        // Seen steeply from above: the second stud's top is drawn right over the
+        // centre of the brick's underside, nearer on the paper than its bottom is to the
+        // top face's centre; facing each other, both pairs would hold. The first stud
+        // sits on the top face; the second, repeating it, does the same.
+        let view = DQuat::from_rotation_x(1.0) * DQuat::from_rotation_y(0.3);
+        let up = view * DVec3::Y;
+        let brick = Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: view,
+            size: DVec3::new(80.0, 20.0, 40.0),
+        });
+        let stud = |x: f64, z: f64| {
+            Primitive::Cylinder(Cylinder {
+                center: up * 13.0 + view * DVec3::new(x, 0.0, z),
+                axis: up,
+                length: 6.0,
+                radius: 5.0,
+            })
+        };
+        let r = place_all(&[brick, stud(25.0, 10.0), stud(-4.9, 15.9)]);
+        for s in [1, 2] {
+            let on = r
+                .iter()
+                .find(|p| p.kind == RelationKind::Coplanar && p.members == vec![0, s])
+                .unwrap_or_else(|| panic!("stud {s} on the brick: {r:#?}"));
+            assert_eq!(
+                on.features,
+                vec![Some(Feature::face(Axis::Y, true)), Some(Feature::Bottom)],
+                "stud {s}"
+            );
+        }
     }
 
     /// A brick seen from above at a slant, and a stud on its top face leaning `lean`
