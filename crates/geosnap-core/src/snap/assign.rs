@@ -329,6 +329,7 @@ fn candidate(
         whole: part.is_none(),
         gate,
         outline: curve.class == CurveClass::Silhouette,
+        reach: stroke.length / length.max(f64::MIN_POSITIVE),
         indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
         distances: d,
     })
@@ -418,7 +419,9 @@ const SPLIT_RATIO: f64 = 3.0;
 /// whole stroke (one that came before it), split off when there are at least 4 and they
 /// lie, on average, at least [`SPLIT_RATIO`] times further from the outline than from
 /// their own curve and beyond a tenth of the outline's gate (farther than a hand's
-/// wobble). The rest stay
+/// wobble), and when the piece split off and the one left to the outline each draw at
+/// least half of their curve (a neighbour's outline passing by under a thin part's wide
+/// gate draws neither of its outlines). The rest stay
 /// with the outline, which keeps them when at least 4 are left. `None` when nothing
 /// splits off.
 ///
@@ -442,6 +445,7 @@ fn split_from_whole(candidates: &[Piece], w: usize, sample_count: usize) -> Opti
             let mine: Vec<usize> = (0..sample_count).filter(|i| owner[*i] == Some(c)).collect();
             let (own, far) = (mean(&mine, &piece.distances), mean(&mine, &whole.distances));
             (mine.len() >= 4
+                && draws_half(piece, mine.len())
                 && (piece.outline || c <= w)
                 && far >= SPLIT_RATIO * own
                 && far > floor)
@@ -453,6 +457,9 @@ fn split_from_whole(candidates: &[Piece], w: usize, sample_count: usize) -> Opti
     }
     let taken: Vec<usize> = split.iter().flat_map(|(_, mine)| mine.clone()).collect();
     let rest: Vec<usize> = (0..sample_count).filter(|i| !taken.contains(i)).collect();
+    if !draws_half(whole, rest.len()) {
+        return None;
+    }
     let mut kept = Vec::new();
     for (c, piece) in candidates.iter().enumerate() {
         let indices = if c == 0 {
@@ -469,12 +476,21 @@ fn split_from_whole(candidates: &[Piece], w: usize, sample_count: usize) -> Opti
                 whole: false,
                 gate: piece.gate,
                 outline: piece.outline,
+                reach: piece.reach,
                 indices,
                 distances: piece.distances.clone(),
             });
         }
     }
     Some(kept)
+}
+
+/// Whether `count` of a stroke's samples draw at least half of the length of `piece`'s
+/// curve (a piece of a stroke that does not is another part's passing by, as
+/// `candidate` requires of any piece).
+fn draws_half(piece: &Piece, count: usize) -> bool {
+    let all = piece.distances.len().max(1) as f64;
+    count as f64 / all * piece.reach >= 0.5
 }
 
 /// A stroke, or a piece of one, that suits a curve.
@@ -489,6 +505,9 @@ struct Piece {
     gate: f64,
     /// Whether the curve is an outline.
     outline: bool,
+    /// The length of the stroke's samples the curve could take at most, over the
+    /// curve's own length: a piece must draw at least half of its curve.
+    reach: f64,
     /// The indices of its samples among the stroke's.
     indices: Vec<usize>,
     /// The distance of every sample of the stroke to the curve.
@@ -730,26 +749,39 @@ mod tests {
         assert!((curve_length(&shape.curves[2].curve) - 40.0 * 0.96).abs() < 1e-6);
     }
 
+    /// A cylinder of length 40 and radius `r` seen from the side and a little above
+    /// (axis up the page, tilted 16° towards the viewer).
+    fn leaning_cylinder(r: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 40.0,
+            radius: r,
+        })
+    }
+
+    /// [`leaning_cylinder`]`(r)`'s left outline, the front arc of its bottom end (in
+    /// `arc` steps) and its right outline drawn as one U-shaped stroke (sketch space,
+    /// y down).
+    fn u_round_its_bottom(r: f64, arc: u32) -> Vec<DVec2> {
+        let mut u: Vec<DVec2> = (0..=12)
+            .map(|i| DVec2::new(-r, -19.2 + 3.2 * f64::from(i)))
+            .collect();
+        u.extend((1..arc).map(|i| {
+            let t = std::f64::consts::PI * (1.0 - f64::from(i) / f64::from(arc));
+            DVec2::new(r * t.cos(), 19.2 + 0.28 * r * t.sin())
+        }));
+        u.extend((0..=12).map(|i| DVec2::new(r, 19.2 - 3.2 * f64::from(i))));
+        u
+    }
+
     #[test]
     fn one_stroke_down_an_outline_round_an_end_and_back_up_is_taken_in_pieces() {
         // The cylinder of the test above, its left outline, the front arc of its bottom
         // end and its right outline drawn as one U-shaped stroke (sketch space, y down),
         // and its top ellipse.
-        let cyl = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::new(0.0, 0.96, 0.28),
-            length: 40.0,
-            radius: 10.0,
-        });
-        let shape = cyl.current_shape();
-        let mut u: Vec<DVec2> = (0..=12)
-            .map(|i| DVec2::new(-10.0, -19.2 + 3.2 * f64::from(i)))
-            .collect();
-        u.extend((1..24).map(|i| {
-            let t = std::f64::consts::PI * (1.0 - f64::from(i) / 24.0);
-            DVec2::new(10.0 * t.cos(), 19.2 + 2.8 * t.sin())
-        }));
-        u.extend((0..=12).map(|i| DVec2::new(10.0, 19.2 - 3.2 * f64::from(i))));
+        let shape = leaning_cylinder(10.0).current_shape();
+        let u = u_round_its_bottom(10.0, 24);
         let top: Vec<DVec2> = (0..=24)
             .map(|i| {
                 let t = std::f64::consts::TAU * f64::from(i) / 24.0;
@@ -799,21 +831,8 @@ mod tests {
         // than the rod, so the whole U (left outline, the front arc of its bottom end,
         // right outline; sketch space, y down) lies within either outline's gate; only
         // its pieces draw them.
-        let rod = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::new(0.0, 0.96, 0.28),
-            length: 40.0,
-            radius: 3.0,
-        });
-        let shape = rod.current_shape();
-        let mut u: Vec<DVec2> = (0..=12)
-            .map(|i| DVec2::new(-3.0, -19.2 + 3.2 * f64::from(i)))
-            .collect();
-        u.extend((1..8).map(|i| {
-            let t = std::f64::consts::PI * (1.0 - f64::from(i) / 8.0);
-            DVec2::new(3.0 * t.cos(), 19.2 + 0.84 * t.sin())
-        }));
-        u.extend((0..=12).map(|i| DVec2::new(3.0, 19.2 - 3.2 * f64::from(i))));
+        let shape = leaning_cylinder(3.0).current_shape();
+        let u = u_round_its_bottom(3.0, 8);
         let ctx = SnapContext::new([(StrokeId(0), u.as_slice(), StrokeClass::Silhouette)]);
         let a = assign(&ctx, &shape.curves, 10.0);
         for (curve, taken) in shape.curves.iter().zip(&a.curves) {
@@ -837,13 +856,7 @@ mod tests {
     #[test]
     fn a_stroke_drawn_a_little_past_its_outline_stays_whole() {
         // The rod above, its left outline drawn whole: no run of it lies far from it.
-        let rod = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::new(0.0, 0.96, 0.28),
-            length: 40.0,
-            radius: 3.0,
-        });
-        let shape = rod.current_shape();
+        let shape = leaning_cylinder(3.0).current_shape();
         let line: Vec<DVec2> = (0..=20)
             .map(|i| DVec2::new(-3.0 + 0.2 * f64::from(i % 2), -20.0 + 2.0 * f64::from(i)))
             .collect();

@@ -95,7 +95,7 @@ fn bounds(points: &[DVec2]) -> (DVec2, DVec2) {
 }
 
 /// The cumulative arc lengths of a polyline.
-fn arc_lengths(points: &[DVec2]) -> Vec<f64> {
+pub(super) fn arc_lengths(points: &[DVec2]) -> Vec<f64> {
     let mut s = Vec::with_capacity(points.len());
     let mut total = 0.0;
     for (i, p) in points.iter().enumerate() {

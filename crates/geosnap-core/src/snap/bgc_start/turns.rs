@@ -20,6 +20,8 @@ use std::ops::Range;
 
 use glam::DVec2;
 
+use super::medial::arc_lengths;
+
 /// The stretch over which a stroke's turning is measured, either side of each point, in
 /// tube radii.
 const WINDOW: f64 = 1.5;
@@ -29,19 +31,6 @@ const TURN: f64 = 55.0 * std::f64::consts::PI / 180.0;
 /// A run between turns shorter than this many tube radii is part of the turn (a flat
 /// end's arc between its two corners, or a wobble between two sharp bends, is no leg).
 const MIN_LEG: f64 = 2.0;
-
-/// The cumulative arc lengths of a polyline.
-fn arc_lengths(points: &[DVec2]) -> Vec<f64> {
-    let mut s = Vec::with_capacity(points.len());
-    let mut total = 0.0;
-    for (i, p) in points.iter().enumerate() {
-        if i > 0 {
-            total += points[i - 1].distance(*p);
-        }
-        s.push(total);
-    }
-    s
-}
 
 /// Whether a stroke winds round (an ellipse drawn whole, give or take a hand's miss):
 /// its signed turning adds up to more than 270°. A U turns by 180°, an S by about
