@@ -431,6 +431,11 @@ const SPLIT_RATIO: f64 = 3.0;
 /// only its pieces draw them. Only an outline is split so: a box edge keeps a stroke
 /// whose tip runs on round a corner, as the hand overshot it.
 fn split_from_whole(candidates: &[Piece], w: usize, sample_count: usize) -> Option<Vec<Piece>> {
+    // A stroke that one curve alone can take (the common case, on every drag frame) has
+    // nothing to split off.
+    if candidates.len() < 2 {
+        return None;
+    }
     let whole = candidates.first().filter(|w| w.whole && w.outline)?;
     let owner = owners(candidates, sample_count);
     let mean = |indices: &[usize], distances: &[f64]| {
