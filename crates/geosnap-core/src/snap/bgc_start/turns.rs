@@ -175,6 +175,19 @@ mod tests {
     }
 
     #[test]
+    fn degenerate_strokes_stay_whole() {
+        // Too short, all one point, NaN coordinates, a NaN radius: one run, no panic.
+        let short = vec![DVec2::ZERO, DVec2::X];
+        assert_eq!(runs(&short, 10.0), vec![0..2]);
+        let point = vec![DVec2::ONE; 20];
+        assert_eq!(runs(&point, 10.0), vec![0..20]);
+        let mut u = u_stroke();
+        u[5] = DVec2::NAN;
+        assert_eq!(u_runs(&u, 10.0, (0.8, 4.0)), vec![0..u.len()]);
+        assert_eq!(runs(&u_stroke(), f64::NAN), vec![0..u.len()]);
+    }
+
+    #[test]
     fn a_slowly_bending_outline_and_a_closed_ellipse_stay_whole() {
         // A quarter circle of radius 100: a C-tube's outline.
         let arc: Vec<DVec2> = (0..=60)
