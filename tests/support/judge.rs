@@ -59,6 +59,9 @@ pub(crate) struct Errors {
     pub(crate) radius: Option<f64>,
     /// Worst relative length error (a box's sizes; none for a sphere).
     pub(crate) length: Option<f64>,
+    /// Whether a cylinder's, cone's or generalized cylinder's length came out longer
+    /// (+1) or shorter (−1) than the truth; 0 where it is not measured (a box, a sphere).
+    pub(crate) length_sign: f64,
 }
 
 impl Errors {
@@ -75,7 +78,12 @@ impl Errors {
             out.push(format!("radius {:.1} % > 7", 100.0 * r));
         }
         if let Some(l) = self.length.filter(|l| *l > SIZE_TOL) {
-            out.push(format!("length {:.1} % > 7", 100.0 * l));
+            let sign = match self.length_sign {
+                s if s > 0.0 => "+",
+                s if s < 0.0 => "−",
+                _ => "",
+            };
+            out.push(format!("length {sign}{:.1} % > 7", 100.0 * l));
         }
         out
     }
@@ -94,6 +102,7 @@ pub(crate) fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
             e.axis = Some(axis_error(t.axis, f.axis).0);
             e.radius = Some(rel(f.radius, t.radius));
             e.length = Some(rel(f.length, t.length));
+            e.length_sign = (f.length - t.length).signum();
         }
         (Primitive::Cone(t), Primitive::Cone(f)) => {
             let (angle, reversed) = axis_error(t.axis, f.axis);
@@ -105,6 +114,7 @@ pub(crate) fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
             e.axis = Some(angle);
             e.radius = Some(rel(rb, t.radius_bottom).max(rel(rt, t.radius_top)));
             e.length = Some(rel(f.length, t.length));
+            e.length_sign = (f.length - t.length).signum();
         }
         (Primitive::Sphere(t), Primitive::Sphere(f)) => {
             e.radius = Some(rel(f.radius, t.radius));
@@ -140,6 +150,7 @@ pub(crate) fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
             e.axis = Some(angle);
             e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
             e.length = Some(rel(f.length, t.length));
+            e.length_sign = (f.length - t.length).signum();
         }
         (Primitive::Bgc(t), Primitive::Bgc(f)) => {
             let chord = |s: &[DVec3]| (s[s.len() - 1] - s[0]).normalize_or_zero();
@@ -153,6 +164,7 @@ pub(crate) fn evaluate(truth: &Primitive, fit: &Primitive) -> Errors {
             e.axis = Some(angle);
             e.radius = Some(rel(r0, t.radii[0]).max(rel(r1, t.radii[k])));
             e.length = Some(rel(f.spine_length(), t.spine_length()));
+            e.length_sign = (f.spine_length() - t.spine_length()).signum();
         }
         (t, f) => panic!("a {:?} snapped to a {:?}", t.kind(), f.kind()),
     }

@@ -476,6 +476,38 @@ fn snap_from(
             &mut errors,
             solve.reborrow(),
         )?;
+        // A hand sets a part's size only roughly, and a drop made too big takes its
+        // neighbours' strokes into its wide gate and can settle on a reading that spans
+        // them. The drop shrunk by a fifth, which sees only the strokes near its middle,
+        // is a guess as good as the drop: worth a fit (with a smaller budget) when it
+        // reads other strokes than the drop does.
+        let shrunk = primitive
+            .transformed(-primitive.center(), SHRUNK_DROP)
+            .transformed(primitive.center(), 1.0);
+        let reads = |p: &Primitive| {
+            assign(
+                context,
+                &p.current_shape().curves,
+                settings.wide_gate * p.size(),
+            )
+        };
+        if !reads(&shrunk).same_strokes(&reads(primitive)) {
+            let guess = SnapSettings {
+                solver: settings
+                    .solver
+                    .clone()
+                    .with_max_evaluations(GUESS_EVALUATIONS)
+                    .unwrap_or_else(|_| settings.solver.clone()),
+                ..settings.clone()
+            };
+            attempt_with(
+                &shrunk,
+                &guess,
+                &mut candidates,
+                &mut errors,
+                solve.reborrow(),
+            )?;
+        }
         // A cold drop is also tried from the starting poses the drawing itself suggests
         // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
         // drawn box); the better snap wins (see `better`).
@@ -509,6 +541,18 @@ fn snap_from(
             })),
     }
 }
+
+/// The factor by which a cold drop is also shrunk before it is snapped (see
+/// [`snap_from`]): a hand sets a part's size to within about a quarter. Only a smaller
+/// guess is tried: a larger one reads more of the neighbours' strokes, and its wins
+/// were as often a part swallowing its neighbours (a goblet's bowl taking its stem and
+/// foot) as the part meant.
+const SHRUNK_DROP: f64 = 0.8;
+
+/// The evaluation budget of each fit from a shrunk drop: a converging fit takes a few
+/// hundred at most, and a guess that runs away must not cost a drag frame more than a
+/// few tens of milliseconds.
+const GUESS_EVALUATIONS: u64 = 1000;
 
 /// A snap may change the dropped size by at most this factor either way; beyond it the
 /// fit has run away (see [`SnapError::RanAway`]).
@@ -639,6 +683,11 @@ fn snap_rounds(
         if fitted.is_finite() {
             current = fitted;
             multipliers = Some(report.multipliers);
+        }
+        // A fit that ran away does not come back in the next round: stop here.
+        let factor = current.size() / primitive.size();
+        if !(1.0 / MAX_SIZE_CHANGE..=MAX_SIZE_CHANGE).contains(&factor) {
+            return Err(SnapError::RanAway { kind, factor });
         }
         let tight = settings.tight_gate * current.size();
         let next = assign::assign_within(context, &current.current_shape().curves, tight, true);
@@ -871,6 +920,60 @@ mod tests {
         assert!(
             (e_true - drawn).abs() < 0.05 * drawn,
             "{e_true:.0} against {drawn:.0}"
+        );
+    }
+
+    /// The visible curves of `parts` as strokes, as a careful hand draws them.
+    fn drawn_parts(parts: &[Primitive]) -> SnapContext {
+        let strokes: Vec<Vec<DVec2>> = parts
+            .iter()
+            .flat_map(|p| p.current_shape().curves)
+            .filter(|c| c.visible)
+            .map(|c| {
+                c.curve
+                    .points(64)
+                    .into_iter()
+                    .map(|q| DVec2::new(q.x, -q.y))
+                    .collect()
+            })
+            .collect();
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Silhouette)),
+        )
+    }
+
+    #[test]
+    fn a_drop_made_too_big_next_to_a_neighbour_still_lands_on_its_part() {
+        // Two legs side by side, a leg's width apart, leaning a little towards the viewer.
+        let leg = |x: f64| {
+            Primitive::Cylinder(Cylinder {
+                center: DVec3::new(x, -160.0, 0.0),
+                axis: DVec3::new(0.0, 0.96, 0.28).normalize(),
+                length: 150.0,
+                radius: 12.0,
+            })
+        };
+        let (meant, neighbour) = (leg(100.0), leg(148.0));
+        let context = drawn_parts(&[meant.clone(), neighbour]);
+        // Dropped over the meant leg a quarter too big and upright, off towards the
+        // neighbour by a tenth of its size: its wide gate takes the neighbour's
+        // outline too.
+        let dropped = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(112.0, -165.0, 0.0),
+            axis: DVec3::Y,
+            length: 190.0,
+            radius: 16.0,
+        });
+        let result = super::snap(&context, &dropped, &SnapSettings::default()).expect("it snaps");
+        let Primitive::Cylinder(c) = &result.primitive else {
+            unreachable!()
+        };
+        assert!(
+            (c.center.x - 100.0).abs() < 3.0 && (c.radius - 12.0).abs() < 1.0,
+            "landed on {c:?}"
         );
     }
 
