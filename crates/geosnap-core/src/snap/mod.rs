@@ -469,48 +469,10 @@ fn snap_from(
         // compete alone, and the drop's error is the one reported when nothing snaps.
         candidates.clear();
         errors.clear();
-        attempt_with(
-            primitive,
-            settings,
-            &mut candidates,
-            &mut errors,
-            solve.reborrow(),
-        )?;
-        // A hand sets a part's size only roughly, and a drop made too big takes its
-        // neighbours' strokes into its wide gate and can settle on a reading that spans
-        // them. The drop shrunk by a fifth, which sees only the strokes near its middle,
-        // is a guess as good as the drop: worth a fit (with a smaller budget) when it
-        // reads other strokes than the drop does.
-        let shrunk = primitive
-            .transformed(-primitive.center(), SHRUNK_DROP)
-            .transformed(primitive.center(), 1.0);
-        let reads = |p: &Primitive| {
-            assign(
-                context,
-                &p.current_shape().curves,
-                settings.wide_gate * p.size(),
-            )
-        };
-        if !reads(&shrunk).same_strokes(&reads(primitive)) {
-            let guess = SnapSettings {
-                solver: settings
-                    .solver
-                    .clone()
-                    .with_max_evaluations(GUESS_EVALUATIONS)
-                    .unwrap_or_else(|_| settings.solver.clone()),
-                ..settings.clone()
-            };
-            attempt_with(
-                &shrunk,
-                &guess,
-                &mut candidates,
-                &mut errors,
-                solve.reborrow(),
-            )?;
-        }
-        // A cold drop is also tried from the starting poses the drawing itself suggests
-        // (see `initial`: the tilt of drawn end ellipses, the three edge directions of a
-        // drawn box); the better snap wins (see `better`).
+        // The drop itself first (its error is the one reported when nothing snaps), then
+        // the drop shrunk (see `shrunk_drop`), then the starting poses the drawing itself
+        // suggests (see `initial`: the tilt of drawn end ellipses, the three edge
+        // directions of a drawn box); the better snap wins (see `better`).
         // A pose read off the strokes is as close to them as the drawing is exact, not as
         // a hand's drop: its first assignment already takes the tight gate, so that the
         // strokes of parts next to a thin one (a table top's legs) are not taken.
@@ -518,16 +480,22 @@ fn snap_from(
             wide_gate: settings.tight_gate,
             ..settings.clone()
         };
-        for start in initial::starting_poses(context, primitive) {
-            if start.is_finite() {
-                attempt_with(
-                    &start,
-                    &read,
-                    &mut candidates,
-                    &mut errors,
-                    solve.reborrow(),
-                )?;
-            }
+        let mut starts = vec![(primitive.clone(), settings.clone())];
+        starts.extend(shrunk_drop(context, primitive, settings));
+        starts.extend(
+            initial::starting_poses(context, primitive)
+                .into_iter()
+                .filter(Primitive::is_finite)
+                .map(|start| (start, read.clone())),
+        );
+        for (start, settings) in &starts {
+            attempt_with(
+                start,
+                settings,
+                &mut candidates,
+                &mut errors,
+                solve.reborrow(),
+            )?;
         }
     }
     match choose(candidates) {
@@ -542,6 +510,41 @@ fn snap_from(
     }
 }
 
+/// The drop shrunk by [`SHRUNK_DROP`] and the settings to snap it with, when it reads
+/// other strokes than the drop does. A hand sets a part's size only roughly, and a drop
+/// made too big takes its neighbours' strokes into its wide gate and can settle on a
+/// reading that spans them (a table leg on the next leg). The shrunk drop sees only the
+/// strokes near its middle: a guess as good as the drop, snapped with a smaller budget
+/// ([`GUESS_EVALUATIONS`]), its result competing with the others (see [`better`]).
+fn shrunk_drop(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+) -> Option<(Primitive, SnapSettings)> {
+    let shrunk = primitive
+        .transformed(-primitive.center(), SHRUNK_DROP)
+        .transformed(primitive.center(), 1.0);
+    let reads = |p: &Primitive| {
+        assign(
+            context,
+            &p.current_shape().curves,
+            settings.wide_gate * p.size(),
+        )
+    };
+    if reads(&shrunk).same_strokes(&reads(primitive)) {
+        return None;
+    }
+    let guess = SnapSettings {
+        solver: settings
+            .solver
+            .clone()
+            .with_max_evaluations(GUESS_EVALUATIONS)
+            .unwrap_or_else(|_| settings.solver.clone()),
+        ..settings.clone()
+    };
+    Some((shrunk, guess))
+}
+
 /// The factor by which a cold drop is also shrunk before it is snapped (see
 /// [`snap_from`]): a hand sets a part's size to within about a quarter. Only a smaller
 /// guess is tried: a larger one reads more of the neighbours' strokes, and its wins
@@ -549,10 +552,10 @@ fn snap_from(
 /// foot) as the part meant.
 const SHRUNK_DROP: f64 = 0.8;
 
-/// The evaluation budget of each fit from a shrunk drop: a converging fit takes a few
-/// hundred at most, and a guess that runs away must not cost a drag frame more than a
-/// few tens of milliseconds.
-const GUESS_EVALUATIONS: u64 = 1000;
+/// The evaluation budget of each fit from a shrunk drop: a converging snap takes 50–200
+/// in all its rounds, and a guess that neither converges nor runs away must not cost a
+/// drag frame tens of milliseconds (1,000 found the same parts).
+const GUESS_EVALUATIONS: u64 = 400;
 
 /// A snap may change the dropped size by at most this factor either way; beyond it the
 /// fit has run away (see [`SnapError::RanAway`]).
