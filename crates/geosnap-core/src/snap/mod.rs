@@ -687,9 +687,12 @@ fn snap_rounds(
             current = fitted;
             multipliers = Some(report.multipliers);
         }
-        // A fit that ran away does not come back in the next round: stop here.
+        // A fit a little out of range may come back once the tight gate drops the
+        // strokes it reached for (a box read as the other box of its outline went ×5.8
+        // and back to ×1.4); one that left it by its square has run away: stop here.
         let factor = current.size() / primitive.size();
-        if !(1.0 / MAX_SIZE_CHANGE..=MAX_SIZE_CHANGE).contains(&factor) {
+        let hopeless = MAX_SIZE_CHANGE * MAX_SIZE_CHANGE;
+        if !(1.0 / hopeless..=hopeless).contains(&factor) {
             return Err(SnapError::RanAway { kind, factor });
         }
         let tight = settings.tight_gate * current.size();
