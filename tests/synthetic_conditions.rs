@@ -159,9 +159,11 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
 /// issue's target, met today: 48 of 2605 at 40 cases per kind and condition).
 const MAX_GOOD_FLAGGED: f64 = 0.05;
 /// Today's floor for the share of wrong parts whose snap calls itself doubtful or refused
-/// (26 of 60 in the floor test since the snap weighs how tightly its strokes pin it,
-/// where it was 14 of 60 before); the target is 90 %.
-const WRONG_FLAGGED_FLOOR: f64 = 0.38;
+/// (22 of 58 in the floor test since a drop is also tried shrunk, which mends parts that
+/// called themselves doubtful, so fewer of the wrong parts left do; 26 of 60 before, 14
+/// of 60 before the snap weighed how tightly its strokes pin it; 47 % at 40 cases per
+/// kind and condition either way); the target is 90 %.
+const WRONG_FLAGGED_FLOOR: f64 = 0.35;
 
 /// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
 /// the model's projected curve in the renderer check. Measured: SGCs up to 7.9 % in
