@@ -45,8 +45,9 @@
 //!   the view's mirror and reversal; a box's worst axis), the mean relative error of its
 //!   sizes (radii and length; a box's three sizes) and the projected centre distance
 //!   relative to its size. The means and the improvement in % are printed.
-//! - **Wrecked parts**: a part whose axis error grows by more than [`WRECK_AXIS`] or whose
-//!   size error grows by more than [`WRECK_SIZE`] from its own snap to the final model.
+//! - **Wrecked parts**: a fairly snapped part whose axis error grows by more than
+//!   [`WRECK_AXIS`] or whose size error grows by more than [`WRECK_SIZE`] from its own
+//!   snap to the final model.
 //!
 //! The steps run with a [`MonotonicClock`], as `geosnap run` does, so the global
 //! solve's time cap (10 s per solve by default) holds.
@@ -107,7 +108,9 @@ const RECALL_TOL: f64 = 5e-3;
 /// A part whose axis error grows by more than this (degrees) from its own snap to the
 /// final model, or whose mean size error grows by more than [`WRECK_SIZE`], was wrecked
 /// by the solve: relations and the fits of other parts may move a part, but not turn a
-/// fair snap into nonsense.
+/// fair snap into nonsense. A snap is fair when its own errors are within these
+/// measures; a snap already nonsense is not counted (its relations are the snapping's
+/// failure, counted in the recall).
 const WRECK_AXIS: f64 = 15.0;
 /// See [`WRECK_AXIS`] (a fraction: 0.5 is 50 percentage points).
 const WRECK_SIZE: f64 = 0.5;
@@ -520,8 +523,11 @@ fn judge_part(
     out: &mut CaseResult,
 ) {
     let (own, fin) = (part_errors(truth, own), part_errors(truth, fin));
+    // Only a fair snap can be wrecked: one already off by more than the wreck's own
+    // measures (a part snapped across its neighbours, 4 times too big) is not.
+    let fair = own.axis.unwrap_or(0.0) <= WRECK_AXIS && own.size <= WRECK_SIZE;
     let turned = fin.axis.unwrap_or(0.0) - own.axis.unwrap_or(0.0);
-    if turned > WRECK_AXIS || fin.size - own.size > WRECK_SIZE {
+    if fair && (turned > WRECK_AXIS || fin.size - own.size > WRECK_SIZE) {
         out.wrecked += 1;
         out.report.push(format!(
             "{tag} WRECKED: axis error {:.1}° → {:.1}°, size error {:.1} % → {:.1} %",
