@@ -1362,19 +1362,7 @@ mod tests {
     #[test]
     fn a_stud_sits_on_the_brick_and_stands_up_from_it() {
         let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
-        let up = view * DVec3::Y;
-        let brick = Primitive::Cuboid(Cuboid {
-            center: DVec3::ZERO,
-            rotation: view,
-            size: DVec3::new(80.0, 20.0, 40.0),
-        });
-        let stud = Primitive::Cylinder(Cylinder {
-            center: up * 13.0 + view * DVec3::new(25.0, 0.0, 10.0),
-            axis: up,
-            length: 6.0,
-            radius: 5.0,
-        });
-        let r = place_all(&[brick, stud]);
+        let r = place_all(&[brick_seen(view), upright_stud(view, 25.0, 10.0)]);
         assert_eq!(count(&r, RelationKind::Parallel), 1, "{r:#?}");
         assert_eq!(count(&r, RelationKind::Orthogonal), 0, "{r:#?}");
         let on = r
@@ -1395,21 +1383,11 @@ mod tests {
         // top face's centre; facing each other, both pairs would hold. The first stud
         // sits on the top face; the second, repeating it, does the same.
         let view = DQuat::from_rotation_x(1.0) * DQuat::from_rotation_y(0.3);
-        let up = view * DVec3::Y;
-        let brick = Primitive::Cuboid(Cuboid {
-            center: DVec3::ZERO,
-            rotation: view,
-            size: DVec3::new(80.0, 20.0, 40.0),
-        });
-        let stud = |x: f64, z: f64| {
-            Primitive::Cylinder(Cylinder {
-                center: up * 13.0 + view * DVec3::new(x, 0.0, z),
-                axis: up,
-                length: 6.0,
-                radius: 5.0,
-            })
-        };
-        let r = place_all(&[brick, stud(25.0, 10.0), stud(-4.9, 15.9)]);
+        let r = place_all(&[
+            brick_seen(view),
+            upright_stud(view, 25.0, 10.0),
+            upright_stud(view, -4.9, 15.9),
+        ]);
         for s in [1, 2] {
             let on = r
                 .iter()
@@ -1423,17 +1401,34 @@ mod tests {
         }
     }
 
+    /// An 80 × 20 × 40 brick centred at the origin, turned by `view`.
+    fn brick_seen(view: DQuat) -> Primitive {
+        Primitive::Cuboid(Cuboid {
+            center: DVec3::ZERO,
+            rotation: view,
+            size: DVec3::new(80.0, 20.0, 40.0),
+        })
+    }
+
+    /// A stud standing upright on the top face of [`brick_seen`]`(view)`, at (x, z) in
+    /// the brick's frame.
+    fn upright_stud(view: DQuat, x: f64, z: f64) -> Primitive {
+        let up = view * DVec3::Y;
+        Primitive::Cylinder(Cylinder {
+            center: up * 13.0 + view * DVec3::new(x, 0.0, z),
+            axis: up,
+            length: 6.0,
+            radius: 5.0,
+        })
+    }
+
     /// A brick seen from above at a slant, and a stud on its top face leaning `lean`
     /// (radians) off the face's normal towards the brick's side.
     fn brick_and_leaning_stud(lean: f64) -> [Primitive; 2] {
         let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
         let up = view * DVec3::Y;
         let axis = view * DVec3::new(lean.sin(), lean.cos(), 0.0);
-        let brick = Primitive::Cuboid(Cuboid {
-            center: DVec3::ZERO,
-            rotation: view,
-            size: DVec3::new(80.0, 20.0, 40.0),
-        });
+        let brick = brick_seen(view);
         let bottom = up * 10.0 + view * DVec3::new(25.0, 0.0, 10.0);
         let stud = Primitive::Cylinder(Cylinder {
             center: bottom + axis * 3.0,

@@ -189,24 +189,24 @@ mod tests {
 
     #[test]
     fn a_slowly_bending_outline_and_a_closed_ellipse_stay_whole() {
+        // 61 points round an axis-aligned ellipse of semi-axes `a` and `b`, through
+        // `turn` radians from its +x tip.
+        let round = |turn: f64, a: f64, b: f64| -> Vec<DVec2> {
+            (0..=60)
+                .map(|i| {
+                    let t = turn * f64::from(i) / 60.0;
+                    DVec2::new(a * t.cos(), b * t.sin())
+                })
+                .collect()
+        };
         // A quarter circle of radius 100: a C-tube's outline.
-        let arc: Vec<DVec2> = (0..=60)
-            .map(|i| {
-                let t = std::f64::consts::FRAC_PI_2 * f64::from(i) / 60.0;
-                DVec2::new(100.0 * t.cos(), 100.0 * t.sin())
-            })
-            .collect();
+        let arc = round(std::f64::consts::FRAC_PI_2, 100.0, 100.0);
         assert_eq!(runs(&arc, 10.0), vec![0..arc.len()]);
         // The inner outline of a tight bend: radius 25 for a tube of radius 10.
         let inner: Vec<DVec2> = arc.iter().map(|p| *p / 4.0).collect();
         assert_eq!(runs(&inner, 10.0), vec![0..inner.len()]);
         // A flat ellipse drawn all round: sharp at its tips, but one curve.
-        let ellipse: Vec<DVec2> = (0..=60)
-            .map(|i| {
-                let t = std::f64::consts::TAU * f64::from(i) / 60.0;
-                DVec2::new(50.0 * t.cos(), 8.0 * t.sin())
-            })
-            .collect();
+        let ellipse = round(std::f64::consts::TAU, 50.0, 8.0);
         assert_eq!(runs(&ellipse, 10.0), vec![0..ellipse.len()]);
     }
 }
