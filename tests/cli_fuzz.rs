@@ -512,11 +512,29 @@ fn edit_here(value: &mut Value, edit: &JsonEdit) {
         JsonEdit::Grow(count) => match value {
             Value::Array(items) if !items.is_empty() => {
                 let first = items[0].clone();
-                items.extend(std::iter::repeat_n(first, *count));
+                let copies = (*count).min(copies_within_budget(&first));
+                items.extend(std::iter::repeat_n(first, copies));
             }
-            other => *other = Value::Array(vec![other.take(); (*count).min(2000)]),
+            other => {
+                let copies = (*count).min(2000).min(copies_within_budget(other));
+                *other = Value::Array(vec![other.take(); copies]);
+            }
         },
     }
+}
+
+/// The most bytes one [`JsonEdit::Grow`] may add. Two grow edits compose (a stroke's
+/// points grown 20,000 times, then the strokes grown 20,000 times from that stroke), and
+/// without a budget the file itself took gigabytes and the test run was killed for
+/// memory. 16 MiB is large for every reader and well under [`MAX_INPUT_BYTES`].
+///
+/// [`MAX_INPUT_BYTES`]: geosnap::io::input::MAX_INPUT_BYTES
+const GROW_BUDGET_BYTES: usize = 16 << 20;
+
+/// How many copies of `element` fit in [`GROW_BUDGET_BYTES`] (at least one).
+fn copies_within_budget(element: &Value) -> usize {
+    let size = serde_json::to_vec(element).map_or(1, |bytes| bytes.len().max(1));
+    (GROW_BUDGET_BYTES / size).max(1)
 }
 
 /// Encodes a value, writing any [`JsonEdit::Raw`] token in place of its mark.
@@ -782,6 +800,37 @@ fn native_sketch() -> Value {
     let bytes = geosnap::io::sketch_file::sketch_file_bytes(&import.sketch, None)
         .expect("the sketch encodes");
     serde_json::from_slice(&bytes).expect("the sketch file is JSON")
+}
+
+/// Found in CI: two grow edits composed (a stroke's points, then the strokes from that
+/// stroke) made a file of gigabytes, and the run was killed for memory.
+#[test]
+fn grow_edits_that_compose_stay_within_the_budget() {
+    let mut sketch = native_sketch();
+    // The choices are positions among an object's keys: `strokes`, then its first
+    // stroke, then that stroke's `points`.
+    let first_key = sketch
+        .as_object()
+        .and_then(|m| m.keys().position(|k| k == "strokes"))
+        .expect("a sketch has strokes");
+    let stroke = sketch["strokes"][0]
+        .as_object()
+        .and_then(|m| m.keys().position(|k| k == "points"))
+        .expect("a stroke has points");
+    apply_json_edit(
+        &mut sketch,
+        &[first_key, 0, stroke],
+        &JsonEdit::Grow(19_999),
+    );
+    assert!(
+        sketch["strokes"][0]["points"]
+            .as_array()
+            .map_or(0, Vec::len)
+            > 19_999
+    );
+    apply_json_edit(&mut sketch, &[first_key], &JsonEdit::Grow(19_999));
+    let size = serde_json::to_vec(&sketch).expect("JSON encodes").len();
+    assert!(size <= 3 * GROW_BUDGET_BYTES, "{size} bytes");
 }
 
 const SKETCH_KEYS: &[&str] = &[
