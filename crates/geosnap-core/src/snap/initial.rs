@@ -600,16 +600,104 @@ fn sphere_poses(context: &SnapContext, dropped: &Sphere) -> Vec<Sphere> {
 /// Strokes closer in direction than this (radians) belong to one edge direction.
 const SAME_DIRECTION: f64 = 0.14;
 
-/// A straight stroke of one edge direction: its extent along its direction (not its
-/// length: a hand's jitter makes a polyline longer than the edge it draws) and bounds.
+/// One drawn edge line of a box direction: its extent along the direction (not a
+/// stroke's length: a hand's jitter makes a polyline longer than the edge it draws) and
+/// bounds. A line is one straight stroke, or several that continue one another on the
+/// same line ([`drawn_lines`]): an edge drawn in fragments, or sketched twice over.
 #[derive(Clone, Copy)]
 struct Edge {
     extent: f64,
     bounds: (DVec2, DVec2),
 }
 
+/// A straight stroke seen along a unit direction `d`: its mean offset across `d`, its
+/// interval along `d` and its bounds.
+struct OnLine {
+    offset: f64,
+    along: (f64, f64),
+    bounds: (DVec2, DVec2),
+}
+
+/// A gap along an edge line up to this share of the longer of the two pieces it
+/// separates is a break in the hand's line, not the end of the edge.
+const LINE_GAP: f64 = 0.25;
+
+/// Strokes whose mean offsets across the direction differ by at most this share of the
+/// direction's longest stroke lie on one line.
+const LINE_OFFSET: f64 = 0.03;
+
+/// The edge lines that straight strokes of one direction `d` draw: strokes on one line
+/// (offsets within [`LINE_OFFSET`] of the longest stroke) whose intervals along it
+/// overlap or leave a gap of at most [`LINE_GAP`] of the longer piece join into one line.
+/// A hand draws a long edge in fragments, or twice over; the edge is the line they draw
+/// together, whatever the drawing's scale.
+fn drawn_lines(strokes: &[&SnapStroke], d: DVec2) -> Vec<Edge> {
+    let n = d.perp();
+    let mut lines: Vec<OnLine> = strokes
+        .iter()
+        .map(|s| {
+            let (lo, hi) =
+                s.points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        let t = p.dot(d);
+                        (lo.min(t), hi.max(t))
+                    });
+            let offset = s.points.iter().map(|p| p.dot(n)).sum::<f64>() / s.points.len() as f64;
+            OnLine {
+                offset,
+                along: (lo, hi),
+                bounds: s.bounds,
+            }
+        })
+        .collect();
+    let longest = lines
+        .iter()
+        .map(|l| l.along.1 - l.along.0)
+        .fold(0.0, f64::max);
+    let tolerance = LINE_OFFSET * longest;
+    // Join pairs until none joins: a handful of strokes per direction, so the quadratic
+    // passes cost nothing.
+    let mut joined = true;
+    while joined {
+        joined = false;
+        'pairs: for i in 0..lines.len() {
+            for j in i + 1..lines.len() {
+                let (a, b) = (&lines[i], &lines[j]);
+                if (a.offset - b.offset).abs() > tolerance {
+                    continue;
+                }
+                let gap = a.along.0.max(b.along.0) - a.along.1.min(b.along.1);
+                let piece = (a.along.1 - a.along.0).max(b.along.1 - b.along.0);
+                if gap > LINE_GAP * piece {
+                    continue;
+                }
+                let (wa, wb) = (a.along.1 - a.along.0, b.along.1 - b.along.0);
+                let weight = (wa + wb).max(f64::MIN_POSITIVE);
+                let merged = OnLine {
+                    offset: (a.offset * wa + b.offset * wb) / weight,
+                    along: (a.along.0.min(b.along.0), a.along.1.max(b.along.1)),
+                    bounds: (a.bounds.0.min(b.bounds.0), a.bounds.1.max(b.bounds.1)),
+                };
+                lines[i] = merged;
+                lines.swap_remove(j);
+                joined = true;
+                break 'pairs;
+            }
+        }
+    }
+    lines
+        .into_iter()
+        .map(|l| Edge {
+            extent: l.along.1 - l.along.0,
+            bounds: l.bounds,
+        })
+        .collect()
+}
+
 /// The three edge directions of a drawn box: groups of straight strokes by direction
-/// (mod π), strongest (longest in total) first; each is (unit direction, its strokes).
+/// (mod π), strongest (longest in total) first; each is (unit direction, its edge lines
+/// from [`drawn_lines`]).
 fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
     // Directions as doubled angles, so that d and −d agree.
     let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
@@ -639,23 +727,8 @@ fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
             acc + DVec2::new(a.cos(), a.sin()) * s.length
         });
         let a = doubled.y.atan2(doubled.x) / 2.0;
-        let edges = members
-            .iter()
-            .map(|s| {
-                let (lo, hi) =
-                    s.points
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                            let t = p.dot(s.direction);
-                            (lo.min(t), hi.max(t))
-                        });
-                Edge {
-                    extent: hi - lo,
-                    bounds: s.bounds,
-                }
-            })
-            .collect();
-        groups.push((DVec2::new(a.cos(), a.sin()), edges));
+        let direction = DVec2::new(a.cos(), a.sin());
+        groups.push((direction, drawn_lines(&members, direction)));
         left = rest;
     }
     groups.try_into().ok()
@@ -890,6 +963,80 @@ pub(super) mod tests {
         assert!(found, "{poses:#?}");
         for pose in &poses {
             assert!(pose.center.truncate().distance(truth.center.truncate()) < 1e-6);
+        }
+    }
+
+    /// The poses' sizes for `truth`, read off `context` with `dropped`: per pose, each
+    /// true size's relative error on the pose axis along it (the worst of the three).
+    fn worst_size_error(poses: &[Cuboid], truth: &Cuboid) -> f64 {
+        let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
+        let truth_axes = truth.axes();
+        poses
+            .iter()
+            .map(|pose| {
+                let axes = pose.axes();
+                (0..3)
+                    .map(|j| {
+                        (0..3)
+                            .filter(|i| {
+                                let same = |a: DVec3| a.dot(truth_axes[j]).abs() > 0.999;
+                                same(axes[*i]) || same(mirror(axes[*i]))
+                            })
+                            .map(|i| (pose.size[i] - truth.size[j]).abs() / truth.size[j])
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn a_box_drawn_in_fragments_or_twice_over_gives_its_sizes() {
+        let truth = turned_box();
+        let dropped = Cuboid {
+            center: DVec3::new(420.0, -280.0, 0.0),
+            rotation: DQuat::from_rotation_x(20f64.to_radians())
+                * DQuat::from_rotation_y(-30f64.to_radians()),
+            size: DVec3::new(150.0, 150.0, 150.0),
+        };
+        let whole = drawn(&truth);
+        // Each edge in three pieces: a gap of 3 % of the edge, then an overlap of 2 %.
+        // And each edge drawn twice, the second stroke shifted by 0.5 % of the box across
+        // and covering 55 % of the edge from either end.
+        let mut fragments = Vec::new();
+        let mut sketchy = Vec::new();
+        for stroke in &whole.strokes {
+            let (a, b) = (stroke.points[0], stroke.points[stroke.points.len() - 1]);
+            let piece = |from: f64, to: f64| -> Vec<DVec2> {
+                (0..=10)
+                    .map(|i| a.lerp(b, from + (to - from) * f64::from(i) / 10.0))
+                    .collect()
+            };
+            fragments.extend([piece(0.0, 0.32), piece(0.35, 0.68), piece(0.66, 1.0)]);
+            let shift = (b - a).perp().normalize() * 1.0;
+            sketchy.push(piece(0.0, 0.55));
+            sketchy.push(piece(0.45, 1.0).into_iter().map(|p| p + shift).collect());
+        }
+        for strokes in [fragments, sketchy] {
+            // `SnapContext::new` takes sketch space (y down); the points are in the view
+            // plane (y up).
+            let sketch: Vec<Vec<DVec2>> = strokes
+                .iter()
+                .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
+                .collect();
+            let context = SnapContext::new(
+                sketch
+                    .iter()
+                    .enumerate()
+                    .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+            );
+            let poses = box_poses(&context, &dropped);
+            let error = worst_size_error(&poses, &truth);
+            assert!(
+                error < 0.02,
+                "sizes off by {:.1} %: {poses:#?}",
+                100.0 * error
+            );
         }
     }
 
