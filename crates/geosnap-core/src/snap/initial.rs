@@ -864,17 +864,29 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
                 new_axes[worst] = -new_axes[worst];
             }
             let (size, centre) = sizes_and_centre(&groups, axes, perm, dropped)?;
-            Some(Cuboid {
+            let rotation =
+                DQuat::from_mat3(&DMat3::from_cols(new_axes[0], new_axes[1], new_axes[2]))
+                    .normalize();
+            let read = Cuboid {
                 center: DVec3::new(centre.x, centre.y, dropped.center.z),
-                rotation: DQuat::from_mat3(&DMat3::from_cols(
-                    new_axes[0],
-                    new_axes[1],
-                    new_axes[2],
-                ))
-                .normalize(),
+                rotation,
                 size,
+            };
+            // The strokes' bounds take in whatever else runs the box's ways nearby (a
+            // pipe's outlines): the same box at the drop's centre is tried too, when the
+            // two differ by more than a tenth of the box.
+            let at_drop = Cuboid {
+                center: dropped.center,
+                ..read.clone()
+            };
+            let apart = read.center.truncate().distance(dropped.center.truncate());
+            Some(if apart > 0.1 * read.size.max_element() {
+                vec![read, at_drop]
+            } else {
+                vec![read]
             })
         })
+        .flatten()
         .collect()
 }
 
