@@ -697,8 +697,9 @@ fn drawn_lines(strokes: &[&SnapStroke], d: DVec2) -> Vec<Edge> {
 
 /// The three edge directions of a drawn box: groups of straight strokes by direction
 /// (mod π), strongest (longest in total) first; each is (unit direction, its edge lines
-/// from [`drawn_lines`]).
-fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
+/// from [`drawn_lines`]). A group takes the strokes within `absorb` times
+/// [`SAME_DIRECTION`] of its strongest direction.
+fn edge_directions(strokes: &[&SnapStroke], absorb: f64) -> Option<[(DVec2, Vec<Edge>); 3]> {
     // Directions as doubled angles, so that d and −d agree.
     let angle = |s: &SnapStroke| s.direction.y.atan2(s.direction.x);
     let gap = |a: f64, b: f64| {
@@ -720,7 +721,7 @@ fn edge_directions(strokes: &[&SnapStroke]) -> Option<[(DVec2, Vec<Edge>); 3]> {
             .max_by(|a, b| support(*a).total_cmp(&support(*b)))?;
         let (members, rest): (Vec<&SnapStroke>, Vec<&SnapStroke>) = left
             .iter()
-            .partition(|s| gap(angle(s), seed) <= 2.0 * SAME_DIRECTION);
+            .partition(|s| gap(angle(s), seed) <= absorb * SAME_DIRECTION);
         // The length-weighted mean direction, on doubled angles.
         let doubled = members.iter().fold(DVec2::ZERO, |acc, s| {
             let a = 2.0 * angle(s);
@@ -821,9 +822,35 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
         .iter()
         .filter(|s| s.straightness <= ROUGHLY_STRAIGHT && s.points.iter().all(inside))
         .collect();
-    let Some(groups) = edge_directions(&strokes) else {
-        return Vec::new();
-    };
+    // A group first takes every stroke within twice the direction tolerance, so that a
+    // hand's shaky edges stay together; seen side on, two of a box's axes can draw
+    // within that of each other, and only the tighter grouping tells them apart. Both
+    // groupings give their poses; the fit and the explanation choose.
+    let mut poses = Vec::new();
+    let mut seen: Vec<[DVec2; 3]> = Vec::new();
+    for absorb in ABSORB {
+        let Some(groups) = edge_directions(&strokes, absorb) else {
+            continue;
+        };
+        let directions = [0, 1, 2].map(|i| groups[i].0);
+        let same =
+            |d: &[DVec2; 3]| (0..3).all(|i| d[i].dot(directions[i]).abs() > SAME_DIRECTION.cos());
+        if seen.iter().any(same) {
+            continue;
+        }
+        seen.push(directions);
+        poses.extend(poses_from_groups(&groups, dropped));
+    }
+    poses
+}
+
+/// How widely a direction group takes strokes, in [`SAME_DIRECTION`]s: the groupings
+/// [`box_poses`] reads.
+const ABSORB: [f64; 2] = [2.0, 1.0];
+
+/// The poses of a box (labelled as the dropped box) whose edges draw the direction
+/// groups `groups` (see [`box_poses`]).
+fn poses_from_groups(groups: &[(DVec2, Vec<Edge>); 3], dropped: &Cuboid) -> Vec<Cuboid> {
     let Some(orientations) = box_axes([0, 1, 2].map(|i| groups[i].0)) else {
         return Vec::new();
     };
@@ -863,7 +890,7 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
                 })?;
                 new_axes[worst] = -new_axes[worst];
             }
-            let (size, centre) = sizes_and_centre(&groups, axes, perm, dropped)?;
+            let (size, centre) = sizes_and_centre(groups, axes, perm, dropped)?;
             let rotation =
                 DQuat::from_mat3(&DMat3::from_cols(new_axes[0], new_axes[1], new_axes[2]))
                     .normalize();
@@ -1050,6 +1077,51 @@ pub(super) mod tests {
                 100.0 * error
             );
         }
+    }
+
+    #[test]
+    fn a_box_seen_side_on_with_two_axes_drawn_alike_gives_its_orientation() {
+        // Two of its axes draw 15° apart, within one direction group's wide reach.
+        let axes = [
+            DVec3::new(-0.118, 0.676, -0.728),
+            DVec3::new(-0.945, -0.302, -0.127),
+            DVec3::new(-0.306, 0.672, 0.674),
+        ]
+        .map(DVec3::normalize);
+        let truth = Cuboid {
+            center: DVec3::new(1676.0, -1396.0, 0.0),
+            rotation: DQuat::from_mat3(&glam::DMat3::from_cols(
+                axes[0],
+                axes[1],
+                axes[0].cross(axes[1]),
+            ))
+            .normalize(),
+            size: DVec3::new(1100.0, 850.0, 920.0),
+        };
+        let dropped = Cuboid {
+            center: DVec3::new(1630.0, -1450.0, 0.0),
+            rotation: DQuat::from_mat3(&glam::DMat3::from_cols(
+                DVec3::new(0.099, -0.877, 0.470).normalize(),
+                DVec3::new(0.896, 0.285, 0.342).normalize(),
+                DVec3::new(0.099, -0.877, 0.470)
+                    .normalize()
+                    .cross(DVec3::new(0.896, 0.285, 0.342).normalize()),
+            ))
+            .normalize(),
+            size: DVec3::new(830.0, 644.0, 1076.0),
+        };
+        let mirror = |v: DVec3| DVec3::new(v.x, v.y, -v.z);
+        let poses = box_poses(&drawn(&truth), &dropped);
+        let truth_axes = truth.axes();
+        let found = poses.iter().any(|pose| {
+            pose.axes().iter().all(|a| {
+                truth_axes.iter().any(|t| {
+                    let near = |v: DVec3| v.dot(*t).abs() > 2f64.to_radians().cos();
+                    near(*a) || near(mirror(*a))
+                })
+            })
+        });
+        assert!(found, "no pose has the true axes: {poses:#?}");
     }
 
     #[test]
