@@ -973,16 +973,21 @@ pub(super) mod tests {
         }
     }
 
-    #[test]
-    fn a_drawn_box_gives_its_orientation_and_sizes() {
-        let truth = turned_box();
-        // Dropped upright, in the palette's default orientation, a little off.
-        let dropped = Cuboid {
+    /// A box dropped on [`turned_box`] upright, in the palette's default orientation and
+    /// size, a little off its centre.
+    fn palette_drop() -> Cuboid {
+        Cuboid {
             center: DVec3::new(420.0, -280.0, 0.0),
             rotation: DQuat::from_rotation_x(20f64.to_radians())
                 * DQuat::from_rotation_y(-30f64.to_radians()),
             size: DVec3::new(150.0, 150.0, 150.0),
-        };
+        }
+    }
+
+    #[test]
+    fn a_drawn_box_gives_its_orientation_and_sizes() {
+        let truth = turned_box();
+        let dropped = palette_drop();
         let poses = box_poses(&drawn(&truth), &dropped);
         // The pose and its mirror image, each also at the drop's centre (the drop is more
         // than a tenth of the box from the drawn centre).
@@ -1038,12 +1043,7 @@ pub(super) mod tests {
     #[test]
     fn a_box_drawn_in_fragments_or_twice_over_gives_its_sizes() {
         let truth = turned_box();
-        let dropped = Cuboid {
-            center: DVec3::new(420.0, -280.0, 0.0),
-            rotation: DQuat::from_rotation_x(20f64.to_radians())
-                * DQuat::from_rotation_y(-30f64.to_radians()),
-            size: DVec3::new(150.0, 150.0, 150.0),
-        };
+        let dropped = palette_drop();
         let whole = drawn(&truth);
         // Each edge in three pieces: a gap of 3 % of the edge, then an overlap of 2 %.
         // And each edge drawn twice, the second stroke shifted by 0.5 % of the box across
