@@ -1086,6 +1086,38 @@ pub(super) mod tests {
     }
 
     #[test]
+    fn a_box_beside_a_twin_whose_edges_run_on_in_line_keeps_its_sizes() {
+        // A row of two boxes a twentieth of a width apart: the neighbour's edges continue
+        // this box's edges along the row, across a small gap.
+        let truth = turned_box();
+        let gap = 1.05 * truth.size.x;
+        let twin = Cuboid {
+            center: truth.center + truth.axes()[0] * gap,
+            ..truth.clone()
+        };
+        let (a, b) = (drawn(&truth), drawn(&twin));
+        let strokes: Vec<Vec<DVec2>> = a
+            .strokes
+            .iter()
+            .chain(&b.strokes)
+            .map(|s| s.points.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
+            .collect();
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        );
+        let poses = box_poses(&context, &palette_drop());
+        let error = worst_size_error(&poses, &truth);
+        assert!(
+            error < 0.02,
+            "sizes off by {:.1} %: {poses:#?}",
+            100.0 * error
+        );
+    }
+
+    #[test]
     fn a_box_seen_side_on_with_two_axes_drawn_alike_gives_its_orientation() {
         // Two of its axes draw 15° apart, within one direction group's wide reach.
         let axes = [
