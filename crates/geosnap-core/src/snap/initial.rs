@@ -1063,25 +1063,7 @@ pub(super) mod tests {
             sketchy.push(piece(0.45, 1.0).into_iter().map(|p| p + shift).collect());
         }
         for strokes in [fragments, sketchy] {
-            // `SnapContext::new` takes sketch space (y down); the points are in the view
-            // plane (y up).
-            let sketch: Vec<Vec<DVec2>> = strokes
-                .iter()
-                .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
-                .collect();
-            let context = SnapContext::new(
-                sketch
-                    .iter()
-                    .enumerate()
-                    .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
-            );
-            let poses = box_poses(&context, &dropped);
-            let error = worst_size_error(&poses, &truth);
-            assert!(
-                error < 0.02,
-                "sizes off by {:.1} %: {poses:#?}",
-                100.0 * error
-            );
+            assert_sizes_read(&strokes, &dropped, &truth);
         }
     }
 
@@ -1100,16 +1082,27 @@ pub(super) mod tests {
             .strokes
             .iter()
             .chain(&b.strokes)
-            .map(|s| s.points.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
+            .map(|s| s.points.clone())
+            .collect();
+        assert_sizes_read(&strokes, &palette_drop(), &truth);
+    }
+
+    /// Asserts that some box pose read off `strokes` (in the view plane, y up) for
+    /// `dropped` has the sizes of `truth` within 2 %.
+    fn assert_sizes_read(strokes: &[Vec<DVec2>], dropped: &Cuboid, truth: &Cuboid) {
+        // `SnapContext::new` takes sketch space (y down).
+        let sketch: Vec<Vec<DVec2>> = strokes
+            .iter()
+            .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
             .collect();
         let context = SnapContext::new(
-            strokes
+            sketch
                 .iter()
                 .enumerate()
                 .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
         );
-        let poses = box_poses(&context, &palette_drop());
-        let error = worst_size_error(&poses, &truth);
+        let poses = box_poses(&context, dropped);
+        let error = worst_size_error(&poses, truth);
         assert!(
             error < 0.02,
             "sizes off by {:.1} %: {poses:#?}",
