@@ -1,8 +1,9 @@
 //! Better starting poses than the dropped one, read off the drawing near it.
 //!
 //! A dropped primitive has a fixed tilt, but the strokes say how the part really sits,
-//! and the fit converges far more reliably from there. Three readings are made:
+//! and the fit converges far more reliably from there. Four readings are made:
 //! - solids of revolution, from their end ellipses (below);
+//! - solids of revolution, from their two outlines ([`outlines`]);
 //! - boxes, from the directions of their drawn edges ([`box_poses`]);
 //! - spheres, from the circle their outline draws near the drop ([`sphere_poses`]).
 //!
@@ -41,6 +42,8 @@ use crate::geom::{fit_circle, fit_ellipse, refine_ellipse, Circle2, Ellipse2};
 use crate::primitive::{Cuboid, Primitive, Sphere};
 use crate::sketch::{StrokeClass, StrokeId};
 
+mod outlines;
+
 /// The starting poses worth a try besides the dropped one (none when the drawing near it
 /// says nothing more).
 pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Vec<Primitive> {
@@ -55,6 +58,7 @@ pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Ve
             .collect(),
         _ => repose_from_ellipses(context, primitive)
             .into_iter()
+            .chain(outlines::outline_poses(context, primitive))
             .collect(),
     }
 }
@@ -429,73 +433,106 @@ fn one_end_reading(
     }
 }
 
+/// A solid of revolution's pose as the starting poses read and change it: centre, unit
+/// axis, length and end radii (bottom, top).
+pub(super) struct Revolution {
+    pub(super) center: DVec3,
+    pub(super) axis: DVec3,
+    pub(super) length: f64,
+    pub(super) radii: (f64, f64),
+}
+
+impl Revolution {
+    /// The pose of `primitive`, or `None` when it is not a cylinder, cone or SGC.
+    pub(super) fn of(primitive: &Primitive) -> Option<Self> {
+        let (center, axis, length, radii) = match primitive {
+            Primitive::Cylinder(c) => (c.center, c.axis, c.length, (c.radius, c.radius)),
+            Primitive::Cone(c) => (c.center, c.axis, c.length, (c.radius_bottom, c.radius_top)),
+            Primitive::Sgc(s) => (
+                s.center,
+                s.axis,
+                s.length,
+                (*s.radii.first()?, *s.radii.last()?),
+            ),
+            _ => return None,
+        };
+        Some(Self {
+            center,
+            axis,
+            length,
+            radii,
+        })
+    }
+
+    /// `primitive` (of the kind [`Revolution::of`] reads) moved to this pose. An SGC keeps
+    /// its drawn profile's shape between the new end radii; a cylinder takes their mean.
+    pub(super) fn applied_to(&self, primitive: &Primitive) -> Option<Primitive> {
+        let (rb, rt) = self.radii;
+        Some(match primitive {
+            Primitive::Cylinder(c) => {
+                let mut c = c.clone();
+                c.center = self.center;
+                c.axis = self.axis;
+                c.length = self.length;
+                c.radius = f64::midpoint(rb, rt);
+                Primitive::Cylinder(c)
+            }
+            Primitive::Cone(c) => {
+                let mut c = c.clone();
+                c.center = self.center;
+                c.axis = self.axis;
+                c.length = self.length;
+                c.radius_bottom = rb;
+                c.radius_top = rt;
+                Primitive::Cone(c)
+            }
+            Primitive::Sgc(s) => {
+                let (r_bottom, r_top) = (*s.radii.first()?, *s.radii.last()?);
+                let mut s = s.clone();
+                s.center = self.center;
+                s.axis = self.axis;
+                s.length = self.length;
+                let k = s.radii.len().max(2) - 1;
+                for (i, r) in s.radii.iter_mut().enumerate() {
+                    let t = i as f64 / k as f64;
+                    *r *= (rb * (1.0 - t) + rt * t) / (r_bottom * (1.0 - t) + r_top * t);
+                }
+                Primitive::Sgc(s)
+            }
+            _ => return None,
+        })
+    }
+}
+
 /// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
 /// a solid of revolution or no end ellipse is drawn near it.
 pub(crate) fn repose_from_ellipses(
     context: &SnapContext,
     primitive: &Primitive,
 ) -> Option<Primitive> {
-    let (center, axis, length, r_bottom, r_top) = match primitive {
-        Primitive::Cylinder(c) => (c.center, c.axis, c.length, c.radius, c.radius),
-        Primitive::Cone(c) => (c.center, c.axis, c.length, c.radius_bottom, c.radius_top),
-        Primitive::Sgc(s) => (
-            s.center,
-            s.axis,
-            s.length,
-            *s.radii.first()?,
-            *s.radii.last()?,
-        ),
-        _ => return None,
-    };
+    let dropped = Revolution::of(primitive)?;
     let gate = 0.3 * primitive.size();
-    let half = axis * (length / 2.0);
-    let ends = ((center - half).truncate(), (center + half).truncate());
-    let image_dir = axis.truncate();
+    let half = dropped.axis * (dropped.length / 2.0);
+    let ends = (
+        (dropped.center - half).truncate(),
+        (dropped.center + half).truncate(),
+    );
+    let image_dir = dropped.axis.truncate();
     let reading = read_ends(
         context,
         ends,
-        (r_bottom, r_top),
+        dropped.radii,
         image_dir,
-        length * image_dir.length(),
+        dropped.length * image_dir.length(),
         gate,
     )?;
-    let new_center = DVec3::new(reading.center.x, reading.center.y, center.z);
-    let new_axis = tilted(reading.dir, reading.z);
-    let new_length = reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt();
-    let (rb, rt) = reading.radii;
-    Some(match primitive {
-        Primitive::Cylinder(c) => {
-            let mut c = c.clone();
-            c.center = new_center;
-            c.axis = new_axis;
-            c.length = new_length;
-            c.radius = f64::midpoint(rb, rt);
-            Primitive::Cylinder(c)
-        }
-        Primitive::Cone(c) => {
-            let mut c = c.clone();
-            c.center = new_center;
-            c.axis = new_axis;
-            c.length = new_length;
-            c.radius_bottom = rb;
-            c.radius_top = rt;
-            Primitive::Cone(c)
-        }
-        Primitive::Sgc(s) => {
-            let mut s = s.clone();
-            s.center = new_center;
-            s.axis = new_axis;
-            s.length = new_length;
-            let k = s.radii.len().max(2) - 1;
-            for (i, r) in s.radii.iter_mut().enumerate() {
-                let t = i as f64 / k as f64;
-                // Keep the drawn profile's shape between the measured end radii.
-                *r *= (rb * (1.0 - t) + rt * t) / (r_bottom * (1.0 - t) + r_top * t);
-            }
-            Primitive::Sgc(s)
-        }
-        _ => return None,
-    })
+    Revolution {
+        center: DVec3::new(reading.center.x, reading.center.y, dropped.center.z),
+        axis: tilted(reading.dir, reading.z),
+        length: reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt(),
+        radii: reading.radii,
+    }
+    .applied_to(primitive)
 }
 
 /// The circles a sphere's outline may draw near a drop: a centre within half the dropped
