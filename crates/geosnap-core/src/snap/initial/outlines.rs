@@ -53,6 +53,9 @@ const LINE_GAP: f64 = 0.5;
 /// Two outlines lie between these multiples of the dropped diameter apart.
 const SEPARATION: (f64, f64) = (0.5, 2.0);
 
+/// At most this many lines (the longest) are paired.
+const MAX_LINES: usize = 48;
+
 /// One outline line: strokes on one line, their length-weighted mean direction (unit,
 /// signed like the drop's image axis) and mean point, and their extent along the
 /// dropped image axis measured from the drop's image centre.
@@ -187,7 +190,11 @@ pub(crate) fn outline_poses(context: &SnapContext, primitive: &Primitive) -> Vec
                 && s.points.iter().all(inside)
         })
         .collect();
-    let lines = outline_lines(&strokes, frame, LINE_OFFSET * radius, LINE_GAP * projected);
+    let mut lines = outline_lines(&strokes, frame, LINE_OFFSET * radius, LINE_GAP * projected);
+    // In a dense drawing the longest lines are the outlines worth pairing; the pairs cost
+    // the square of the lines.
+    lines.sort_by(|a, b| b.weight.total_cmp(&a.weight));
+    lines.truncate(MAX_LINES);
     let spread = if matches!(primitive, Primitive::Cone(_)) {
         CONE_SPREAD
     } else {
