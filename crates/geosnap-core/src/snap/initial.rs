@@ -838,27 +838,42 @@ fn sizes_and_centre(
         .then(|| (DVec3::from_array(size), (lo + hi) / 2.0))
 }
 
+/// The strokes that `keep` accepts lying wholly within the image bounds of `dropped`'s
+/// curves grown by `margin` on every side: the strokes a start read off the drawing
+/// near a drop may use.
+pub(super) fn strokes_near<'a>(
+    context: &'a SnapContext,
+    dropped: &Primitive,
+    margin: f64,
+    keep: impl Fn(&SnapStroke) -> bool,
+) -> Vec<&'a SnapStroke> {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for c in &dropped.current_shape().curves {
+        let (clo, chi) = curve_bounds(&c.curve);
+        lo = lo.min(clo);
+        hi = hi.max(chi);
+    }
+    let (lo, hi) = (lo - DVec2::splat(margin), hi + DVec2::splat(margin));
+    let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
+    context
+        .strokes
+        .iter()
+        .filter(|s| keep(s) && s.points.iter().all(inside))
+        .collect()
+}
+
 /// Starting poses of a dropped box from the straight strokes around it: the three edge
 /// directions give its orientation up to the mirror of the view (both are returned), and
 /// the strokes of each direction its sizes and centre (see `sizes_and_centre`). The axes
 /// are labelled and signed as the dropped box's nearest ones, so its width stays its
 /// width.
 pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> {
-    let shape = Primitive::Cuboid(dropped.clone()).current_shape();
-    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for c in &shape.curves {
-        let (clo, chi) = curve_bounds(&c.curve);
-        lo = lo.min(clo);
-        hi = hi.max(chi);
-    }
-    let grow = DVec2::splat(0.3 * dropped.size.max_element());
-    let (lo, hi) = (lo - grow, hi + grow);
-    let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
-    let strokes: Vec<&SnapStroke> = context
-        .strokes
-        .iter()
-        .filter(|s| s.straightness <= ROUGHLY_STRAIGHT && s.points.iter().all(inside))
-        .collect();
+    let strokes = strokes_near(
+        context,
+        &Primitive::Cuboid(dropped.clone()),
+        0.3 * dropped.size.max_element(),
+        |s| s.straightness <= ROUGHLY_STRAIGHT,
+    );
     // A group first takes every stroke within twice the direction tolerance, so that a
     // hand's shaky edges stay together; seen side on, two of a box's axes can draw
     // within that of each other, and only the tighter grouping tells them apart. Both
@@ -1232,12 +1247,13 @@ pub(super) mod tests {
             .collect()
     }
 
-    fn feature_strokes(strokes: &[Vec<DVec2>]) -> SnapContext {
+    /// `strokes` (sketch space, y down) as a context, all of `class`.
+    pub(in crate::snap) fn strokes_of(strokes: &[Vec<DVec2>], class: StrokeClass) -> SnapContext {
         SnapContext::new(
             strokes
                 .iter()
                 .enumerate()
-                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Feature)),
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), class)),
         )
     }
 
@@ -1266,16 +1282,19 @@ pub(super) mod tests {
         let truth = disc();
         let half = truth.axis * (truth.length / 2.0);
         let tau = std::f64::consts::TAU;
-        let context = feature_strokes(&[
-            rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
-            rim(
-                truth.center - half,
-                truth.axis,
-                truth.radius,
-                0.0,
-                tau / 2.0,
-            ),
-        ]);
+        let context = strokes_of(
+            &[
+                rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
+                rim(
+                    truth.center - half,
+                    truth.axis,
+                    truth.radius,
+                    0.0,
+                    tau / 2.0,
+                ),
+            ],
+            StrokeClass::Feature,
+        );
         let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
             panic!("no pose");
         };
@@ -1306,10 +1325,13 @@ pub(super) mod tests {
         let truth = disc();
         let near = truth.center + truth.axis * (truth.length / 2.0);
         let pi = std::f64::consts::PI;
-        let context = feature_strokes(&[
-            rim(near, truth.axis, truth.radius, 0.0, pi),
-            rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
-        ]);
+        let context = strokes_of(
+            &[
+                rim(near, truth.axis, truth.radius, 0.0, pi),
+                rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
+            ],
+            StrokeClass::Feature,
+        );
         let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
             panic!("no pose");
         };
@@ -1346,7 +1368,7 @@ pub(super) mod tests {
         };
         let mut strokes = arcs(truth.center + half, 0.0, tau, 5);
         strokes.extend(arcs(truth.center - half, 0.0, tau / 2.0, 3));
-        let context = feature_strokes(&strokes);
+        let context = strokes_of(&strokes, StrokeClass::Feature);
         let dropped = Primitive::Cylinder(Cylinder {
             center: DVec3::new(310.0, -290.0, 0.0),
             axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
@@ -1390,7 +1412,7 @@ pub(super) mod tests {
             DVec2::new(50.0, 0.0),
             DVec2::new(60.0, 1.0),
         ]);
-        let context = feature_strokes(&strokes);
+        let context = strokes_of(&strokes, StrokeClass::Feature);
         let all: Vec<&SnapStroke> = context.strokes.iter().collect();
         let runs = fragment_runs(&all, 100.0);
         assert_eq!(runs.len(), 1, "{}", runs.len());
@@ -1425,7 +1447,7 @@ pub(super) mod tests {
             .iter()
             .map(|s| s.iter().map(|p| DVec2::new(p.x, -p.y)).collect())
             .collect();
-        let context = feature_strokes(&strokes);
+        let context = strokes_of(&strokes, StrokeClass::Feature);
         let dropped = Sphere {
             center: DVec3::new(ball.x + 15.0, ball.y - 12.0, 0.0),
             radius: 125.0,

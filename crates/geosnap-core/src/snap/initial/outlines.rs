@@ -25,9 +25,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::Revolution;
+use super::{strokes_near, Revolution};
 use crate::primitive::Primitive;
-use crate::snap::assign::{curve_bounds, ROUGHLY_STRAIGHT};
+use crate::snap::assign::ROUGHLY_STRAIGHT;
 use crate::snap::context::{SnapContext, SnapStroke};
 
 /// Outline strokes run within this of the dropped image axis (radians, 25°): a rough
@@ -171,25 +171,11 @@ pub(crate) fn outline_poses(context: &SnapContext, primitive: &Primitive) -> Vec
     let axis = image / shrink;
     let frame = (dropped.center.truncate(), axis);
     let size = primitive.size();
-    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for c in &primitive.current_shape().curves {
-        let (clo, chi) = curve_bounds(&c.curve);
-        lo = lo.min(clo);
-        hi = hi.max(chi);
-    }
-    let grow = DVec2::splat(0.3 * size);
-    let (lo, hi) = (lo - grow, hi + grow);
-    let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
-    let strokes: Vec<&SnapStroke> = context
-        .strokes
-        .iter()
-        .filter(|s| {
-            s.straightness <= ROUGHLY_STRAIGHT
-                && s.direction.dot(axis).abs() >= ALONG_DROP.cos()
-                && s.length >= 0.1 * projected
-                && s.points.iter().all(inside)
-        })
-        .collect();
+    let strokes = strokes_near(context, primitive, 0.3 * size, |s| {
+        s.straightness <= ROUGHLY_STRAIGHT
+            && s.direction.dot(axis).abs() >= ALONG_DROP.cos()
+            && s.length >= 0.1 * projected
+    });
     let mut lines = outline_lines(&strokes, frame, LINE_OFFSET * radius, LINE_GAP * projected);
     // In a dense drawing the longest lines are the outlines worth pairing; the pairs cost
     // the square of the lines.
@@ -280,7 +266,8 @@ mod tests {
 
     use super::outline_poses;
     use crate::primitive::{Curve2, Cylinder, Primitive};
-    use crate::sketch::{StrokeClass, StrokeId};
+    use crate::sketch::StrokeClass;
+    use crate::snap::initial::tests::strokes_of;
     use crate::snap::SnapContext;
 
     /// A straight stroke from `a` to `b` (sketch space, y down) with a small zigzag, as a
@@ -297,12 +284,7 @@ mod tests {
     }
 
     fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
-        SnapContext::new(
-            strokes
-                .iter()
-                .enumerate()
-                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
-        )
+        strokes_of(strokes, StrokeClass::Silhouette)
     }
 
     /// An upright cylinder dropped at `x` (view plane), 600 long, of radius `r`.
