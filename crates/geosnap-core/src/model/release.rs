@@ -10,7 +10,8 @@
 //! ambiguity is never settled against the drawing. Where they do not (both ends whole,
 //! or not drawn), the relations decide: a leg whose axis leans towards the viewer while
 //! the others lean away is parallel to none of them, so both poses are tried and the one
-//! with more hard relations, then more in all, is kept (the snapped one on a tie). Boxes
+//! with more hard relations, then the greater summed confidence of all its relations, is
+//! kept (the snapped one on a tie). Boxes
 //! and bent tubes are not mirrored: which of their edges and end halves are drawn tells
 //! the two poses apart already.
 //!
@@ -124,6 +125,45 @@ fn hard_count(found: &[Found]) -> usize {
     found.iter().filter(|f| f.mode == Mode::Hard).count()
 }
 
+/// What one reading in depth of a new part ([`depth_variants`]) has for it: how well its
+/// drawn ends agree with it ([`DrawnEnds::agreement`]), and the relations inferred with
+/// it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ReadingScore {
+    /// The drawn ends' agreement.
+    agreement: i32,
+    /// How many of its relations are hard.
+    hard: usize,
+    /// The sum of its relations' confidences, hard and suggested.
+    confidence: f64,
+}
+
+impl ReadingScore {
+    fn of(agreement: i32, found: &[Found]) -> Self {
+        Self {
+            agreement,
+            hard: hard_count(found),
+            confidence: found.iter().map(|f| f.inferred.confidence).sum(),
+        }
+    }
+}
+
+/// Whether reading `a` is to be kept over reading `b`: the drawing first (a reading
+/// its strokes agree with less is never taken for more relations), then more hard
+/// relations, then the greater summed confidence of all its relations (`b`, the one
+/// held so far, on a tie).
+///
+/// The sum rather than the count: a confidence reads as how likely a relation is meant,
+/// so the sum is how many of them are likely right. A stem whose ends are hidden finds,
+/// in the reading its base shares, a coaxial suggestion at the edge of the tilt its
+/// drawing leaves open; in the other, a chance collinearity of centres. Counted, they
+/// tie; weighed, the coaxial wins.
+fn better_reading(a: ReadingScore, b: ReadingScore) -> bool {
+    const EQUAL: f64 = 1e-9;
+    (a.agreement, a.hard) > (b.agreement, b.hard)
+        || ((a.agreement, a.hard) == (b.agreement, b.hard) && a.confidence > b.confidence + EQUAL)
+}
+
 impl Document {
     /// Infers the relations between part `id` and the other parts
     /// ([`crate::relation::infer`]), adds them (hard or suggested, with their confidence
@@ -205,11 +245,10 @@ impl Document {
             tried.push((reading, variant, found));
         }
         // The drawing first: a reading its strokes contradict is never taken for more
-        // relations. Among readings the strokes support alike, the one with more hard
-        // relations, then more in all, wins (the snapped one on a tie).
+        // relations ([`better_reading`]).
         let Some(pick) = (0..tried.len()).reduce(|b, i| {
-            let key = |t: &(i32, Primitive, Vec<Found>)| (t.0, hard_count(&t.2), t.2.len());
-            if key(&tried[i]) > key(&tried[b]) {
+            let score = |t: &(i32, Primitive, Vec<Found>)| ReadingScore::of(t.0, &t.2);
+            if better_reading(score(&tried[i]), score(&tried[b])) {
                 i
             } else {
                 b
@@ -848,6 +887,25 @@ mod tests {
             unreachable!("a cylinder")
         };
         c.axis.z
+    }
+
+    #[test]
+    fn a_reading_is_chosen_by_the_drawing_then_hard_relations_then_summed_confidence() {
+        use super::{better_reading, ReadingScore};
+        let score = |agreement, hard, confidence| ReadingScore {
+            agreement,
+            hard,
+            confidence,
+        };
+        // The drawing outweighs any number of relations.
+        assert!(!better_reading(score(0, 5, 4.0), score(1, 0, 0.0)));
+        // More hard relations outweigh more suggestions.
+        assert!(better_reading(score(1, 2, 1.2), score(1, 1, 1.9)));
+        // Equal hard counts: the weight of all of them, not their number, decides.
+        assert!(better_reading(score(1, 1, 1.8), score(1, 1, 1.75)));
+        assert!(!better_reading(score(1, 1, 1.35), score(1, 1, 1.75)));
+        // A tie keeps the one held so far.
+        assert!(!better_reading(score(1, 1, 1.8), score(1, 1, 1.8)));
     }
 
     #[test]
