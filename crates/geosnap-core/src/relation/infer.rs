@@ -39,6 +39,12 @@
 //! - collinear centres are not proposed where the three centres are already on one
 //!   coaxial axis.
 //!
+//! Two ends are proposed concentric only where they face each other (outward normals
+//! opposed), as stacked ends do: ends facing the same way would put one solid inside
+//! the other, and ends facing apart by less than a right angle one through the other
+//! (a stem on the far face of a thin base, which the paper cannot tell from the near
+//! one, or the near face in the mirror reading of the stem).
+//!
 //! Relations in [`Mode::Off`] do not count as known.
 
 use std::collections::{BTreeSet, HashMap};
@@ -890,22 +896,27 @@ impl Inference<'_, '_> {
                 if (a == Feature::Outline) != (b == Feature::Outline) {
                     continue; // a tube's end at a ball's centre is inside the ball
                 }
-                if let (Some((_, na)), Some((_, nb))) =
-                    (plane_of(&new_part, a), plane_of(&other_part, b))
-                {
-                    // Two ends sharing a centre and facing the same way put one solid
-                    // inside the other: parts drawn one behind the other, not a stack.
-                    if a != Feature::Outline
-                        && na.dot(nb) > self.settings.angle_degrees.to_radians().cos()
-                    {
-                        continue;
+                // Stacked ends face each other (outward normals opposed): each body
+                // leaves the shared centre away from the other. Ends facing the same
+                // way put one solid inside the other (parts drawn one behind the
+                // other: not related at these ends at all), and ends facing apart by
+                // less than a right angle put one through the other (a stem on the far
+                // face of its base, in the mirror reading of either): not a stack,
+                // though the radii may still be alike.
+                let alignment = match (plane_of(&new_part, a), plane_of(&other_part, b)) {
+                    (Some((_, na)), Some((_, nb))) if a != Feature::Outline => na.dot(nb),
+                    _ => -1.0,
+                };
+                if alignment > self.settings.angle_degrees.to_radians().cos() {
+                    continue;
+                }
+                if alignment < 0.0 {
+                    let p = self.pair(RelationKind::Concentric, other, a, b);
+                    if self.holds(&p) {
+                        centred.push((a, b));
                     }
+                    self.propose(p);
                 }
-                let p = self.pair(RelationKind::Concentric, other, a, b);
-                if self.holds(&p) {
-                    centred.push((a, b));
-                }
-                self.propose(p);
                 if a != Feature::Outline && b != Feature::Outline {
                     self.propose(self.pair(RelationKind::SameRadius, other, a, b));
                 }
@@ -1320,6 +1331,41 @@ mod tests {
             first.features,
             vec![Some(Feature::Bottom), Some(Feature::Top)]
         );
+    }
+
+    #[test]
+    fn a_stem_sits_on_the_face_of_its_base_it_faces_in_either_reading() {
+        // A thin disc seen at a slant: both its faces project within the concentric
+        // threshold of the stem's bottom. The stem's depth is a guess: in the reading
+        // mirrored against the base's, its bottom faces the base's far face at less
+        // than a right angle, so that face would put the stem through the disc.
+        let base = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: TILT.normalize(),
+            length: 2.0,
+            radius: 20.0,
+        });
+        let near_face = TILT.normalize();
+        for axis in [TILT, DVec3::new(TILT.x, TILT.y, -TILT.z)] {
+            let axis = axis.normalize();
+            let stem = Primitive::Cylinder(Cylinder {
+                center: near_face + axis * 20.0,
+                axis,
+                length: 40.0,
+                radius: 3.0,
+            });
+            let found = place_all_found(&[base.clone(), stem]);
+            let centred: Vec<_> = found
+                .iter()
+                .filter(|f| f.proposal.kind == RelationKind::Concentric)
+                .map(|f| f.proposal.features.clone())
+                .collect();
+            assert_eq!(
+                centred,
+                vec![vec![Some(Feature::Bottom), Some(Feature::Top)]],
+                "stem axis {axis}: {found:#?}"
+            );
+        }
     }
 
     fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
