@@ -906,10 +906,9 @@ mod tests {
 
     #[test]
     fn relations_round_trip_and_bad_ones_are_named() {
-        use crate::core::model::{PrimitiveId, Relation};
-        use crate::core::primitive::Feature;
         use crate::core::relation::evidence::{Contact, Evidence, Inferred};
         use crate::core::relation::{Mode, RelationKind};
+        use crate::core::{model::PrimitiveId, model::Relation, primitive::Feature};
         let mut document = Document::new();
         for x in [0.0, 50.0] {
             let p = Primitive::from_placement(
@@ -947,6 +946,7 @@ mod tests {
                     contact: Contact::Apart,
                     hops: 2,
                     repeated: false,
+                    across: false,
                     closeness: 0.25,
                     noise: 0.004,
                     prior: 0.4,

@@ -96,6 +96,11 @@ pub struct Evidence {
     /// Whether the members repeat one another: one kind, one size, in one object but not
     /// stacked on each other (legs, prongs, candles).
     pub repeated: bool,
+    /// Whether the members lie on opposite sides of a part both join, on one line
+    /// across it: arms out of both sides of a stem, pipes on both sides of a valve
+    /// (written only when true).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub across: bool,
     /// How far inside its thresholds the relation holds, as a fraction of them (0
     /// exact, 1 at the edge); above 1 for a part standing on a face drawn leaning
     /// ([`super::standing`]): its angle as a multiple of the angle threshold.
@@ -120,6 +125,9 @@ impl Evidence {
             1 => self.contact.describe().to_owned(),
             n => format!("{n} contacts apart"),
         });
+        if self.across {
+            parts.push("on both sides of a part they both join".to_owned());
+        }
         let within = if self.closeness <= 0.0 {
             "exactly".to_owned()
         } else if self.closeness > 1.0 {
@@ -139,15 +147,18 @@ impl Evidence {
 }
 
 /// The prior of a relation of `kind` between parts meeting as `contact`, `hops` contacts
-/// apart, repeated or not: how often such a relation is meant, before looking at how
-/// closely it holds. Attached parts are parallel, orthogonal and coaxial by design;
-/// equal lengths and radii are meant between repeated parts and are most often chance
-/// elsewhere.
+/// apart, repeated or not, and `across` a part both join or not: how often such a
+/// relation is meant, before looking at how closely it holds. Attached parts are
+/// parallel, orthogonal and coaxial by design; equal lengths and radii are meant between
+/// repeated parts and are most often chance elsewhere. Two parts on one line across a
+/// part both join (arms out of both sides of a stem) are coaxial as surely as attached
+/// ones: lined up on the paper across it by chance, they would have to be offset along
+/// the view only.
 #[expect(
     clippy::match_same_arms,
     reason = "a table of priors: one row per kind and situation, read top to bottom"
 )]
-pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) -> f64 {
+pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool, across: bool) -> f64 {
     // A joint (an end on the other part) is designed; outlines that merely cross may be
     // parts drawn one behind the other, and count no more than parts apart.
     let joint = hops <= 1 && contact.is_joint();
@@ -161,7 +172,7 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool) ->
         RelationKind::Parallel if joint => 0.85,
         RelationKind::Parallel if hops == 2 => 0.75,
         RelationKind::Parallel => 0.6,
-        RelationKind::Coaxial if joint => 0.9,
+        RelationKind::Coaxial if joint || across => 0.9,
         RelationKind::Coaxial if hops == 2 => 0.6,
         RelationKind::Coaxial => 0.45,
         // Outlines crossing at a right angle with no end on the other are most often
@@ -238,7 +249,8 @@ mod tests {
             repeated: false,
             closeness,
             noise: 0.005,
-            prior: prior(kind, contact, hops, false),
+            across: false,
+            prior: prior(kind, contact, hops, false, false),
         }
     }
 
@@ -264,8 +276,38 @@ mod tests {
     #[test]
     fn coincidental_sizes_are_weak_and_repeated_ones_strong() {
         let k = RelationKind::EqualLength;
-        let lone = prior(k, Contact::EndOnEnd, 1, false);
-        let legs = prior(k, Contact::Apart, 2, true);
+        let lone = prior(k, Contact::EndOnEnd, 1, false, false);
+        let legs = prior(k, Contact::Apart, 2, true, false);
         assert!(lone < 0.5 && legs > 0.8);
+    }
+
+    #[test]
+    fn across_is_written_only_when_true_and_read_when_missing() {
+        let mut e = evidence(RelationKind::Coaxial, Contact::Apart, 2, 0.3);
+        let plain = serde_json::to_string(&e).expect("writes");
+        assert!(!plain.contains("across"), "{plain}");
+        e.across = true;
+        let across = serde_json::to_string(&e).expect("writes");
+        assert!(across.contains(r#""across":true"#), "{across}");
+        let back: Evidence = serde_json::from_str(&across).expect("reads");
+        assert_eq!(back, e);
+        let older: Evidence = serde_json::from_str(&plain).expect("reads");
+        assert!(!older.across);
+    }
+
+    #[test]
+    fn parts_across_one_they_both_join_are_coaxial_like_attached_ones() {
+        let k = RelationKind::Coaxial;
+        let apart = prior(k, Contact::Apart, 2, true, false);
+        let across = prior(k, Contact::Apart, 2, true, true);
+        let joint = prior(k, Contact::EndOnEnd, 1, false, false);
+        assert!(apart < 0.7 && (across - joint).abs() < 1e-12);
+        // Across a part changes nothing but the axis line.
+        let l = RelationKind::EqualLength;
+        let (lone, across) = (
+            prior(l, Contact::Apart, 2, false, false),
+            prior(l, Contact::Apart, 2, false, true),
+        );
+        assert!((lone - across).abs() < 1e-12);
     }
 }

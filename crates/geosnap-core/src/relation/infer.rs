@@ -12,7 +12,7 @@
 //! tighter than (a few times at most), and ends drawn on each other may lie apart along
 //! their axis by more than across it. Each candidate that nearly holds
 //! ([`super::closeness`]) is weighed ([`super::evidence`]): how the parts meet, whether
-//! they repeat one another, how closely it holds against the drawing's noise, and a
+//! they repeat one another or lie across a part both join, how closely it holds against the drawing's noise, and a
 //! prior per kind and situation. A confident candidate becomes a hard relation, a
 //! middling one a suggestion ([`Mode::Suggested`]), a weak one is not kept.
 //!
@@ -657,14 +657,30 @@ impl Inference<'_, '_> {
             .iter()
             .map(|&m| self.parts[m].noise)
             .fold(0.0, f64::max);
+        let across = other.is_some_and(|o| self.across_a_hub(o));
         Evidence {
             contact,
             hops,
             repeated,
+            across,
             closeness,
             noise,
-            prior: prior(p.kind, contact, hops, repeated),
+            prior: prior(p.kind, contact, hops, repeated, across),
         }
+    }
+
+    /// Whether the new part and `other` lie on opposite sides of a part both join: on
+    /// the paper, that part's centre projects between theirs onto the line through them.
+    fn across_a_hub(&self, other: usize) -> bool {
+        let a = centre(&self.parts[self.new]);
+        let d = centre(&self.parts[other]) - a;
+        let span = d.length_squared();
+        span > 0.0
+            && self.graph.joints(self.new).any(|hub| {
+                hub != other
+                    && self.graph.joints(other).any(|j| j == hub)
+                    && (0.0..1.0).contains(&((centre(&self.parts[hub]) - a).dot(d) / span))
+            })
     }
 
     /// Weighs `p` and keeps it, hard or as a suggestion, if it holds, is confident enough
@@ -1366,6 +1382,43 @@ mod tests {
                 "stem axis {axis}: {found:#?}"
             );
         }
+    }
+
+    #[test]
+    fn arms_out_of_both_sides_of_a_stem_are_coaxial_across_it() {
+        // Two arms leave the stem's sides on one line on the paper; the second leans
+        // 3° in depth, within the angle threshold but beyond the drawing's noise. Two
+        // contacts apart, that is a suggestion at most; on one line across the part
+        // both join, it is as sure as a joint.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 100.0,
+            radius: 5.0,
+        });
+        let lean = 3f64.to_radians();
+        let right = DVec3::new(lean.cos(), 0.0, lean.sin());
+        let arms = [
+            rod(DVec3::new(-25.0, 10.0, 0.0), DVec3::NEG_X, 40.0),
+            rod(DVec3::new(5.0, 10.0, 0.0) + right * 20.0, right, 40.0),
+        ];
+        let found = place_all_found(&[stem, arms[0].clone(), arms[1].clone()]);
+        let coaxial = found
+            .iter()
+            .find(|f| f.proposal.kind == RelationKind::Coaxial)
+            .unwrap_or_else(|| panic!("no coaxial: {found:#?}"));
+        assert_eq!(coaxial.proposal.members, vec![2, 1]);
+        assert_eq!(coaxial.mode, Mode::Hard, "{coaxial:#?}");
+        let evidence = &coaxial.inferred.evidence;
+        assert!(evidence.across && evidence.hops == 2, "{evidence:#?}");
+        assert!(evidence
+            .describe(RelationKind::Coaxial)
+            .contains("both sides"));
+        // Each arm touches the stem only: nothing there is across anything.
+        assert!(found
+            .iter()
+            .filter(|f| f.proposal.members.contains(&0))
+            .all(|f| !f.inferred.evidence.across));
     }
 
     fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
