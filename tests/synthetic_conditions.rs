@@ -60,9 +60,9 @@
 //! floors and targets still apply to what ran);
 //! `GEOSNAP_SYNTH_CONDITION_SHOW` (`kind:condition:case`, for example
 //! `cylinder:joined:3` or `table:side-on:1`: runs only that case, prints its analysis,
-//! every part of an assembly, and writes its PNGs, failed or not, to the PNG folder or
-//! the temporary
-//! folder).
+//! every part of an assembly, with the strokes each projected curve took in the snap
+//! from the drop and in the snap from the truth, and writes its PNGs, failed or not, to
+//! the PNG folder or the temporary folder).
 //!
 //! ```text
 //! GEOSNAP_SYNTH_CONDITION_PNG=/tmp/cond cargo test --release --no-default-features \
@@ -492,10 +492,14 @@ fn judge_part(
     let failed = errors
         .as_ref()
         .map_or_else(|| vec!["error"], failed_criteria);
-    let from_truth = (!failed.is_empty()).then(|| {
+    let mut truth_snap = None;
+    let from_truth = (!failed.is_empty() || shown).then(|| {
         let (r, e) = run(truth);
-        from_the_truth(&r, e.as_ref(), &result)
+        let words = from_the_truth(&r, e.as_ref(), &result);
+        truth_snap = r.ok();
+        words
     });
+    let from_truth = from_truth.filter(|_| !failed.is_empty());
     let at_truth = from_truth.as_ref().map(|(fails, _)| *fails);
     let (flagged, evidence) = judged_confidence(result.as_ref().ok(), &dropped, errors.as_ref());
     let outcome = Outcome {
@@ -540,16 +544,13 @@ fn judge_part(
         }
     );
     if shown {
-        let _ = writeln!(report, "    truth   {}", describe(truth));
-        let _ = writeln!(report, "    dropped {}", describe(&dropped));
-        if let Ok(r) = &result {
-            let _ = writeln!(
-                report,
-                "    snapped {} (rms {:.2} %S)",
-                describe(&r.primitive),
-                100.0 * r.rms / truth.size()
-            );
-        }
+        shown_lines(
+            report,
+            truth,
+            &dropped,
+            result.as_ref().ok(),
+            truth_snap.as_ref(),
+        );
     }
     if let Some(folder) = png {
         let suffix = part.map_or_else(String::new, |p| format!("_part{p}"));
@@ -571,6 +572,57 @@ fn judge_part(
         }
     }
     outcome
+}
+
+/// A shown case's poses: the truth, the drop, the snap and the snap from the truth, each
+/// snap with the strokes its curves took.
+fn shown_lines(
+    report: &mut String,
+    truth: &Primitive,
+    dropped: &Primitive,
+    result: Option<&SnapResult>,
+    truth_snap: Option<&SnapResult>,
+) {
+    let _ = writeln!(report, "    truth   {}", describe(truth));
+    let _ = writeln!(report, "    dropped {}", describe(dropped));
+    if let Some(r) = result {
+        let _ = writeln!(
+            report,
+            "    snapped {} (rms {:.2} %S)",
+            describe(&r.primitive),
+            100.0 * r.rms / truth.size()
+        );
+        assignment_lines(report, "snapped", r);
+    }
+    if let Some(r) = truth_snap {
+        let _ = writeln!(
+            report,
+            "    from the truth {} (rms {:.2} %S)",
+            describe(&r.primitive),
+            100.0 * r.rms / truth.size()
+        );
+        assignment_lines(report, "from the truth", r);
+    }
+}
+
+/// Which strokes (how many samples, how far on average) each projected curve of a shown
+/// case's snap took.
+fn assignment_lines(report: &mut String, label: &str, result: &SnapResult) {
+    for (k, curve) in result.assignment.curves.iter().enumerate() {
+        let taken: Vec<String> = curve
+            .iter()
+            .map(|a| {
+                format!(
+                    "{}{} ({} samples, {:.1})",
+                    a.stroke.0,
+                    if a.part.is_some() { " in part" } else { "" },
+                    a.samples.len(),
+                    a.mean_distance
+                )
+            })
+            .collect();
+        let _ = writeln!(report, "      {label} curve {k}: {}", taken.join(", "));
+    }
 }
 
 /// Runs one job: its outcomes (one per part of an assembly) and its report.

@@ -831,6 +831,25 @@ impl Inference<'_, '_> {
         }
     }
 
+    /// Whether the new part and `other` may be proposed square at all: always, unless
+    /// both are boxes and fewer than two pairs of their directions are square. Two
+    /// boxes that meet meet face to face, and share a direction (their facing faces'
+    /// normals, a block turned on another about it): four pairs of their directions are
+    /// then square. One square pair alone is no joint but two boxes side by side at
+    /// some angle, touching only on the paper (two objects of a scene).
+    fn square_enough(&self, other: usize) -> bool {
+        let (a, b) = (self.parts[self.new], self.parts[other]);
+        if a.kind != PrimitiveKind::Cuboid || b.kind != PrimitiveKind::Cuboid {
+            return true;
+        }
+        let square = directions(&a)
+            .iter()
+            .flat_map(|&x| directions(&b).iter().map(move |&y| (x, y)))
+            .filter(|&(x, y)| self.holds(&self.pair(RelationKind::Orthogonal, other, x, y)))
+            .count();
+        square >= 2
+    }
+
     /// Axes: coaxial first (it implies parallel), then parallel, then orthogonal unless
     /// some direction is parallel and only between parts that touch in the drawing (at a
     /// joint, or crossing) or repeat one another on one hub; then, for a part standing
@@ -868,7 +887,7 @@ impl Inference<'_, '_> {
         let on_one_hub =
             self.repeated(self.new, other) && self.graph.share_a_joint(self.new, other);
         let mut square = Vec::new();
-        if !parallel_somewhere && (touching || on_one_hub) {
+        if !parallel_somewhere && (touching || on_one_hub) && self.square_enough(other) {
             for &a in directions(&new_part) {
                 for &b in directions(&other_part) {
                     if self.propose(self.pair(RelationKind::Orthogonal, other, a, b)) {
@@ -1456,6 +1475,52 @@ mod tests {
         };
         let r = place_all(&[brick(0.0), brick(20.0)]);
         assert_eq!(count(&r, RelationKind::Parallel), 2, "{r:#?}");
+    }
+
+    /// A brick seen at a slant and a block against its +X end on the paper, turned by
+    /// `turn` in the brick's frame.
+    fn brick_and_block(turn: DQuat) -> [Primitive; 2] {
+        let view = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        [
+            brick_seen(view),
+            Primitive::Cuboid(Cuboid {
+                center: view * DVec3::new(62.0, 0.0, 0.0),
+                rotation: view * turn,
+                size: DVec3::new(40.0, 30.0, 24.0),
+            }),
+        ]
+    }
+
+    #[test]
+    fn boxes_side_by_side_with_one_square_pair_of_directions_are_not_made_square() {
+        // Turned 40° about X, then 35° about Y: the brick's Y is square to the block's
+        // X exactly, and no other pair is square or parallel. Boxes joined face to face
+        // share a direction; these touch only on the paper.
+        let turn =
+            DQuat::from_rotation_y(35f64.to_radians()) * DQuat::from_rotation_x(40f64.to_radians());
+        let found = place_all_found(&brick_and_block(turn));
+        assert!(
+            found
+                .iter()
+                .all(|f| f.proposal.kind != RelationKind::Orthogonal),
+            "{found:#?}"
+        );
+    }
+
+    #[test]
+    fn boxes_turned_a_little_on_each_other_are_still_square() {
+        // Turned 12° about X, then 12° about Y: no direction within the angle threshold
+        // of parallel, but two pairs square, as a block drawn a little off its brick's
+        // face: square relations may still align them.
+        let turn =
+            DQuat::from_rotation_y(12f64.to_radians()) * DQuat::from_rotation_x(12f64.to_radians());
+        let found = place_all_found(&brick_and_block(turn));
+        assert!(
+            found
+                .iter()
+                .any(|f| f.proposal.kind == RelationKind::Orthogonal),
+            "{found:#?}"
+        );
     }
 
     #[test]

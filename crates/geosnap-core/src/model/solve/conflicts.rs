@@ -151,16 +151,20 @@ fn collapsed(
     report: &SolveReport,
     relations: &[Related<'_>],
 ) -> Option<Conflict> {
-    let (id, before, after) = parts
-        .iter()
-        .zip(solved)
-        .find_map(|(part, (id, after, _))| {
-            let (b, a) = (extents(part.primitive), extents(after));
-            b.iter()
-                .zip(&a)
-                .find(|(b, a)| !(**a >= COLLAPSED * **b && **a <= **b / COLLAPSED))
-                .map(|(b, a)| (*id, *b, *a))
-        })?;
+    // `solved` holds the free parts only, in order: the held ones are skipped here too,
+    // or a held box's sides would be set against the next free part's length.
+    let (id, before, after) =
+        parts
+            .iter()
+            .filter(|p| !p.held)
+            .zip(solved)
+            .find_map(|(part, (id, after, _))| {
+                let (b, a) = (extents(part.primitive), extents(after));
+                b.iter()
+                    .zip(&a)
+                    .find(|(b, a)| !(**a >= COLLAPSED * **b && **a <= **b / COLLAPSED))
+                    .map(|(b, a)| (*id, *b, *a))
+            })?;
     let (index, r) = strongest(hard, report, relations, |r| r.members.contains(&id))?;
     Some(Conflict {
         relation: index,

@@ -647,6 +647,30 @@ mod tests {
     }
 
     #[test]
+    fn a_held_part_is_never_taken_for_a_free_one_that_collapsed() {
+        // A long settled part held beyond the change's reach, before two short free
+        // ones in the solve's list: each free part's extents are compared with its own,
+        // not with the held part's (a length of 400 against one of 10 read as a
+        // collapse, and a relation that holds was switched off for it).
+        let mut doc = Document::new();
+        let mut long = cylinder(0.0, DVec3::Y);
+        if let Primitive::Cylinder(c) = &mut long.primitive {
+            c.length = 400.0;
+        }
+        let b = doc.add(long);
+        let c = doc.add(cylinder(8.0, DVec3::new(0.05, 1.0, 0.0)));
+        relate(&mut doc, RelationKind::Parallel, c, b);
+        let settings = GlobalSettings::default();
+        doc.solve(None, &settings, Companions::default());
+        let n = doc.add(cylinder(16.0, DVec3::new(0.1, 1.0, 0.0)));
+        relate(&mut doc, RelationKind::Parallel, n, c);
+        let outcome = doc.solve(Some(&[n]), &settings, Companions::default());
+        assert_eq!(outcome.solved, vec![c, n], "b is held: {outcome:?}");
+        assert!(outcome.conflicts.is_empty(), "{outcome:?}");
+        assert!(axis(&doc, n).cross(axis(&doc, c)).length() < 1e-3);
+    }
+
+    #[test]
     fn off_relations_are_ignored_and_soft_ones_compromise() {
         let mut doc = Document::new();
         let a = doc.add(cylinder(0.0, DVec3::Y));
