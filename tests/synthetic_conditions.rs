@@ -585,23 +585,16 @@ fn shown_lines(
 ) {
     let _ = writeln!(report, "    truth   {}", describe(truth));
     let _ = writeln!(report, "    dropped {}", describe(dropped));
-    if let Some(r) = result {
-        let _ = writeln!(
-            report,
-            "    snapped {} (rms {:.2} %S)",
-            describe(&r.primitive),
-            100.0 * r.rms / truth.size()
-        );
-        assignment_lines(report, "snapped", r);
-    }
-    if let Some(r) = truth_snap {
-        let _ = writeln!(
-            report,
-            "    from the truth {} (rms {:.2} %S)",
-            describe(&r.primitive),
-            100.0 * r.rms / truth.size()
-        );
-        assignment_lines(report, "from the truth", r);
+    for (label, snap) in [("snapped", result), ("from the truth", truth_snap)] {
+        if let Some(r) = snap {
+            let _ = writeln!(
+                report,
+                "    {label} {} (rms {:.2} %S)",
+                describe(&r.primitive),
+                100.0 * r.rms / truth.size()
+            );
+            assignment_lines(report, label, r);
+        }
     }
 }
 
