@@ -522,7 +522,7 @@ const PINNED: (f64, f64, f64) = (0.03, 5.0 * std::f64::consts::PI / 180.0, 0.07)
 
 /// The factor of how tightly the drawing pins the part ([`Spread`]), with what it says:
 /// 1 while the worst dimension's spread is within 1.5 tolerances, falling to 0.3 at 5
-/// (alone, a dimension the drawing leaves 3.3 tolerances loose makes the part doubtful:
+/// (alone, a dimension the drawing leaves 4 tolerances loose makes the part doubtful:
 /// at that spread most snaps miss it). No spread, no doubt.
 fn pinned(spread: Option<&Spread>) -> (f64, String) {
     let Some(spread) = spread else {
