@@ -56,7 +56,8 @@
 //!   concentric with the stem).
 //! - [`AssemblyKind::Scene`]: two or three unrelated objects of
 //!   [`AssemblyKind::OBJECTS`] (the five kinds above), each turned by its own designer's
-//!   view and scaled to its own size, side by side in a row with gaps of −8 % to +20 % of
+//!   view (in half of the scenes all standing on one floor: one view, each object turned
+//!   only about its vertical) and scaled to its own size, side by side in a row with gaps of −8 % to +20 % of
 //!   their width (neighbours may overlap slightly in the drawing), at different heights
 //!   and depths. Each object keeps its designed relations; parts of different objects
 //!   have none. [`Assembly::object`] tells each part's object (all 0 for the other
@@ -1211,9 +1212,16 @@ fn scene(rng: &mut Rng, view: DQuat) -> Design {
     let n = 2 + (rng.next_u64() % 2) as usize;
     // Each object in view space about the origin, with its outline's half extent.
     let mut objects = Vec::with_capacity(n);
+    // Half of the scenes stand on one floor: every object upright (its Y) in one view,
+    // turned only about its vertical, so that parts of different objects share that
+    // direction and may line up by chance.
+    let floor = rng.chance(0.5).then(|| self::view(rng));
     for _ in 0..n {
         let kind = AssemblyKind::OBJECTS[(rng.next_u64() % 5) as usize];
-        let turn = self::view(rng);
+        let turn = match floor {
+            Some(floor) => floor * DQuat::from_rotation_y(rng.range(0.0, TAU)),
+            None => self::view(rng),
+        };
         let (parts, designed) = object(kind, rng, turn);
         let parts: Vec<Primitive> = parts
             .iter()
