@@ -4,10 +4,12 @@
 //! A drawing shows no depth, so contact is judged on the parts' projected outlines
 //! ([`Outline`]: convex pieces in the view plane, one for a straight solid, one per spine
 //! segment for a bent tube). Two parts touch when their outlines come within a tenth of
-//! the smaller part's size ([`InferenceSettings::distance`]); how they touch
-//! ([`Contact`]) is read off where their ends lie: on the other's end (a stack), inside
-//! its end face or box (a leg under a table top, a stud on a brick), on a ball, or on
-//! its side (a T, an L, a handle).
+//! the smaller part's size ([`InferenceSettings::distance`]), and a part never further
+//! than its own thickness (its widest end's radius) from the other: a thin rod whose end
+//! stops two of its widths short of a part is drawn apart from it, however long the rod.
+//! How they touch ([`Contact`]) is read off where their ends lie: on the other's end (a
+//! stack), inside its end face or box (a leg under a table top, a stud on a brick), on a
+//! ball, or on its side (a T, an L, a handle).
 //!
 //! The graph's edges are the joints (an end on the other part): a relation is looked
 //! for between parts a few joints apart ([`ContactGraph::hops_from`]), never between
@@ -23,6 +25,10 @@ use glam::{DVec2, DVec3};
 use super::evidence::Contact;
 use super::infer::Part;
 use crate::primitive::{Feature, FeatureGeometry, Primitive, PrimitiveKind};
+
+/// How many of its own thicknesses (its widest end's radius) a part may stand clear of
+/// another and still touch it in the drawing (see [`end_reach`]).
+const GAP_IN_THICKNESSES: f64 = 1.0;
 
 /// Points sampled on each circle of an outline.
 const CIRCLE_SAMPLES: usize = 24;
@@ -289,9 +295,30 @@ fn ball(part: &Part<'_>) -> Option<(DVec2, f64)> {
     })
 }
 
+/// How thick a part is drawn: its widest end's radius, or a ball's; `None` for a box
+/// (whose faces are read whole).
+fn thickness(part: &Part<'_>) -> Option<f64> {
+    ball(part).map(|(_, r)| r).or_else(|| {
+        ends(part)
+            .iter()
+            .map(|e| e.radius)
+            .filter(|r| r.is_finite())
+            .reduce(f64::max)
+    })
+}
+
+/// How far from `b` an end of `a` may stop and still sit on it: the gap `tol` allowed
+/// by the parts' sizes, but never more than [`GAP_IN_THICKNESSES`] of `a`'s thickness.
+/// A long thin rod's end that stops two of its own widths short of another part is
+/// drawn apart from it, however small that gap is against the rod's length.
+fn end_reach(a: &Part<'_>, tol: f64) -> f64 {
+    thickness(a).map_or(tol, |t| tol.min(GAP_IN_THICKNESSES * t))
+}
+
 /// How the ends of `a` meet `b` (the strongest way), when some end does.
 fn end_contact(a: &Part<'_>, b: &Part<'_>, tol: f64, distance: f64) -> Option<Contact> {
     let b_ends = ends(b);
+    let tol = end_reach(a, tol);
     let mut best: Option<Contact> = None;
     let mut take = |c: Contact| {
         if best.is_none_or(|b| c < b) {
@@ -326,7 +353,11 @@ fn end_contact(a: &Part<'_>, b: &Part<'_>, tol: f64, distance: f64) -> Option<Co
 /// [`InferenceSettings::distance`]: super::InferenceSettings::distance
 pub fn contact(a: &Part<'_>, b: &Part<'_>, grow: f64) -> Contact {
     let tol = grow * a.size.min(b.size);
-    if a.outline.box_gap(b.outline) > tol || a.outline.distance(b.outline) > tol {
+    if a.outline.box_gap(b.outline) > tol {
+        return Contact::Apart;
+    }
+    let gap = a.outline.distance(b.outline);
+    if gap > tol {
         return Contact::Apart;
     }
     let found = [end_contact(a, b, tol, grow), end_contact(b, a, tol, grow)]
@@ -339,7 +370,10 @@ pub fn contact(a: &Part<'_>, b: &Part<'_>, grow: f64) -> Contact {
         None if a.kind == PrimitiveKind::Cuboid && b.kind == PrimitiveKind::Cuboid => {
             Contact::EndOnFace
         }
-        None => Contact::Crossing,
+        // Outlines that meet with no end on the other cross only where the thinner
+        // part does not stand clear of the other by its own reach.
+        None if gap <= end_reach(a, tol).min(end_reach(b, tol)) => Contact::Crossing,
+        None => Contact::Apart,
     }
 }
 
@@ -485,6 +519,53 @@ mod tests {
         assert!(graph.kept_apart(1, 0) && graph.kept_apart(0, 1));
         assert!(!graph.kept_apart(0, 2));
         assert_eq!(graph.between(0, 2), Contact::EndOnSide);
+    }
+
+    /// How a rod of radius 4 and length 160 along x, whose left end stops `gap` short
+    /// of the side of an upright post of radius 40 and length 300, meets it.
+    fn rod_short_of_a_post(gap: f64) -> super::Contact {
+        use glam::DVec3;
+
+        use crate::primitive::{Cylinder, Primitive};
+        use crate::relation::infer::Part;
+
+        let post = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 300.0,
+            radius: 40.0,
+        });
+        let rod = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(40.0 + gap + 80.0, 0.0, 0.0),
+            axis: DVec3::X,
+            length: 160.0,
+            radius: 4.0,
+        });
+        let features = [post.current_shape().features, rod.current_shape().features];
+        let outlines = [Outline::of(&post), Outline::of(&rod)];
+        let part = |k: usize, p: &Primitive| Part {
+            kind: p.kind(),
+            features: &features[k],
+            outline: &outlines[k],
+            size: p.size(),
+            noise: 0.005,
+            tilt: [0.0; 2],
+            drawn_axis: None,
+            length_spread: 0.0,
+        };
+        super::contact(&part(0, &post), &part(1, &rod), 0.1)
+    }
+
+    #[test]
+    fn a_thin_rod_touches_only_what_it_stops_on_within_its_own_width() {
+        use super::Contact;
+
+        // 10 % of the rod's length would allow a gap of 16: four of its radii, a gap
+        // anyone sees in the drawing. Within its own radius it still sits on the post.
+        assert_eq!(rod_short_of_a_post(0.0), Contact::EndOnSide);
+        assert_eq!(rod_short_of_a_post(3.0), Contact::EndOnSide);
+        assert_eq!(rod_short_of_a_post(10.0), Contact::Apart);
+        assert_eq!(rod_short_of_a_post(15.0), Contact::Apart);
     }
 
     #[test]
