@@ -317,6 +317,8 @@ struct CaseResult {
     wrecked: usize,
     /// Inferred hard relations by kind: (inferred, correct).
     by_kind: BTreeMap<&'static str, (usize, usize)>,
+    /// As `by_kind`, for the suggestions.
+    suggested_by_kind: BTreeMap<&'static str, (usize, usize)>,
     elapsed: Duration,
 }
 
@@ -670,8 +672,11 @@ fn precision(
         }
         if is_suggestion(r.mode) {
             out.suggested += 1;
+            let entry = out.suggested_by_kind.entry(r.kind.name()).or_default();
+            entry.0 += 1;
             if ok {
                 out.suggested_ok += 1;
+                entry.1 += 1;
             } else {
                 out.report
                     .push(format!("{tag}: WRONG SUGGESTION {}", what()));
@@ -779,6 +784,8 @@ struct Totals {
     errors: usize,
     wrecked: usize,
     by_kind: BTreeMap<&'static str, (usize, usize)>,
+    /// As `by_kind`, for the suggestions.
+    suggested_by_kind: BTreeMap<&'static str, (usize, usize)>,
     wall: Duration,
 }
 
@@ -814,6 +821,11 @@ impl Totals {
             e.0 += n;
             e.1 += ok;
         }
+        for (k, (n, ok)) in &c.suggested_by_kind {
+            let e = self.suggested_by_kind.entry(k).or_default();
+            e.0 += n;
+            e.1 += ok;
+        }
     }
 
     fn merge(&mut self, o: &Self) {
@@ -840,6 +852,11 @@ impl Totals {
         self.errors += o.errors;
         for (k, (n, ok)) in &o.by_kind {
             let e = self.by_kind.entry(k).or_default();
+            e.0 += n;
+            e.1 += ok;
+        }
+        for (k, (n, ok)) in &o.suggested_by_kind {
+            let e = self.suggested_by_kind.entry(k).or_default();
             e.0 += n;
             e.1 += ok;
         }
@@ -1020,15 +1037,22 @@ fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
         }
     }
     let _ = writeln!(table, "{}", all.row("overall"));
-    let by_kind: Vec<String> = all
-        .by_kind
-        .iter()
-        .map(|(k, (n, ok))| format!("{k} {ok}/{n}"))
-        .collect();
+    let by_kind = |counts: &BTreeMap<&'static str, (usize, usize)>| {
+        counts
+            .iter()
+            .map(|(k, (n, ok))| format!("{k} {ok}/{n}"))
+            .collect::<Vec<String>>()
+            .join(", ")
+    };
     let _ = writeln!(
         table,
         "hard relations holding on the truth, by kind: {}",
-        by_kind.join(", ")
+        by_kind(&all.by_kind)
+    );
+    let _ = writeln!(
+        table,
+        "suggestions holding on the truth, by kind: {}",
+        by_kind(&all.suggested_by_kind)
     );
     let _ = writeln!(
         table,
