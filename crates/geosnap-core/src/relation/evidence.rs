@@ -164,7 +164,8 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool, ac
     let joint = hops <= 1 && contact.is_joint();
     if hops > super::infer::MAX_HOPS {
         // Only alike parts are compared this far apart: repetition alone, across the
-        // object (or across objects that touch in the drawing), is worth a suggestion.
+        // object, is worth a suggestion, and a hard relation only where the drawing
+        // shows it exact (within its noise).
         return if repeated { FAR_REPEATED } else { 0.0 };
     }
     match kind {
@@ -195,8 +196,14 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool, ac
 }
 
 /// The prior of a relation between alike parts further apart than
-/// [`super::infer::MAX_HOPS`] joints: under the hard tier, over the suggestion tier.
-const FAR_REPEATED: f64 = 0.5;
+/// [`super::infer::MAX_HOPS`] joints: the default hard tier
+/// ([`super::InferenceSettings::hard_confidence`]) exactly, so that [`confidence`] makes
+/// it hard only where it holds within the drawing's noise (candles across a menorah
+/// drawn of one radius as closely as the drawing can show), and a suggestion anywhere
+/// else inside its threshold. Measured on the synthetic assemblies at 40 cases per kind
+/// (50 such suggestions, 49 right) and the shared sketches (4 more intended hard
+/// relations on the menorah, none unwanted).
+const FAR_REPEATED: f64 = 0.6;
 
 /// The prior of orthogonal between alike parts joined to one same part (inference
 /// proposes it between those only when they do not touch each other): a ball's tubes, a
@@ -279,6 +286,20 @@ mod tests {
         let lone = prior(k, Contact::EndOnEnd, 1, false, false);
         let legs = prior(k, Contact::Apart, 2, true, false);
         assert!(lone < 0.5 && legs > 0.8);
+    }
+
+    #[test]
+    fn alike_parts_far_apart_are_hard_only_where_the_drawing_shows_them_exact() {
+        let hard = crate::relation::InferenceSettings::default().hard_confidence();
+        let k = RelationKind::SameRadius;
+        let mut far = evidence(k, Contact::Apart, super::super::infer::MAX_HOPS + 1, 0.05);
+        far.prior = prior(k, Contact::Apart, far.hops, true, false);
+        assert!(confidence(&far, 0.05) >= hard, "{far:?}");
+        far.closeness = 0.5;
+        let loose = confidence(&far, 0.05);
+        assert!(loose < hard && loose > 0.3, "{loose}");
+        // Parts that do not repeat each other are not compared this far apart.
+        assert_eq!(prior(k, Contact::Apart, far.hops, false, false), 0.0);
     }
 
     #[test]
