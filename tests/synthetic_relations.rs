@@ -762,6 +762,15 @@ fn recall(
     }
 }
 
+/// Counts by relation kind, (relations, right ones), as "parallel 12/13, …".
+fn kinds_text(counts: &BTreeMap<&'static str, (usize, usize)>) -> String {
+    counts
+        .iter()
+        .map(|(k, (n, ok))| format!("{k} {ok}/{n}"))
+        .collect::<Vec<String>>()
+        .join(", ")
+}
+
 /// Sums of a set of cases.
 #[derive(Debug, Default)]
 struct Totals {
@@ -1037,22 +1046,15 @@ fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
         }
     }
     let _ = writeln!(table, "{}", all.row("overall"));
-    let by_kind = |counts: &BTreeMap<&'static str, (usize, usize)>| {
-        counts
-            .iter()
-            .map(|(k, (n, ok))| format!("{k} {ok}/{n}"))
-            .collect::<Vec<String>>()
-            .join(", ")
-    };
     let _ = writeln!(
         table,
         "hard relations holding on the truth, by kind: {}",
-        by_kind(&all.by_kind)
+        kinds_text(&all.by_kind)
     );
     let _ = writeln!(
         table,
         "suggestions holding on the truth, by kind: {}",
-        by_kind(&all.suggested_by_kind)
+        kinds_text(&all.suggested_by_kind)
     );
     let _ = writeln!(
         table,
