@@ -299,7 +299,7 @@ mod tests {
         let loose = confidence(&far, 0.05);
         assert!(loose < hard && loose > 0.3, "{loose}");
         // Parts that do not repeat each other are not compared this far apart.
-        assert_eq!(prior(k, Contact::Apart, far.hops, false, false), 0.0);
+        assert!(prior(k, Contact::Apart, far.hops, false, false) <= 0.0);
     }
 
     #[test]
