@@ -164,6 +164,12 @@ fn better_reading(a: ReadingScore, b: ReadingScore) -> bool {
         || ((a.agreement, a.hard) == (b.agreement, b.hard) && a.confidence > b.confidence + EQUAL)
 }
 
+/// Whether the relations `a` weigh more than `b` in one same reading of the drawing:
+/// more hard ones, or as many and a greater summed confidence ([`better_reading`]).
+fn weighs_more(a: &[Found], b: &[Found]) -> bool {
+    better_reading(ReadingScore::of(0, a), ReadingScore::of(0, b))
+}
+
 impl Document {
     /// Infers the relations between part `id` and the other parts
     /// ([`crate::relation::infer`]), adds them (hard or suggested, with their confidence
@@ -258,16 +264,16 @@ impl Document {
         };
         let (reading, chosen, mut found) = tried.swap_remove(pick);
         features[new] = chosen.current_shape().features;
-        // The reading the drawing refused would have had more hard relations: the parts
-        // they were with may be the ones read in the wrong mirror, where their own
-        // strokes leave it open.
+        // The reading the drawing refused would have had more relations (more hard
+        // ones, or as many and more confident ones: a suggestion the chosen reading
+        // lacks): the parts they were with may be the ones read in the wrong mirror,
+        // where their own strokes leave it open.
         if let Some((_, _, refused)) = tried
             .iter()
-            .find(|t| t.0 < reading && hard_count(&t.2) > hard_count(&found))
+            .find(|t| t.0 < reading && weighs_more(&t.2, &found))
         {
             let seeds: Vec<usize> = refused
                 .iter()
-                .filter(|f| f.mode == Mode::Hard)
                 .flat_map(|f| f.proposal.members.iter().copied())
                 .filter(|&m| m != new)
                 .collect();
@@ -284,7 +290,7 @@ impl Document {
                     &existing,
                     settings,
                 );
-                if hard_count(&again) > hard_count(&found) {
+                if weighs_more(&again, &found) {
                     found = again;
                     for (i, p) in turned {
                         if let Some(placed) = self.primitives.get_mut(&ids[i]) {
@@ -981,46 +987,76 @@ mod tests {
         assert_eq!(doc.duplicate_of(mirrored), Some(first));
     }
 
+    /// Two legs side by side, each with strokes of its own, the second (axis `second`)
+    /// released: the first drawn with hidden lines (both ends whole: either mirror
+    /// reading) when `first_hidden`, else with its top whole; the second with its top
+    /// whole and its bottom a half. The first's and the second's depth components after
+    /// the release, and the mode of a parallel between them, if any.
+    fn legs_drawn(first_hidden: bool, second: DVec3) -> (f64, f64, Option<Mode>) {
+        let mut doc = Document::new();
+        let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
+        let b = doc.add(leg(2.0, second));
+        for (k, (id, hidden)) in [(a, first_hidden), (b, false)].into_iter().enumerate() {
+            let p = doc.get(id).expect("placed").primitive.clone();
+            // Strokes of its own.
+            let mut assignment = drawn(&p, hidden);
+            for s in assignment.curves.iter_mut().flatten() {
+                s.stroke = crate::sketch::StrokeId(k as u32);
+            }
+            doc.snaps.insert(
+                id,
+                SnapRecord {
+                    assignment,
+                    rms: 0.0,
+                },
+            );
+        }
+        doc.infer_relations(b, &InferenceSettings::default());
+        let parallel = doc
+            .relations()
+            .iter()
+            .find(|r| {
+                r.kind == RelationKind::Parallel && r.members.contains(&a) && r.members.contains(&b)
+            })
+            .map(|r| r.mode);
+        (axis_z(&doc, a), axis_z(&doc, b), parallel)
+    }
+
     #[test]
     fn earlier_parts_whose_strokes_leave_the_mirror_open_are_turned_for_the_drawing() {
-        // Two legs side by side. The first drawn with hidden lines (both ends whole):
-        // either mirror reading. The second drawn with its top whole and its bottom a
-        // half: its top faces the viewer, as snapped, and it is parallel to the first
+        // The second's top faces the viewer, as snapped, and it is parallel to the first
         // only once the first is mirrored.
-        let place = |first_hidden: bool| {
-            let mut doc = Document::new();
-            let a = doc.add(leg(0.0, DVec3::new(0.0, 0.9, 0.44)));
-            let b = doc.add(leg(2.0, DVec3::new(0.0, -0.9, 0.44)));
-            for (k, (id, hidden)) in [(a, first_hidden), (b, false)].into_iter().enumerate() {
-                let p = doc.get(id).expect("placed").primitive.clone();
-                // Strokes of its own.
-                let mut assignment = drawn(&p, hidden);
-                for s in assignment.curves.iter_mut().flatten() {
-                    s.stroke = crate::sketch::StrokeId(k as u32);
-                }
-                doc.snaps.insert(
-                    id,
-                    SnapRecord {
-                        assignment,
-                        rms: 0.0,
-                    },
-                );
-            }
-            doc.infer_relations(b, &InferenceSettings::default());
-            let parallel = doc.relations().iter().any(|r| {
-                r.kind == RelationKind::Parallel
-                    && r.mode == Mode::Hard
-                    && r.members.contains(&a)
-                    && r.members.contains(&b)
-            });
-            (axis_z(&doc, a), axis_z(&doc, b), parallel)
-        };
-        let (a, b, parallel) = place(true);
-        assert!(a < 0.0 && b > 0.0 && parallel, "{a} {b} {parallel}");
+        let second = DVec3::new(0.0, -0.9, 0.44);
+        let (a, b, parallel) = legs_drawn(true, second);
+        assert!(
+            a < 0.0 && b > 0.0 && parallel == Some(Mode::Hard),
+            "{a} {b} {parallel:?}"
+        );
         // The first drawn without hidden lines, its top whole: its reading stands too,
         // and the two are not parallel.
-        let (a, b, parallel) = place(false);
-        assert!(a > 0.0 && b > 0.0 && !parallel, "{a} {b} {parallel}");
+        let (a, b, parallel) = legs_drawn(false, second);
+        assert!(
+            a > 0.0 && b > 0.0 && parallel.is_none(),
+            "{a} {b} {parallel:?}"
+        );
+    }
+
+    #[test]
+    fn earlier_parts_open_to_the_mirror_are_turned_for_a_suggestion_too() {
+        // As above, the second turned 5° on the paper: parallel at the edge of its
+        // threshold, a suggestion. The first is still turned for it, where its strokes
+        // leave it open, rather than the suggestion lost with the refused reading.
+        let second = DVec3::new(0.09, -0.9, 0.44);
+        let (a, b, parallel) = legs_drawn(true, second);
+        assert!(
+            a < 0.0 && b > 0.0 && parallel == Some(Mode::Suggested),
+            "{a} {b} {parallel:?}"
+        );
+        let (a, b, parallel) = legs_drawn(false, second);
+        assert!(
+            a > 0.0 && b > 0.0 && parallel.is_none(),
+            "{a} {b} {parallel:?}"
+        );
     }
 
     /// An assignment taking the `strokes` (id, and the range of its ten samples taken;
