@@ -118,13 +118,13 @@ const WRECK_SIZE: f64 = 0.5;
 const SLOW_CASE: Duration = Duration::from_secs(10);
 /// The precision issue 17 asks for (over hard relations).
 const REQUIRED_PRECISION: f64 = 0.95;
-/// The recall issue 17 asks for; not met yet (0.808 at 4 cases per kind, mostly parts
+/// The recall issue 17 asks for; not met yet (0.803 at 4 cases per kind, mostly parts
 /// whose own snap is off: plugs' blades, menorahs' arms, tees' branches), so it is
 /// printed, and [`REQUIRED_RECALL`] guards what is reached against going back.
 const ISSUE_RECALL: f64 = 0.9;
 /// The recall asserted: what inference reaches today at the default case count, less a
 /// little (a floor against regressions, not the goal: see [`ISSUE_RECALL`]).
-const REQUIRED_RECALL: f64 = 0.76;
+const REQUIRED_RECALL: f64 = 0.78;
 
 /// The seed of case `index` of `kind`.
 fn seed(kind: AssemblyKind, index: usize) -> u64 {
