@@ -762,6 +762,18 @@ fn recall(
     }
 }
 
+/// Adds the counts by relation kind `from` into `into`.
+fn add_counts(
+    into: &mut BTreeMap<&'static str, (usize, usize)>,
+    from: &BTreeMap<&'static str, (usize, usize)>,
+) {
+    for (k, (n, ok)) in from {
+        let e = into.entry(k).or_default();
+        e.0 += n;
+        e.1 += ok;
+    }
+}
+
 /// Counts by relation kind, (relations, right ones), as "parallel 12/13, …".
 fn kinds_text(counts: &BTreeMap<&'static str, (usize, usize)>) -> String {
     counts
@@ -825,16 +837,8 @@ impl Totals {
             self.centre.1 += fin.centre;
             self.errors += 1;
         }
-        for (k, (n, ok)) in &c.by_kind {
-            let e = self.by_kind.entry(k).or_default();
-            e.0 += n;
-            e.1 += ok;
-        }
-        for (k, (n, ok)) in &c.suggested_by_kind {
-            let e = self.suggested_by_kind.entry(k).or_default();
-            e.0 += n;
-            e.1 += ok;
-        }
+        add_counts(&mut self.by_kind, &c.by_kind);
+        add_counts(&mut self.suggested_by_kind, &c.suggested_by_kind);
     }
 
     fn merge(&mut self, o: &Self) {
@@ -859,16 +863,8 @@ impl Totals {
         self.centre.0 += o.centre.0;
         self.centre.1 += o.centre.1;
         self.errors += o.errors;
-        for (k, (n, ok)) in &o.by_kind {
-            let e = self.by_kind.entry(k).or_default();
-            e.0 += n;
-            e.1 += ok;
-        }
-        for (k, (n, ok)) in &o.suggested_by_kind {
-            let e = self.suggested_by_kind.entry(k).or_default();
-            e.0 += n;
-            e.1 += ok;
-        }
+        add_counts(&mut self.by_kind, &o.by_kind);
+        add_counts(&mut self.suggested_by_kind, &o.suggested_by_kind);
         self.wall = self.wall.max(o.wall);
     }
 
