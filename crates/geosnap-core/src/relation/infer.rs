@@ -564,14 +564,25 @@ impl Inference<'_, '_> {
         self.settings.enabled(p.kind) && self.test(p, &self.settings_for(p))
     }
 
-    /// Whether `p` (parallel or coaxial) holds once its members' tilts move within
-    /// their slack: directions that agree on the paper, with depth the drawing leaves
-    /// open.
+    /// Whether `p` (parallel, coaxial or orthogonal) holds once its members' tilts move
+    /// within their slack: directions that agree on the paper, with depth the drawing
+    /// leaves open. Orthogonal only at a T (an end of one on the other's side: a branch,
+    /// a handle), where square is the joint a designer builds, and only where both tilts
+    /// are pinned by drawn ends: with a tilt free, any two directions apart on the paper
+    /// can be made square. Not for an end on a face: a part standing there is meant
+    /// along the face's normal (splayed legs under a camera's body came out square to its
+    /// faces).
     fn within_tilt(&self, p: &Proposal) -> bool {
         if p.members.len() != 2 || p.members[0] == p.members[1] {
             return false;
         }
         let slack = [0, 1].map(|i| self.parts[p.members[i]].tilt_of(p.features[i]));
+        if p.kind == RelationKind::Orthogonal
+            && (self.graph.between(p.members[0], p.members[1]) != Contact::EndOnSide
+                || slack.iter().any(|&s| s >= tilt::FREE))
+        {
+            return false;
+        }
         tilt::holds(p.kind, &self.members(p), &self.settings_for(p), slack)
     }
 
@@ -1807,6 +1818,39 @@ mod tests {
         assert_eq!(coaxial(&pinned), None, "{pinned:#?}");
         let open = place_all_tilted(&[lower, upper], &[[0.0; 2], [FREE; 2]]);
         assert_eq!(coaxial(&open), Some(Mode::Suggested), "{open:#?}");
+    }
+
+    #[test]
+    fn a_tee_whose_depth_its_ends_leave_open_is_suggested_square() {
+        // A main pipe leaning in depth, and a branch whose end sits on its side, drawn
+        // square to it on the paper's terms (the drawn branch is the square one with its
+        // depth moved: 20° off square in 3D).
+        let main_axis = DVec3::new(1.0, 0.0, 0.6).normalize();
+        let square = DVec3::new(-0.3, 1.0, 0.5).normalize();
+        assert!(main_axis.dot(square).abs() < 1e-12);
+        let drawn = DVec3::new(-0.3, 1.0, -0.2).normalize();
+        let main = rod(DVec3::ZERO, main_axis, 60.0);
+        let branch = |at: DVec3| rod(at + drawn * 15.0, drawn, 30.0);
+        let orthogonal = |found: &[Found]| {
+            found
+                .iter()
+                .find(|f| f.proposal.kind == RelationKind::Orthogonal)
+                .map(|f| f.mode)
+        };
+        let tee = [main.clone(), branch(DVec3::Y)];
+        // Tilts pinned by their ends: 20° is no square joint.
+        let pinned = place_all_tilted(&tee, &[[0.0; 2]; 2]);
+        assert_eq!(orthogonal(&pinned), None, "{pinned:#?}");
+        // The branch's small ends pin its depth only loosely: square is suggested.
+        let loose = place_all_tilted(&tee, &[[0.0; 2], [0.7; 2]]);
+        assert_eq!(orthogonal(&loose), Some(Mode::Suggested), "{loose:#?}");
+        // No ends drawn: any two directions could be made square; nothing is said.
+        let open = place_all_tilted(&tee, &[[0.0; 2], [FREE; 2]]);
+        assert_eq!(orthogonal(&open), None, "{open:#?}");
+        // Beside the main pipe, not on it: no joint, no square.
+        let apart = [main, branch(DVec3::new(0.0, 12.0, 0.0))];
+        let apart = place_all_tilted(&apart, &[[0.0; 2], [0.7; 2]]);
+        assert_eq!(orthogonal(&apart), None, "{apart:#?}");
     }
 
     #[test]

@@ -12,7 +12,9 @@
 //! So parallel and coaxial candidates that fail in 3D are tested once more with each
 //! member's tilt free to move within its slack ([`slack`]): the projected directions
 //! must agree as they are (the drawing shows them), and the depth components must be
-//! reconcilable within what the ends show. A candidate that holds only this way is at
+//! reconcilable within what the ends show. Orthogonal likewise ([`square_within`]): a
+//! thin branch's small end ellipse leaves its depth open by tens of degrees, so a T
+//! drawn square comes out 10–20° off in 3D. A candidate that holds only this way is at
 //! the edge of its thresholds, so inference makes it a suggestion at most; accepted, the
 //! solve settles the depth the drawing left open.
 
@@ -41,8 +43,8 @@ pub fn slack(radius: Option<f64>, rms: f64) -> f64 {
 }
 
 /// Whether a relation of `kind` between two members holds once each member's tilt may
-/// move within its `slack` (parallel and coaxial; false for every other kind and where
-/// a direction is seen nearly end-on).
+/// move within its `slack` (parallel, coaxial and orthogonal; false for every other
+/// kind and where a direction is seen nearly end-on).
 pub(super) fn holds(
     kind: RelationKind,
     m: &[Member<'_, f64>],
@@ -68,6 +70,14 @@ pub(super) fn holds(
             parallel_within(n1.to_dvec3(), n2.to_dvec3(), slack, settings)
                 && coaxial::on_one_line(c1, n1, c2, n2, settings.position_tolerance(r1 + r2))
         }
+        RelationKind::Orthogonal => {
+            let (Ok(f1), Ok(f2)) = (chosen(kind, m, 0), chosen(kind, m, 1)) else {
+                return false;
+            };
+            let ((_, n1, _), (_, n2, _)) = (frame(f1), frame(f2));
+            square_within(n1.to_dvec3(), n2.to_dvec3(), slack)
+                .is_some_and(|cos| cos <= settings.sin_angle())
+        }
         _ => false,
     }
 }
@@ -76,6 +86,53 @@ pub(super) fn holds(
 /// their tilts move within `slack` ([`retilted`]).
 fn parallel_within(n1: DVec3, n2: DVec3, slack: [f64; 2], settings: &InferenceSettings) -> bool {
     retilted(n1, n2, slack).is_some_and(|(a, b)| a.cross(b).length() <= settings.sin_angle())
+}
+
+/// Steps of the first direction's tilt over its range in [`square_within`]: at most
+/// π / 128 apart, so that the smallest |cos| found is within about 0.012 of the true
+/// one (under a tenth of the sine of the default angle threshold, 0.14).
+const SQUARE_STEPS: usize = 128;
+
+/// The smallest |cos| of the angle between unit directions `n1` and `n2` once their
+/// depth components move within `slack` each (and within [−1, 1]), their projected
+/// directions kept: 0 where some pair of tilts makes them square. `None` where either
+/// is seen within about 17° of end-on (its projected direction is then the noise's).
+///
+/// With the tilts as angles (z = sin φ) the cosine is cos φ₁ cos φ₂ (p̂₁·p̂₂) +
+/// sin φ₁ sin φ₂, continuous over the rectangle of the two ranges: where it takes both
+/// signs it is 0 somewhere. For a fixed φ₁ it is a sinusoid in φ₂, whose smallest
+/// magnitude over an interval shorter than π without a change of sign lies at an end;
+/// φ₁ is stepped over its range ([`SQUARE_STEPS`]).
+fn square_within(n1: DVec3, n2: DVec3, slack: [f64; 2]) -> Option<f64> {
+    let (p1, p2) = (n1.truncate(), n2.truncate());
+    if p1.length() < MIN_PROJECTED_AXIS || p2.length() < MIN_PROJECTED_AXIS {
+        return None;
+    }
+    let across = p1.normalize().dot(p2.normalize());
+    let range = |z: f64, s: f64| {
+        let s = s.max(0.0);
+        (
+            (z - s).clamp(-1.0, 1.0).asin(),
+            (z + s).clamp(-1.0, 1.0).asin(),
+        )
+    };
+    let (a, b) = (range(n1.z, slack[0]), range(n2.z, slack[1]));
+    let cos = |phi1: f64, phi2: f64| phi1.cos() * phi2.cos() * across + phi1.sin() * phi2.sin();
+    let (mut lowest, mut highest, mut smallest) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..=SQUARE_STEPS {
+        let phi1 = a.0 + (a.1 - a.0) * k as f64 / SQUARE_STEPS as f64;
+        for phi2 in [b.0, b.1] {
+            let c = cos(phi1, phi2);
+            lowest = lowest.min(c);
+            highest = highest.max(c);
+            smallest = smallest.min(c.abs());
+        }
+    }
+    Some(if lowest <= 0.0 && highest >= 0.0 {
+        0.0
+    } else {
+        smallest
+    })
 }
 
 /// The directions `n1` and `n2` (unit) with their depth components moved within
@@ -111,7 +168,7 @@ mod tests {
 
     use super::super::testing::features;
     use super::super::{InferenceSettings, Member, RelationKind};
-    use super::{holds, retilted, slack, FREE};
+    use super::{holds, retilted, slack, square_within, FREE};
     use crate::primitive::{Feature, Primitive};
 
     fn cylinder(center: DVec3, axis: DVec3) -> Primitive {
@@ -162,6 +219,32 @@ mod tests {
         // Opposite on the paper is parallel too.
         let (x, y) = retilted(a, -up(0.45), [0.1, 0.0]).expect("seen from the side");
         assert!(x.cross(y).length() < 1e-12);
+    }
+
+    #[test]
+    fn directions_are_square_for_some_tilts_within_their_slack_and_not_beyond() {
+        // Square in 3D: (1, 0, 0.6) and (−0.3, 1, 0.5); the second drawn 0.7 shallower.
+        let a = DVec3::new(1.0, 0.0, 0.6).normalize();
+        let square = DVec3::new(-0.3, 1.0, 0.5).normalize();
+        let b = DVec3::new(-0.3, 1.0, -0.2).normalize();
+        let off = square_within(a, b, [0.0; 2]).expect("both seen from the side");
+        assert!((off - a.dot(b).abs()).abs() < 1e-12, "pinned: as drawn");
+        assert!(off > 0.3);
+        let depth_gap = square.z - b.z;
+        assert!(square_within(a, b, [0.0, depth_gap + 0.01]) == Some(0.0));
+        let short = square_within(a, b, [0.0, depth_gap - 0.1]).expect("seen from the side");
+        assert!(short > 0.02 && short < off, "{short}");
+        // Either member's slack will do; the first one's range is stepped.
+        let first = square_within(b, a, [depth_gap + 0.01, 0.0]).expect("seen from the side");
+        assert!(first < 0.013, "{first}");
+        // Parallel on the paper, both in its plane: no tilt within 0.3 makes them square.
+        let flat = DVec3::X;
+        let beside = DVec3::new(1.0, 0.0, 0.1).normalize();
+        assert!(square_within(flat, beside, [0.3, 0.3]).expect("seen from the side") > 0.7);
+        assert!(
+            square_within(DVec3::Z, a, [FREE, FREE]).is_none(),
+            "seen end-on"
+        );
     }
 
     #[test]
