@@ -926,9 +926,10 @@ fn handle(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
 }
 
 /// A main pipe along X (a long rod to a fat tube) with a thinner branch whose bottom end
-/// sits on its side, at a right angle (T joint); in half of the cases a third pipe at
-/// one end of the main one, at a right angle to it (L joint), of the main pipe's radius
-/// in half of those.
+/// sits on its side, at a right angle (T joint) or, in a quarter of the cases, leaning
+/// 30°–60° from it (a lateral, Y joint: nothing designed between the two); in half of
+/// the cases a third pipe at one end of the main one, at a right angle to it (L joint),
+/// of the main pipe's radius in half of those.
 fn tee(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
     use RelationKind::{Orthogonal, Parallel, SameRadius};
     const ACROSS: [DVec3; 4] = [DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
@@ -976,6 +977,25 @@ fn tee(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
         designed.push(rel(along, (1, "top"), (2, "top")));
         if same {
             designed.push(rel(SameRadius, (0, "top"), (2, "top")));
+        }
+    }
+    // In a quarter of the cases the branch is a lateral: leaning 30°–60° from square
+    // towards either end of the main pipe (a Y joint: an end on a side that is not
+    // square). Drawn last, so that every other draw of a case is as before.
+    if rng.chance(0.25) {
+        let lean = rng.degrees(30.0, 60.0) * rng.sign();
+        let leaning = branch * lean.cos() + DVec3::X * lean.sin();
+        parts[1] = cylinder_from(
+            DVec3::X * x + branch * radius,
+            leaning,
+            branch_length,
+            branch_radius,
+        );
+        designed.retain(|d| !d.members.contains(&1));
+        if let Some(Primitive::Cylinder(third)) = parts.get(2) {
+            if third.axis.dot(leaning).abs() < 1e-9 {
+                designed.push(rel(Orthogonal, (1, "top"), (2, "top")));
+            }
         }
     }
     (parts, designed)
