@@ -40,6 +40,10 @@
 //!   relations enforced by the solve reach; a snap alone is off by a degree or a percent)
 //!   and every member takes part in some relation that is not off. A part whose step was
 //!   skipped misses all its designed relations.
+//! - **Recall with suggestions**: as the shared sketches count it (`tests/shared_intent.rs`:
+//!   hard or an accepted suggestion), the fraction of the designed relations found, or
+//!   missed with a suggestion of their kind between their parts that holds on the truth
+//!   (one a user accepts with one click). Printed beside the recall, not asserted.
 //! - **Improvement**: each part's errors against its truth after its own snap
 //!   ([`StepOutcome::Placed`]`.snap`) and in the final document: the axis angle (up to
 //!   the view's mirror and reversal; a box's worst axis), the mean relative error of its
@@ -118,7 +122,7 @@ const WRECK_SIZE: f64 = 0.5;
 const SLOW_CASE: Duration = Duration::from_secs(10);
 /// The precision issue 17 asks for (over hard relations).
 const REQUIRED_PRECISION: f64 = 0.95;
-/// The recall issue 17 asks for; not met yet (0.803 at 4 cases per kind, mostly parts
+/// The recall issue 17 asks for; not met yet (0.789 at 4 cases per kind, mostly parts
 /// whose own snap is off: plugs' blades, menorahs' arms, tees' branches), so it is
 /// printed, and [`REQUIRED_RECALL`] guards what is reached against going back.
 const ISSUE_RECALL: f64 = 0.9;
@@ -306,6 +310,11 @@ struct CaseResult {
     /// Designed relations, and those found.
     designed: usize,
     found: usize,
+    /// Designed relations missed, with a suggestion of their kind between their parts
+    /// that holds on the truth.
+    suggested_instead: usize,
+    /// The suggestions that hold on the truth, as (kind, sorted members).
+    right_suggestions: BTreeSet<(&'static str, Vec<usize>)>,
     /// Relations switched off by the solve (conflicts), in words.
     conflicts: Vec<String>,
     /// Lines describing the wrong and the missed relations.
@@ -677,6 +686,9 @@ fn precision(
             if ok {
                 out.suggested_ok += 1;
                 entry.1 += 1;
+                let mut members = parts.clone();
+                members.sort_unstable();
+                out.right_suggestions.insert((r.kind.name(), members));
             } else {
                 out.report
                     .push(format!("{tag}: WRONG SUGGESTION {}", what()));
@@ -745,9 +757,14 @@ fn recall(
             .copied()
             .filter(|m| !related.contains(m))
             .collect();
+        let mut members = d.members.clone();
+        members.sort_unstable();
         if holds && unrelated.is_empty() {
             out.found += 1;
         } else {
+            if out.right_suggestions.contains(&(d.kind.name(), members)) {
+                out.suggested_instead += 1;
+            }
             out.report.push(format!(
                 "{tag}: MISSED {what} (document features [{}]): ‖ψ‖ on the solved model {}{}",
                 members_text(&d.members, &doc_names),
@@ -797,6 +814,7 @@ struct Totals {
     cross_suggested: usize,
     designed: usize,
     found: usize,
+    suggested_instead: usize,
     conflicts: usize,
     /// Sums over parts: (snap, final) axis (with its count), size, centre.
     axis: (f64, f64, usize),
@@ -823,6 +841,7 @@ impl Totals {
         self.cross_suggested += c.cross_suggested;
         self.designed += c.designed;
         self.found += c.found;
+        self.suggested_instead += c.suggested_instead;
         self.conflicts += c.conflicts.len();
         self.wrecked += c.wrecked;
         for (own, fin) in &c.errors {
@@ -853,6 +872,7 @@ impl Totals {
         self.cross_suggested += o.cross_suggested;
         self.designed += o.designed;
         self.found += o.found;
+        self.suggested_instead += o.suggested_instead;
         self.conflicts += o.conflicts;
         self.wrecked += o.wrecked;
         self.axis.0 += o.axis.0;
@@ -881,6 +901,15 @@ impl Totals {
             1.0
         } else {
             self.found as f64 / self.designed as f64
+        }
+    }
+
+    /// The recall with the right suggestions accepted (module docs).
+    fn recall_with_suggestions(&self) -> f64 {
+        if self.designed == 0 {
+            1.0
+        } else {
+            (self.found + self.suggested_instead) as f64 / self.designed as f64
         }
     }
 
@@ -983,6 +1012,41 @@ fn header(cases: usize, wall: Duration) -> String {
     table
 }
 
+/// The lines under the table: relations holding on the truth by kind, the recall with
+/// the right suggestions accepted, cross-object suggestions and wrecked parts.
+fn summary(all: &Totals) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "hard relations holding on the truth, by kind: {}",
+        kinds_text(&all.by_kind)
+    );
+    let _ = writeln!(
+        out,
+        "suggestions holding on the truth, by kind: {}",
+        kinds_text(&all.suggested_by_kind)
+    );
+    let _ = writeln!(
+        out,
+        "recall with the right suggestions accepted (hard, or a right suggestion of the \
+         kind between the parts, as on the shared sketches): {:.3} ({} more)",
+        all.recall_with_suggestions(),
+        all.suggested_instead
+    );
+    let _ = writeln!(
+        out,
+        "suggestions between parts of different objects (not enforced): {}",
+        all.cross_suggested
+    );
+    let _ = writeln!(
+        out,
+        "parts the solve took far from their own snap (axis +{WRECK_AXIS}°, sizes +{} %): {}",
+        100.0 * WRECK_SIZE,
+        all.wrecked
+    );
+    out
+}
+
 #[test]
 fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
     let cases = std::env::var("GEOSNAP_SYNTH_ASSEMBLIES")
@@ -1042,27 +1106,7 @@ fn relations_of_synthetic_assemblies_are_found_and_improve_the_fit() {
         }
     }
     let _ = writeln!(table, "{}", all.row("overall"));
-    let _ = writeln!(
-        table,
-        "hard relations holding on the truth, by kind: {}",
-        kinds_text(&all.by_kind)
-    );
-    let _ = writeln!(
-        table,
-        "suggestions holding on the truth, by kind: {}",
-        kinds_text(&all.suggested_by_kind)
-    );
-    let _ = writeln!(
-        table,
-        "suggestions between parts of different objects (not enforced): {}",
-        all.cross_suggested
-    );
-    let _ = writeln!(
-        table,
-        "parts the solve took far from their own snap (axis +{WRECK_AXIS}°, sizes +{} %): {}",
-        100.0 * WRECK_SIZE,
-        all.wrecked
-    );
+    table.push_str(&summary(&all));
     println!("{table}\nwrong, missed, skipped, cross-object and conflicts:\n{details}");
     assert_eq!(
         all.wrecked, 0,
