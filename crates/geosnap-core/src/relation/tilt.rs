@@ -12,7 +12,7 @@
 //! So parallel and coaxial candidates that fail in 3D are tested once more with each
 //! member's tilt free to move within its slack ([`slack`]): the projected directions
 //! must agree as they are (the drawing shows them), and the depth components must be
-//! reconcilable within what the ends show. Orthogonal likewise ([`square_within`]): a
+//! reconcilable within what the ends show. Orthogonal likewise (`square_within`): a
 //! thin branch's small end ellipse leaves its depth open by tens of degrees, so a T
 //! drawn square comes out 10–20° off in 3D. A candidate that holds only this way is at
 //! the edge of its thresholds, so inference makes it a suggestion at most; accepted, the
