@@ -904,9 +904,34 @@ mod tests {
     use crate::core::sketch::StrokeId;
     use crate::core::snap::Verdict;
 
+    /// A same-radius suggestion between primitives 0 and 1, with its evidence.
+    fn suggested_same_radius() -> crate::core::model::Relation {
+        use crate::core::relation::evidence::{Contact, Evidence, Inferred};
+        use crate::core::relation::{Mode, RelationKind};
+        use crate::core::{model::PrimitiveId, model::Relation, primitive::Feature};
+        Relation {
+            kind: RelationKind::SameRadius,
+            members: vec![PrimitiveId(0), PrimitiveId(1)],
+            features: vec![Some(Feature::Top), Some(Feature::Top)],
+            mode: Mode::Suggested,
+            inferred: Some(Inferred {
+                confidence: 0.42,
+                evidence: Evidence {
+                    contact: Contact::Apart,
+                    hops: 2,
+                    repeated: false,
+                    across: false,
+                    branches: false,
+                    closeness: 0.25,
+                    noise: 0.004,
+                    prior: 0.4,
+                },
+            }),
+        }
+    }
+
     #[test]
     fn relations_round_trip_and_bad_ones_are_named() {
-        use crate::core::relation::evidence::{Contact, Evidence, Inferred};
         use crate::core::relation::{Mode, RelationKind};
         use crate::core::{model::PrimitiveId, model::Relation, primitive::Feature};
         let mut document = Document::new();
@@ -935,24 +960,7 @@ mod tests {
             mode: Mode::Hard,
             inferred: None,
         };
-        let suggested = Relation {
-            kind: RelationKind::SameRadius,
-            members: vec![PrimitiveId(0), PrimitiveId(1)],
-            features: vec![Some(Feature::Top), Some(Feature::Top)],
-            mode: Mode::Suggested,
-            inferred: Some(Inferred {
-                confidence: 0.42,
-                evidence: Evidence {
-                    contact: Contact::Apart,
-                    hops: 2,
-                    repeated: false,
-                    across: false,
-                    closeness: 0.25,
-                    noise: 0.004,
-                    prior: 0.4,
-                },
-            }),
-        };
+        let suggested = suggested_same_radius();
         document.add_relation(coaxial.clone()).expect("valid");
         document.add_relation(equal.clone()).expect("valid");
         document.add_relation(suggested.clone()).expect("valid");

@@ -101,6 +101,11 @@ pub struct Evidence {
     /// (written only when true).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub across: bool,
+    /// Whether the members are branches of one part: of one kind, not joined to each
+    /// other, each joined to that part with an end in the same way (a menorah's arms on
+    /// its stem, pipes on one box, tubes on one ball) (written only when true).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub branches: bool,
     /// How far inside its thresholds the relation holds, as a fraction of them (0
     /// exact, 1 at the edge); above 1 for a part standing on a face drawn leaning
     /// ([`super::standing`]): its angle as a multiple of the angle threshold.
@@ -128,6 +133,9 @@ impl Evidence {
         if self.across {
             parts.push("on both sides of a part they both join".to_owned());
         }
+        if self.branches {
+            parts.push("branches of one part".to_owned());
+        }
         let within = if self.closeness <= 0.0 {
             "exactly".to_owned()
         } else if self.closeness > 1.0 {
@@ -153,12 +161,20 @@ impl Evidence {
 /// repeated parts and are most often chance elsewhere. Two parts on one line across a
 /// part both join (arms out of both sides of a stem) are coaxial as surely as attached
 /// ones: lined up on the paper across it by chance, they would have to be offset along
-/// the view only.
+/// the view only. Branches of one part (`branches`) are of one radius by design as
+/// often as not (their same radius is weighed at the hard tier exactly).
 #[expect(
     clippy::match_same_arms,
     reason = "a table of priors: one row per kind and situation, read top to bottom"
 )]
-pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool, across: bool) -> f64 {
+pub fn prior(
+    kind: RelationKind,
+    contact: Contact,
+    hops: u32,
+    repeated: bool,
+    across: bool,
+    branches: bool,
+) -> f64 {
     // A joint (an end on the other part) is designed; outlines that merely cross may be
     // parts drawn one behind the other, and count no more than parts apart.
     let joint = hops <= 1 && contact.is_joint();
@@ -193,6 +209,7 @@ pub fn prior(kind: RelationKind, contact: Contact, hops: u32, repeated: bool, ac
         RelationKind::Coplanar if hops == 2 => 0.55,
         RelationKind::Coplanar => 0.35,
         RelationKind::SameRadius | RelationKind::EqualLength if repeated => 0.9,
+        RelationKind::SameRadius if branches => BRANCH_RADIUS,
         RelationKind::SameRadius if joint => 0.55,
         RelationKind::SameRadius | RelationKind::EqualLength => 0.4,
         RelationKind::CollinearCenters => 0.4,
@@ -216,6 +233,15 @@ const FAR_REPEATED: f64 = 0.5;
 /// kind, 49 right; 41 equal lengths, 40 right) and the shared sketches (4 more intended
 /// hard relations on the menorah, none unwanted).
 const FAR_REPEATED_SIZE: f64 = 0.6;
+
+/// The prior of same radius between branches of one part that do not repeat each other
+/// (a menorah's arms of different lengths, pipes of one manifold): the default hard
+/// tier ([`super::InferenceSettings::hard_confidence`]) exactly, as for alike parts far
+/// apart ([`FAR_REPEATED_SIZE`]), so that it is hard where the drawing shows the radii
+/// equal within its noise and a suggestion elsewhere inside the threshold. Branches of
+/// one hub are cut from one stock more often than not; two parts that merely lie near
+/// one another are not ([`prior`]'s 0.4).
+const BRANCH_RADIUS: f64 = 0.6;
 
 /// The prior of orthogonal between alike parts joined to one same part (inference
 /// proposes it between those only when they do not touch each other): a ball's tubes, a
@@ -269,7 +295,8 @@ mod tests {
             closeness,
             noise: 0.005,
             across: false,
-            prior: prior(kind, contact, hops, false, false),
+            branches: false,
+            prior: prior(kind, contact, hops, false, false, false),
         }
     }
 
@@ -295,8 +322,8 @@ mod tests {
     #[test]
     fn coincidental_sizes_are_weak_and_repeated_ones_strong() {
         let k = RelationKind::EqualLength;
-        let lone = prior(k, Contact::EndOnEnd, 1, false, false);
-        let legs = prior(k, Contact::Apart, 2, true, false);
+        let lone = prior(k, Contact::EndOnEnd, 1, false, false, false);
+        let legs = prior(k, Contact::Apart, 2, true, false, false);
         assert!(lone < 0.5 && legs > 0.8);
     }
 
@@ -305,7 +332,7 @@ mod tests {
         let hard = crate::relation::InferenceSettings::default().hard_confidence();
         let k = RelationKind::SameRadius;
         let mut far = evidence(k, Contact::Apart, super::super::infer::MAX_HOPS + 1, 0.05);
-        far.prior = prior(k, Contact::Apart, far.hops, true, false);
+        far.prior = prior(k, Contact::Apart, far.hops, true, false, false);
         assert!(confidence(&far, 0.05) >= hard, "{far:?}");
         far.closeness = 0.5;
         let loose = confidence(&far, 0.05);
@@ -320,10 +347,11 @@ mod tests {
             far.hops,
             true,
             false,
+            false,
         );
         assert!(confidence(&parallel, 0.14) < hard, "{parallel:?}");
         // Parts that do not repeat each other are not compared this far apart.
-        assert!(prior(k, Contact::Apart, far.hops, false, false) <= 0.0);
+        assert!(prior(k, Contact::Apart, far.hops, false, false, false) <= 0.0);
     }
 
     #[test]
@@ -343,15 +371,15 @@ mod tests {
     #[test]
     fn parts_across_one_they_both_join_are_coaxial_like_attached_ones() {
         let k = RelationKind::Coaxial;
-        let apart = prior(k, Contact::Apart, 2, true, false);
-        let across = prior(k, Contact::Apart, 2, true, true);
-        let joint = prior(k, Contact::EndOnEnd, 1, false, false);
+        let apart = prior(k, Contact::Apart, 2, true, false, false);
+        let across = prior(k, Contact::Apart, 2, true, true, false);
+        let joint = prior(k, Contact::EndOnEnd, 1, false, false, false);
         assert!(apart < 0.7 && (across - joint).abs() < 1e-12);
         // Across a part changes nothing but the axis line.
         let l = RelationKind::EqualLength;
         let (lone, across) = (
-            prior(l, Contact::Apart, 2, false, false),
-            prior(l, Contact::Apart, 2, false, true),
+            prior(l, Contact::Apart, 2, false, false, false),
+            prior(l, Contact::Apart, 2, false, true, false),
         );
         assert!((lone - across).abs() < 1e-12);
     }

@@ -669,15 +669,40 @@ impl Inference<'_, '_> {
             .map(|&m| self.parts[m].noise)
             .fold(0.0, f64::max);
         let across = other.is_some_and(|o| self.across_a_hub(o));
+        let branches = other.is_some_and(|o| self.branches_of_one_hub(o));
+        // Branches are cut from one stock only as far as the drawing shows it within
+        // the thresholds themselves: radii that agree only within a rough drawing's
+        // noise (studs sketched a tenth apart on a rough brick) say nothing more.
+        let one_stock = branches && closeness < 1.0;
         Evidence {
             contact,
             hops,
             repeated,
             across,
+            branches,
             closeness,
             noise,
-            prior: prior(p.kind, contact, hops, repeated, across),
+            prior: prior(p.kind, contact, hops, repeated, across, one_stock),
         }
+    }
+
+    /// Whether the new part and `other` are branches of one part: of one kind, not
+    /// joined to each other, and each joined to a third part with an end in the same way
+    /// (both on its side, both on its faces, both on a ball), as a menorah's arms on its
+    /// stem. Stacked tiers (ends on ends) are not branches.
+    fn branches_of_one_hub(&self, other: usize) -> bool {
+        let new = self.new;
+        self.parts[new].kind == self.parts[other].kind
+            && !self.graph.between(new, other).is_joint()
+            && self.graph.joints(new).any(|hub| {
+                let contact = self.graph.between(new, hub);
+                hub != other
+                    && matches!(
+                        contact,
+                        Contact::EndOnSide | Contact::EndOnFace | Contact::EndOnSphere
+                    )
+                    && self.graph.between(other, hub) == contact
+            })
     }
 
     /// Whether the new part and `other` lie on opposite sides of a part both join: on
@@ -1449,6 +1474,56 @@ mod tests {
             .iter()
             .filter(|f| f.proposal.members.contains(&0))
             .all(|f| !f.inferred.evidence.across));
+    }
+
+    /// A menorah's stem with an arm out of each side at different heights, of different
+    /// lengths (so not repeated), with radii `left` and `right`.
+    fn stem_with_arms(left: f64, right: f64) -> Vec<Primitive> {
+        let arm = |center: DVec3, axis: DVec3, length: f64, radius: f64| {
+            Primitive::Cylinder(Cylinder {
+                center,
+                axis,
+                length,
+                radius,
+            })
+        };
+        vec![
+            Primitive::Cylinder(Cylinder {
+                center: DVec3::ZERO,
+                axis: DVec3::Y,
+                length: 100.0,
+                radius: 5.0,
+            }),
+            arm(DVec3::new(-25.0, -20.0, 0.0), DVec3::NEG_X, 40.0, left),
+            arm(DVec3::new(17.5, 25.0, 0.0), DVec3::X, 25.0, right),
+        ]
+    }
+
+    #[test]
+    fn branches_of_one_stem_drawn_of_one_radius_are_of_one_radius() {
+        let same_radius = |found: &[Found]| {
+            found
+                .iter()
+                .find(|f| f.proposal.kind == RelationKind::SameRadius)
+                .cloned()
+        };
+        let found = place_all_found(&stem_with_arms(3.0, 3.0));
+        let equal = same_radius(&found).unwrap_or_else(|| panic!("none: {found:#?}"));
+        assert_eq!(equal.mode, Mode::Hard, "{equal:#?}");
+        let evidence = &equal.inferred.evidence;
+        assert!(evidence.branches && !evidence.repeated, "{evidence:#?}");
+        assert!(evidence
+            .describe(RelationKind::SameRadius)
+            .contains("branches of one part"));
+        // 4 % apart: inside the threshold, beyond the drawing's noise: a suggestion.
+        let found = place_all_found(&stem_with_arms(3.0, 3.12));
+        let near = same_radius(&found).unwrap_or_else(|| panic!("none: {found:#?}"));
+        assert_eq!(near.mode, Mode::Suggested, "{near:#?}");
+        // The stem is joined to each arm, so it is no branch of anything.
+        assert!(found
+            .iter()
+            .filter(|f| f.proposal.members.contains(&0))
+            .all(|f| !f.inferred.evidence.branches));
     }
 
     fn rod(center: DVec3, axis: DVec3, length: f64) -> Primitive {
