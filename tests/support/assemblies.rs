@@ -1196,6 +1196,22 @@ fn menorah(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
     ]);
     let candles: Vec<usize> = (first_candle..parts.len()).collect();
     equal_row(&candles, &mut designed);
+    // In a quarter of the two-pair menorahs the outer pair is cut from a stock 4–10 %
+    // thicker or thinner than the inner one: branches of one stem whose radii the
+    // designer made differ by less than the same-radius threshold. Drawn from a
+    // generator of its own, seeded by the case's sizes, so that no other draw of this
+    // case or of a scene it is part of moves.
+    let mut stock = Rng::new(arm_radius.to_bits() ^ candle_length.to_bits().rotate_left(17));
+    if pairs == 2 && stock.chance(0.25) {
+        let radius = arm_radius * (1.0 + stock.range(0.04, 0.1) * stock.sign());
+        for arm in &mut parts[4..6] {
+            if let Primitive::Cylinder(c) = arm {
+                c.radius = radius;
+            }
+        }
+        let across_pairs = rel(SameRadius, (3, "top"), (4, "top"));
+        designed.retain(|d| *d != across_pairs);
+    }
     (parts, designed)
 }
 
