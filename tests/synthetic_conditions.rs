@@ -58,6 +58,11 @@
 //! and ends); `GEOSNAP_SYNTH_CONDITION_ONLY` (comma-separated kind, assembly kind and
 //! condition names: runs only those drawings, for example `sgc,table,near-axial`; the
 //! floors and targets still apply to what ran);
+//! `GEOSNAP_SYNTH_CONDITION_HAND` (a factor: every error of the hand that places a
+//! point, its jitter, wobble, over- and undershoots, a closed stroke's miss and drift,
+//! scaled by it; `0` draws the ideal curves under the same conditions, which tells the
+//! failures the hand's noise causes from those the snapper causes; the same shapes,
+//! views and drops);
 //! `GEOSNAP_SYNTH_CONDITION_SHOW` (`kind:condition:case`, for example
 //! `cylinder:joined:3` or `table:side-on:1`: runs only that case, prints its analysis,
 //! every part of an assembly, with the strokes each projected curve took in the snap
@@ -85,10 +90,10 @@ use geosnap::core::primitive::{Primitive, PrimitiveKind};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 use geosnap::core::snap::{nobody, snap, SnapContext, SnapResult, SnapSettings, Verdict};
 use glam::DVec2;
-use support::assemblies::{assembly_with, perturbed_placement, AssemblyKind, Perturbation};
+use support::assemblies::{assembly_with_hand, perturbed_placement, AssemblyKind, Perturbation};
 use support::judge::{describe, distance_to, evaluate, Errors};
 use support::overlay::write_overlay;
-use support::synth::{bgc_across_post, scene_with, Condition, Rng, SynthStroke};
+use support::synth::{bgc_across_post, scene_with, scene_with_hand, Condition, Rng, SynthStroke};
 
 /// Cases per kind and condition of the acceptance run unless
 /// `GEOSNAP_SYNTH_CONDITION_CASES` says otherwise.
@@ -123,14 +128,14 @@ const REQUIRED_KIND_RATE: f64 = 0.95;
 const REQUIRED_CONDITION_RATE: f64 = 0.90;
 
 /// Today's floor per kind in the floor test ([`FLOOR_CASES`], 32 cases per kind): the
-/// rate measured (cylinder 84.4 %, cone 93.8 %, sphere 100 %, box 75.0 %, SGC 87.5 %,
-/// BGC 40.6 %) minus about 5 points, rounded down to 5 %.
+/// rate measured (cylinder 84.4 %, cone 93.8 %, sphere 100 %, box 75.0 % then, 87.5 %
+/// since, SGC 87.5 %, BGC 40.6 %) minus about 5 points, rounded down to 5 %.
 /// Raise these as snapping improves; the target is [`REQUIRED_KIND_RATE`].
 const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Cylinder, 0.75),
     (PrimitiveKind::Cone, 0.85),
     (PrimitiveKind::Sphere, 0.95),
-    (PrimitiveKind::Cuboid, 0.70),
+    (PrimitiveKind::Cuboid, 0.80),
     (PrimitiveKind::Sgc, 0.80),
     (PrimitiveKind::Bgc, 0.35),
 ];
@@ -619,12 +624,12 @@ fn assignment_lines(report: &mut String, label: &str, result: &SnapResult) {
 }
 
 /// Runs one job: its outcomes (one per part of an assembly) and its report.
-fn run_job(job: Job, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) {
+fn run_job(job: Job, hand: f64, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) {
     let mut report = String::new();
     let hidden = job.hidden_lines();
     match job.subject {
         Subject::Single(kind) => {
-            let scene = scene_with(kind, job.seed(), job.condition, hidden, None);
+            let scene = scene_with_hand(kind, job.seed(), job.condition, hidden, None, hand);
             let context = SnapContext::from_sketch(&sketch_of(&scene.strokes));
             if shown {
                 let _ = writeln!(report, "  {} strokes (drawn as → classified):", job.name());
@@ -645,7 +650,7 @@ fn run_job(job: Job, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) 
             (vec![outcome], report)
         }
         Subject::Assembly(kind) => {
-            let assembly = assembly_with(kind, job.seed(), job.condition, hidden);
+            let assembly = assembly_with_hand(kind, job.seed(), job.condition, hidden, hand);
             let context = SnapContext::from_sketch(&sketch_of(&assembly.strokes));
             if shown {
                 let _ = writeln!(report, "  {} strokes (drawn as → classified):", job.name());
@@ -695,6 +700,8 @@ struct Run {
     only_subjects: Vec<Subject>,
     /// … and these conditions (none: all).
     only_conditions: Vec<Condition>,
+    /// The hand's errors scaled by this (`Style::steadier`; 1: the generator's hand).
+    hand: f64,
 }
 
 impl Run {
@@ -728,6 +735,11 @@ impl Run {
                 .iter()
                 .filter_map(|n| Condition::from_name(n))
                 .collect(),
+            hand: std::env::var("GEOSNAP_SYNTH_CONDITION_HAND")
+                .ok()
+                .and_then(|v| v.trim().parse::<f64>().ok())
+                .filter(|h| h.is_finite() && *h >= 0.0)
+                .unwrap_or(1.0),
         }
     }
 }
@@ -790,7 +802,7 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
                     if run.progress {
                         eprintln!("start {}", job.name());
                     }
-                    let (outcomes, report) = run_job(*job, shown, png);
+                    let (outcomes, report) = run_job(*job, run.hand, shown, png);
                     if run.progress {
                         eprintln!("end {}", job.name());
                     }
@@ -900,6 +912,13 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
         run.assemblies,
         wall.as_secs_f64()
     );
+    if (run.hand - 1.0).abs() > 1e-12 {
+        let _ = writeln!(
+            table,
+            "hand: every error that places a point scaled by {} (GEOSNAP_SYNTH_CONDITION_HAND)",
+            run.hand
+        );
+    }
     let header = format!(
         "{:<16}{:>6}{:>6}{:>8}{:>7}{:>9}{:>9}  {}",
         "", "cases", "ok", "rate", "truth", "cls", "slowest", "main failure reasons"
@@ -1138,14 +1157,14 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 79.8 % \
-            (cylinder 81.6, cone 88.8, sphere 100, box 84.1, SGC 86.9, BGC 37.5); \
-            conditions plain 89.6, near-axial 57.1, side-on 81.2, missing 87.9, overshoots \
-            80.4, sketchy 87.1, joined 72.9, fragments 82.1; assembly parts 82.7 % (stack \
+            assemblies per kind and condition (release): single primitives 80.6 % \
+            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 37.5); \
+            conditions plain 90.0, near-axial 57.9, side-on 82.5, missing 90.0, overshoots \
+            81.7, sketchy 87.5, joined 72.9, fragments 82.5; assembly parts 82.8 % (stack \
             93.2, table 76.6 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
-            93.8, handle 87.3, tee 81.9, plug 59.6, valves 86.7, menorah 71.5); assembly \
-            conditions from 61.8 (near-axial) to 92.0 (plain); wrong parts called \
-            doubtful or refused 415 of 851 (49 %), good ones 153 of 3741 (4.1 %)"]
+            94.2, handle 87.3, tee 81.2, plug 63.1, valves 86.7, menorah 70.8); assembly \
+            conditions from 60.9 (near-axial) to 91.7 (plain); wrong parts called \
+            doubtful or refused 394 of 831 (47 %), good ones 160 of 3761 (4.3 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -1306,7 +1325,7 @@ fn drops_made_too_big_among_neighbours_land_on_their_part() {
             })
         })()
         .expect("a case name");
-        let (outcomes, report) = run_job(job, false, None);
+        let (outcomes, report) = run_job(job, 1.0, false, None);
         let outcome = outcomes
             .iter()
             .find(|o| o.part.unwrap_or(0) == part)

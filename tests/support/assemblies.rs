@@ -614,8 +614,20 @@ pub(crate) fn assembly_with(
     condition: Condition,
     hidden_lines: bool,
 ) -> Assembly {
+    assembly_with_hand(kind, seed, condition, hidden_lines, 1.0)
+}
+
+/// [`assembly_with`] drawn by a hand whose errors are scaled by `hand`
+/// ([`Style::steadier`]): the same parts, view and condition.
+pub(crate) fn assembly_with_hand(
+    kind: AssemblyKind,
+    seed: u64,
+    condition: Condition,
+    hidden_lines: bool,
+    hand: f64,
+) -> Assembly {
     let mut rng = Rng::new(seed);
-    let style = Style::random(&mut rng);
+    let style = Style::random(&mut rng).steadier(hand);
     let view = match kind {
         AssemblyKind::SphereTubes => DQuat::IDENTITY,
         _ => view_in(&mut rng, condition.view()),

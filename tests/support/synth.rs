@@ -281,6 +281,22 @@ impl Style {
         }
     }
 
+    /// This hand made steadier (`factor` < 1) or shakier (> 1): every error that
+    /// places a point (jitter, wobble, over- and undershoots, a closed stroke's miss
+    /// and drift) scaled by `factor`; where strokes break (`gap_chance`) and how densely
+    /// they are sampled stay. At 0 it draws the ideal curves, split where this hand
+    /// splits them.
+    pub(crate) fn steadier(self, factor: f64) -> Self {
+        Self {
+            jitter: self.jitter * factor,
+            wobble: self.wobble * factor,
+            overshoot: self.overshoot * factor,
+            closure: self.closure * factor,
+            drift: self.drift * factor,
+            ..self
+        }
+    }
+
     /// A perfect hand: the ideal curves, for checking the renderer itself.
     pub(crate) fn perfect() -> Self {
         Self {
@@ -1392,8 +1408,21 @@ pub(crate) fn scene_with(
     hidden_lines: bool,
     style: Option<Style>,
 ) -> Scene {
+    scene_with_hand(kind, seed, condition, hidden_lines, style, 1.0)
+}
+
+/// [`scene_with`] with the random hand's errors scaled by `hand` ([`Style::steadier`]):
+/// the same shape, view and condition, drawn by a steadier or shakier hand.
+pub(crate) fn scene_with_hand(
+    kind: PrimitiveKind,
+    seed: u64,
+    condition: Condition,
+    hidden_lines: bool,
+    style: Option<Style>,
+    hand: f64,
+) -> Scene {
     let mut rng = Rng::new(seed);
-    let random = Style::random(&mut rng);
+    let random = Style::random(&mut rng).steadier(hand);
     let style = style.unwrap_or(random);
     let size = rng.log_range(50.0, 2000.0);
     let center = DVec3::new(
