@@ -4,8 +4,10 @@
 //! Each stroke is tested against each visible projected curve whose class it suits
 //! (feature strokes for end ellipses, silhouette strokes for outlines, straight strokes
 //! of either class for box edges; a stroke of the other class is still accepted at a
-//! threefold worse score, so a misclassified stroke is not lost). The distances of the
-//! stroke's samples to the curve decide:
+//! threefold worse score, so a misclassified stroke is not lost); once the pose is
+//! fitted, against the hidden ones too, which keep what they win from the visible ones
+//! (a box's hidden edges, drawn by a designer who draws hidden lines). The distances of
+//! the stroke's samples to the curve decide:
 //! - a stroke whose samples lie within the *gate* (a distance relative to the
 //!   primitive's size, never an absolute number of pixels; for an ellipse, at most its
 //!   semi-major axis; once the pose is fitted, for an outline at most the distance to
@@ -225,7 +227,7 @@ pub(crate) fn assign_within(
         if shi.x < lo.x || shi.y < lo.y || slo.x > hi.x || slo.y > hi.y {
             continue;
         }
-        for (score, k, c) in pieces(stroke, curves, &reaches) {
+        for (score, k, c) in pieces(stroke, curves, &reaches, fitted) {
             scored[k].push((score, c));
         }
     }
@@ -247,15 +249,24 @@ pub(crate) fn assign_within(
 /// and, when that takes only a piece of it, the curves that other pieces of it fit (a
 /// stroke drawn round a corner, or one that runs down an outline, round an end and back
 /// up the other outline). Pieces may not share more than a sample.
+///
+/// At a `fitted` pose a hidden curve (a box's edge behind it) competes for the strokes
+/// as well, and what it wins no visible curve takes: a hidden edge drawn by a designer
+/// who draws hidden lines, or a neighbour's stroke lying along one, is not a visible
+/// edge's stroke. Seen nearly along an axis a box's far edges run close beside its near
+/// ones, and a visible edge that took a hidden one's stroke tilted the box off its
+/// drawing. At a hand's drop hidden curves do not compete: placed that roughly, a hidden
+/// edge can lie on the part's own visible stroke.
 fn pieces(
     stroke: &SnapStroke,
     curves: &[ProjectedCurve<f64>],
     reaches: &[Reach],
+    fitted: bool,
 ) -> Vec<(f64, usize, AssignedStroke)> {
     let samples = subsample(&stroke.points);
     let mut candidates: Vec<Piece> = Vec::new();
     for (k, (curve, reach)) in curves.iter().zip(reaches).enumerate() {
-        if !curve.visible || reach.beyond(stroke.bounds) {
+        if !(curve.visible || fitted) || reach.beyond(stroke.bounds) {
             continue;
         }
         if let Some(piece) = candidate(stroke, &samples, k, curve, reach) {
@@ -265,6 +276,7 @@ fn pieces(
     candidates.sort_by(|a, b| a.score().total_cmp(&b.score()).then(a.k.cmp(&b.k)));
     accepted_pieces(candidates, samples.len())
         .into_iter()
+        .filter(|piece| curves[piece.k].visible)
         .filter_map(|piece| {
             let part = (!piece.whole).then(|| piece.indices.clone());
             let mean_distance = piece.mean_distance();
@@ -695,7 +707,7 @@ pub(crate) fn curve_bounds(curve: &Curve2<f64>) -> (DVec2, DVec2) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::{DVec2, DVec3};
 
     use super::{assign, assign_within, curve_length};
@@ -1056,5 +1068,70 @@ mod tests {
                 stroke: StrokeId(8)
             })
         );
+    }
+
+    /// A plank (826 × 227 × 85) seen a little from its end, its 227 side 27° off the
+    /// view direction, with its twelve edges drawn as strokes, its three hidden ones
+    /// too, in sketch space; each stroke's id is its edge's index among the box's curves.
+    pub(in crate::snap) fn plank_with_its_hidden_edges() -> (Primitive, SnapContext) {
+        use crate::geom::projection::sketch_from_view;
+        use crate::primitive::{Cuboid, Curve2};
+        use glam::{DMat3, DQuat};
+        let x = DVec3::new(0.220, -0.393, 0.893).normalize();
+        let y = DVec3::new(-0.012, 0.914, 0.406);
+        let y = (y - x * x.dot(y)).normalize();
+        let cuboid = Primitive::Cuboid(Cuboid {
+            center: DVec3::new(1346.5, -1463.6, 0.0),
+            rotation: DQuat::from_mat3(&DMat3::from_cols(x, y, x.cross(y))),
+            size: DVec3::new(226.7, 85.1, 826.0),
+        });
+        let strokes: Vec<(StrokeId, Vec<DVec2>)> = cuboid
+            .current_shape()
+            .curves
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let Curve2::Polyline(p) = &c.curve else {
+                    unreachable!("a box's edges are segments")
+                };
+                let (a, b) = (p[0].to_dvec2(), p[p.len() - 1].to_dvec2());
+                let points = (0..=24)
+                    .map(|i| sketch_from_view(a.lerp(b, f64::from(i) / 24.0)))
+                    .collect();
+                (StrokeId(k as u32), points)
+            })
+            .collect();
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .map(|(id, p)| (*id, p.as_slice(), StrokeClass::Silhouette)),
+        );
+        (cuboid, context)
+    }
+
+    #[test]
+    fn a_fitted_boxs_hidden_edges_keep_their_strokes_from_its_visible_ones() {
+        let (cuboid, ctx) = plank_with_its_hidden_edges();
+        let shape = cuboid.current_shape();
+        let gate = 0.3 * cuboid.size();
+        let fitted = assign_within(&ctx, &shape.curves, gate, true);
+        // Every visible edge takes its own stroke and nothing else; the hidden edges'
+        // strokes, which run beside the near face's edges, go to no curve.
+        for (k, (curve, taken)) in shape.curves.iter().zip(&fitted.curves).enumerate() {
+            let ids: Vec<u32> = taken.iter().map(|s| s.stroke.0).collect();
+            if curve.visible {
+                assert_eq!(ids, vec![k as u32], "edge {k}");
+            } else {
+                assert!(ids.is_empty(), "hidden edge {k} took {ids:?}");
+            }
+        }
+        // At a hand's drop the hidden edges do not compete (placed roughly, one can lie
+        // on the part's own visible stroke).
+        let dropped = assign(&ctx, &shape.curves, gate);
+        let hidden: Vec<u32> = (0..shape.curves.len() as u32)
+            .filter(|k| !shape.curves[*k as usize].visible)
+            .collect();
+        assert_eq!(hidden.len(), 3);
+        assert!(dropped.stroke_ids().iter().any(|id| hidden.contains(&id.0)));
     }
 }

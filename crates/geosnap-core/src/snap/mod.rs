@@ -842,6 +842,36 @@ mod tests {
     use crate::solve::SolveContext;
 
     #[test]
+    fn a_box_with_its_hidden_edges_drawn_keeps_its_sizes() {
+        // A visible edge that takes a hidden one's stroke pulls the box off its drawing.
+        let (truth, context) = assign::tests::plank_with_its_hidden_edges();
+        let Primitive::Cuboid(t) = &truth else {
+            unreachable!()
+        };
+        let dropped = Primitive::Cuboid(Cuboid {
+            center: t.center + DVec3::new(6.0, -4.0, 0.0),
+            size: t.size * 1.1,
+            ..t.clone()
+        });
+        for start in [&truth, &dropped] {
+            let result = super::snap(&context, start, &SnapSettings::default()).expect("a snap");
+            let Primitive::Cuboid(b) = &result.primitive else {
+                panic!("a box snapped to {:?}", result.primitive)
+            };
+            let mut sizes = b.size.to_array();
+            sizes.sort_by(f64::total_cmp);
+            let mut want = t.size.to_array();
+            want.sort_by(f64::total_cmp);
+            for (got, expected) in sizes.iter().zip(&want) {
+                assert!(
+                    (got / expected - 1.0).abs() < 0.02,
+                    "sizes {sizes:?} for {want:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn bad_gates_are_refused() {
         use crate::solve::{AugLagSettings, SettingsError};
         let solver = AugLagSettings::default();
