@@ -1160,11 +1160,11 @@ fn env_usize(name: &str) -> Option<usize> {
             assemblies per kind and condition (release): single primitives 80.6 % \
             (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 37.5); \
             conditions plain 90.0, near-axial 57.9, side-on 82.5, missing 90.0, overshoots \
-            81.7, sketchy 87.5, joined 72.9, fragments 82.5; assembly parts 82.8 % (stack \
-            93.2, table 76.6 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
-            94.2, handle 87.3, tee 81.2, plug 63.1, valves 86.7, menorah 70.8); assembly \
-            conditions from 60.9 (near-axial) to 91.7 (plain); wrong parts called \
-            doubtful or refused 394 of 831 (47 %), good ones 160 of 3761 (4.3 %)"]
+            81.2, sketchy 87.5, joined 73.3, fragments 82.5; assembly parts 83.3 % (stack \
+            93.2, table 76.9 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
+            94.2, handle 88.2, tee 82.5, plug 64.9, valves 86.3, menorah 71.9); assembly \
+            conditions from 61.5 (near-axial) to 92.0 (plain); wrong parts called \
+            doubtful or refused 384 of 817 (47 %), good ones 159 of 3775 (4.2 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),

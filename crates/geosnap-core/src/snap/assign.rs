@@ -17,8 +17,10 @@
 //!   taken for that part only (one stroke may outline two stacked parts);
 //! - among the curves a stroke qualifies for, the closest wins;
 //! - within a curve, only strokes that fit about as well as its best one stay (twice the
-//!   best score plus a tenth of the gate), so that a neighbouring part's stroke that
-//!   merely passes the gate does not drag the fit.
+//!   best score plus a tenth of the gate; once the pose is fitted, of the curve's own
+//!   gate, so that an end ellipse judges by its radius, not by the part's length), so
+//!   that a neighbouring part's stroke that merely passes the gate does not drag the fit
+//!   (a cup's small bottom ellipse set on a long stem's end).
 //!
 //! Straight strokes must also run within 35° of a straight curve's direction. Several
 //! strokes may share a curve (a silhouette drawn in pieces, gaps are normal), and a stroke
@@ -233,13 +235,17 @@ pub(crate) fn assign_within(
     }
     // Competition within a curve: keep the strokes that fit about as well as its best one
     // (twice its score plus a tenth of the gate), so a neighbouring part's stroke that
-    // merely passes the gate does not drag the fit.
-    for (k, mut candidates) in scored.into_iter().enumerate() {
+    // merely passes the gate does not drag the fit. Once the pose is fitted, a tenth of
+    // the curve's own gate: a long stem's gate, set by its length, is many times its
+    // end's radius, and a cup's smaller ellipse set on that end passed it. At a hand's
+    // drop the part's gate, as rough as the drop: its best stroke may be a neighbour's.
+    for ((k, mut candidates), reach) in scored.into_iter().enumerate().zip(&reaches) {
         let best = candidates
             .iter()
             .map(|(s, _)| *s)
             .fold(f64::INFINITY, f64::min);
-        candidates.retain(|(s, _)| *s <= 2.0 * best + 0.1 * gate);
+        let slack = if fitted { reach.gate } else { gate };
+        candidates.retain(|(s, _)| *s <= 2.0 * best + 0.1 * slack);
         assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
     }
     assignment
@@ -1005,6 +1011,41 @@ pub(super) mod tests {
         let ctx = SnapContext::new([(StrokeId(0), rim.as_slice(), StrokeClass::Feature)]);
         let a = assign(&ctx, &shape.curves, 0.3 * stem.size());
         assert!(a.stroke_ids().is_empty(), "{a:?}");
+    }
+
+    #[test]
+    fn a_long_stems_end_does_not_take_a_smaller_ellipse_set_on_it() {
+        // A long stem (radius 10, length 400) seen from the side and a little above, its
+        // top end drawn a little wide, and a cup's bottom end (radius 5) drawn where it
+        // sits on the stem's top. The cup's ellipse lies inside the stem end's gate, but
+        // it runs 1.7 from that end on average where the end's own stroke runs 0.2: a
+        // tenth of the part's gate (set by the stem's length, 4) would keep it and let
+        // it pull the end in; a tenth of the end's own gate (its radius) does not.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.96, 0.28),
+            length: 400.0,
+            radius: 10.0,
+        });
+        let shape = stem.current_shape();
+        let top = shape.curves.iter().position(|c| c.name == "top").unwrap();
+        // Sketch space, y down: the model top (y = 192) is at −192.
+        let ellipse = |r: f64| -> Vec<DVec2> {
+            (0..=32)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * f64::from(i) / 32.0;
+                    DVec2::new(r * t.cos(), -192.0 + 0.28 * r * t.sin())
+                })
+                .collect()
+        };
+        let (own, cup) = (ellipse(10.4), ellipse(5.0));
+        let ctx = SnapContext::new([
+            (StrokeId(0), own.as_slice(), StrokeClass::Feature),
+            (StrokeId(1), cup.as_slice(), StrokeClass::Feature),
+        ]);
+        let a = assign_within(&ctx, &shape.curves, 0.1 * stem.size(), true);
+        let ids: Vec<StrokeId> = a.curves[top].iter().map(|s| s.stroke).collect();
+        assert_eq!(ids, vec![StrokeId(0)], "{a:?}");
     }
 
     #[test]

@@ -22,7 +22,10 @@
 //!   [`Bgc`]'s "end keeps its side"). The spine's plane z = a·x + b·y then follows from
 //!   the slopes dz/ds = t_z/√(1 − t_z²) along the two projected end tangents (least
 //!   squares with a small pull towards the view plane: with one ellipse, or none, the
-//!   least tilted plane that explains what is drawn).
+//!   least tilted plane that explains what is drawn). An end drawn whole in two or three
+//!   strokes, none of them whole, is read whole when the strokes near it go round one
+//!   ellipse together and one of them runs round an end of its major axis (see
+//!   [`pieced_ellipse`]).
 //!
 //! A stroke's class is a prior here, not a gate: the roles are decided in the tube's
 //! context. The outlines are the silhouette strokes, and any feature stroke that runs
@@ -80,6 +83,8 @@ fn end_ellipses(
     // first among its peers. Per end: ((overruled, distance), ellipse, drawn whole).
     type Candidate = ((bool, f64), Ellipse2, bool);
     let mut best: [Option<Candidate>; 2] = [None, None];
+    // Per end, the strokes near it, for an end drawn whole in pieces.
+    let mut pieces: [Vec<&[DVec2]>; 2] = [Vec::new(), Vec::new()];
     let strokes = context
         .strokes
         .iter()
@@ -106,6 +111,7 @@ fn end_ellipses(
         if near.distance(at) > 2.0 * radius {
             continue;
         }
+        pieces[side].push(points);
         let Some((fit, whole)) =
             whole_ellipse(points).or_else(|| front_arc(points, at, across_of(points, taus[side])))
         else {
@@ -124,7 +130,67 @@ fn end_ellipses(
             best[side] = Some(((overruled, d), fit, whole));
         }
     }
+    for (side, near) in pieces.iter().enumerate() {
+        if best[side].as_ref().is_some_and(|(_, _, whole)| *whole) {
+            continue;
+        }
+        let Some(fit) = pieced_ellipse(near) else {
+            continue;
+        };
+        let (at, radius) = (ends[side], widths[side]);
+        if fit.center.distance(at) <= 2.0 * radius
+            && (0.4..=2.5).contains(&(fit.semi_major / radius))
+        {
+            best[side] = Some(((false, fit.center.distance(at)), fit, true));
+        }
+    }
     best.map(|b| b.map(|(_, e, whole)| (e, whole)))
+}
+
+/// The flattest end ellipse (minor over major axis) read as drawn whole in pieces:
+/// flatter, the end is nearly edge-on, and which way it faces tells little (the fit may
+/// turn it either way).
+const PIECED_ROUNDNESS: f64 = 0.2;
+
+/// The whole end ellipse that several strokes `pieces` draw together, if they do: a
+/// hand draws a long ellipse in two or three strokes, none of which then reads as whole
+/// and each of which reads as the front arc of an end facing away.
+///
+/// Fitted together the pieces must lie on one ellipse (RMS within 15 % of its semi-major
+/// axis, minor over major at least [`PIECED_ROUNDNESS`]) and go round it (a sweep over
+/// 270°), and one of them must run round an end of its major axis, where the tube's
+/// outlines meet it: from one half of the ellipse into the other, curving back towards
+/// the centre on both sides (within 80 % of the semi-major axis, half the semi-minor
+/// axis off the major one). That last test tells an end drawn whole in pieces from the
+/// front arc of an end facing away drawn with its hidden back half: a designer who draws
+/// hidden lines breaks the end where the visible arc turns hidden, at the ends of the
+/// major axis, and draws the two halves apart; a hand's overshoot there runs on along
+/// the outline, straight past the end, not round it.
+fn pieced_ellipse(pieces: &[&[DVec2]]) -> Option<Ellipse2> {
+    if pieces.len() < 2 {
+        return None;
+    }
+    let all: Vec<DVec2> = pieces.iter().flat_map(|p| p.iter().copied()).collect();
+    let fit = fit_ellipse(&all)?;
+    let (rms, span) = fit.rms_distance_and_span(&all);
+    let (a, b) = (fit.semi_major, fit.semi_minor);
+    if !(rms <= 0.15 * a && b >= PIECED_ROUNDNESS * a && span?.sweep > 1.5 * std::f64::consts::PI) {
+        return None;
+    }
+    let (u, v) = (fit.major_axis(), fit.major_axis().perp());
+    let round_a_tip = |piece: &[DVec2]| {
+        [1.0, -1.0].into_iter().any(|tip: f64| {
+            let half = |sign: f64| {
+                piece.iter().any(|p| {
+                    let d = *p - fit.center;
+                    let (x, y) = (tip * d.dot(u), sign * d.dot(v));
+                    (0.0..=0.8 * a).contains(&x) && y >= 0.5 * b
+                })
+            };
+            half(1.0) && half(-1.0)
+        })
+    };
+    pieces.iter().any(|piece| round_a_tip(piece)).then_some(fit)
 }
 
 /// The direction along the spine at a front arc: across its principal direction (the
@@ -975,6 +1041,65 @@ mod tests {
         strokes.truncate(2);
         let without = start_of(&strokes, &[Silhouette; 2]).expect("a start");
         assert!(end_tilt(&without) < 0.1, "end tilt {}", end_tilt(&without));
+    }
+
+    /// The arc of the top end of [`c_tube`] from parameter `from` to `to` (radians; 0 to
+    /// π is its front half, π to 2π its back half).
+    fn top_end_arc(from: f64, to: f64) -> Vec<DVec2> {
+        let a = 50f64.to_radians();
+        let (centre, across) = (
+            DVec2::new(100.0 * a.cos(), 100.0 * a.sin()),
+            DVec2::new(a.cos(), a.sin()),
+        );
+        let along = across.perp();
+        (0..=16)
+            .map(|i| {
+                let t = from + (to - from) * f64::from(i) / 16.0;
+                centre + across * 10.0 * t.cos() - along * 4.0 * t.sin()
+            })
+            .collect()
+    }
+
+    /// Whether the start's top end faces the viewer: its outward normal points out of
+    /// the page. The view flips the sketch's y, so the top end (drawn at +50°) is the
+    /// spine's first point, and its outward normal runs from the second to the first.
+    fn top_faces_the_viewer(b: &Bgc) -> bool {
+        (b.spine[0] - b.spine[1]).z > 0.0
+    }
+
+    #[test]
+    fn an_end_drawn_whole_in_pieces_faces_the_viewer_as_one_drawn_whole() {
+        use StrokeClass::{Feature, Silhouette};
+        let classes = [Silhouette, Silhouette, Feature, Feature, Feature, Feature];
+        let whole = start_of(&c_tube(), &classes[..4]).expect("a start");
+        assert!(top_faces_the_viewer(&whole));
+        // The top ellipse in three strokes with small gaps: each piece alone reads as the
+        // front arc of an end facing away.
+        let mut pieced = c_tube();
+        pieced.truncate(3);
+        for (from, to) in [(0.3, 2.3), (2.4, 4.4), (4.5, 6.2)] {
+            pieced.push((top_end_arc(from, to), false));
+        }
+        let b = start_of(&pieced, &classes).expect("a start");
+        assert!(
+            top_faces_the_viewer(&b),
+            "the pieces were not read as one ellipse"
+        );
+        // The front half of an end facing away and its hidden back half, drawn apart
+        // where the visible arc turns hidden (the ends of the major axis), overshooting
+        // a little as a hand does: the end still faces away.
+        let mut hidden = c_tube();
+        hidden.truncate(3);
+        hidden.push((top_end_arc(-0.2, std::f64::consts::PI + 0.2), false));
+        hidden.push((
+            top_end_arc(std::f64::consts::PI, std::f64::consts::TAU),
+            false,
+        ));
+        let b = start_of(&hidden, &classes[..5]).expect("a start");
+        assert!(
+            !top_faces_the_viewer(&b),
+            "a hidden back half turned the end round"
+        );
     }
 
     #[test]
