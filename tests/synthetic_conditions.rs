@@ -129,7 +129,8 @@ const REQUIRED_CONDITION_RATE: f64 = 0.90;
 
 /// Today's floor per kind in the floor test ([`FLOOR_CASES`], 32 cases per kind): the
 /// rate measured (cylinder 84.4 %, cone 93.8 %, sphere 100 %, box 75.0 % then, 87.5 %
-/// since, SGC 87.5 %, BGC 40.6 %) minus about 5 points, rounded down to 5 %.
+/// since, SGC 87.5 %, BGC 40.6 % then, 50.0 % since a bent tube's profile is held as
+/// drawn where its outlines show it) minus about 5 points, rounded down to 5 %.
 /// Raise these as snapping improves; the target is [`REQUIRED_KIND_RATE`].
 const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Cylinder, 0.75),
@@ -137,7 +138,7 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Sphere, 0.95),
     (PrimitiveKind::Cuboid, 0.80),
     (PrimitiveKind::Sgc, 0.80),
-    (PrimitiveKind::Bgc, 0.35),
+    (PrimitiveKind::Bgc, 0.45),
 ];
 /// Today's floor per condition in the floor test (24 cases per condition), as
 /// [`KIND_FLOOR`]: measured plain 95.8 %, near-axial 62.5 %, side-on 79.2 %, missing
@@ -1157,14 +1158,14 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 80.6 % \
-            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 37.5); \
-            conditions plain 90.0, near-axial 57.9, side-on 82.5, missing 90.0, overshoots \
-            81.2, sketchy 87.5, joined 73.3, fragments 82.5; assembly parts 83.3 % (stack \
+            assemblies per kind and condition (release): single primitives 81.8 % \
+            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 44.4); \
+            conditions plain 91.7, near-axial 58.8, side-on 84.2, missing 91.2, overshoots \
+            81.7, sketchy 88.3, joined 75.0, fragments 83.3; assembly parts 83.3 % (stack \
             93.2, table 76.9 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
             94.2, handle 88.2, tee 82.5, plug 64.9, valves 86.3, menorah 71.9); assembly \
             conditions from 61.5 (near-axial) to 92.0 (plain); wrong parts called \
-            doubtful or refused 384 of 817 (47 %), good ones 159 of 3775 (4.2 %)"]
+            doubtful or refused 381 of 795 (48 %), good ones 161 of 3797 (4.2 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),

@@ -565,6 +565,7 @@ fn explain(
         let StepOutcome::Placed {
             id,
             snap,
+            confidence,
             relations,
             solve,
             ..
@@ -578,13 +579,19 @@ fn explain(
             fin.map(|f| part_errors(&truth[i], f)).unwrap_or_default(),
         );
         lines.push(format!(
-            "    part {i} {}: truth {:?}\n      snap (axis {:.1}°, size {:.1} %, centre {:.1} %) {:?}\n      \
-             final (axis {:.1}°, size {:.1} %, centre {:.1} %) {:?}",
+            "    part {i} {}: truth {:?}\n      snap (axis {:.1}°, size {:.1} %, centre {:.1} %; {} {:.2}{}) \
+             {:?}\n      final (axis {:.1}°, size {:.1} %, centre {:.1} %) {:?}",
             truth[i].kind().name(),
             truth[i].params(),
             own.axis.unwrap_or(0.0),
             100.0 * own.size,
             100.0 * own.centre,
+            confidence.verdict,
+            confidence.value,
+            confidence
+                .reason
+                .as_ref()
+                .map_or_else(String::new, |r| format!(": {r}")),
             snap.primitive.params(),
             end.axis.unwrap_or(0.0),
             100.0 * end.size,

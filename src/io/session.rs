@@ -62,7 +62,7 @@ use serde_json::Value;
 
 use crate::core::model::{Dimension, Document, PrimitiveId, SnapRecord};
 use crate::core::sketch::{Sketch, StrokeId};
-use crate::core::snap::{restore_assignment, CurveStrokes, RestoreError, SnapContext};
+use crate::core::snap::{restore_assignment, CurveStrokes, Profile, RestoreError, SnapContext};
 use crate::io::model_file::{model_json, parse_model, ModelError};
 use crate::io::sketch_file::{parse_sketch_file, sketch_file_bytes};
 use crate::io::{write_atomic, LoadError, SaveError};
@@ -501,6 +501,8 @@ fn snap_record(
         SnapRecord {
             assignment,
             rms: snap.rms,
+            // The file does not say how its snap held a bent tube's radii.
+            profile: Profile::Smooth,
         },
     ))
 }

@@ -24,7 +24,9 @@ use crate::primitive::{Feature, Placement, Primitive, PrimitiveKind, DEFAULT_SIZ
 use crate::relation::evidence::Inferred;
 use crate::relation::{residuals, InferenceSettings, Member, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
-use crate::snap::{snap, Assignment, Confidence, SnapContext, SnapResult, SnapSettings, Verdict};
+use crate::snap::{
+    snap, Assignment, Confidence, Profile, SnapContext, SnapResult, SnapSettings, Verdict,
+};
 use crate::solve::SolveContext;
 
 pub use dimension::{Dimension, DimensionError, Quantity};
@@ -241,6 +243,9 @@ pub struct SnapRecord {
     pub assignment: Assignment,
     /// RMS of the part's own snap, in sketch units.
     pub rms: f64,
+    /// How its snap held a bent tube's radii, as every later fit of it does (smooth for a
+    /// part read from a file, which does not say).
+    pub profile: Profile,
 }
 
 /// The assembled model.
@@ -299,6 +304,7 @@ impl Document {
             SnapRecord {
                 assignment: result.assignment.clone(),
                 rms: result.rms,
+                profile: result.profile,
             },
         );
         id

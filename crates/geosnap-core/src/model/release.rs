@@ -437,8 +437,13 @@ impl Document {
         ) {
             return 0.0;
         }
-        crate::snap::spread_of(&placed.primitive, &record.assignment, record.rms)
-            .map_or(0.0, |s| s.length)
+        crate::snap::spread_of(
+            &placed.primitive,
+            &record.assignment,
+            record.rms,
+            record.profile,
+        )
+        .map_or(0.0, |s| s.length)
     }
 
     /// How far the depth components of part `id`'s end normals (`bottom`, `top`) are
@@ -859,6 +864,7 @@ mod tests {
     use crate::model::{Document, Fit, Placed, PrimitiveId, SnapRecord};
     use crate::primitive::{Cuboid, Cylinder, Feature, Primitive};
     use crate::relation::{InferenceSettings, Member, Mode, RelationKind};
+    use crate::snap::Profile;
 
     fn leg(x: f64, axis: DVec3) -> Placed {
         Placed {
@@ -939,6 +945,7 @@ mod tests {
             SnapRecord {
                 assignment: drawn(&snapped, false),
                 rms: 0.0,
+                profile: Profile::Smooth,
             },
         );
         doc.infer_relations(b, &InferenceSettings::default());
@@ -1008,6 +1015,7 @@ mod tests {
                 SnapRecord {
                     assignment,
                     rms: 0.0,
+                    profile: Profile::Smooth,
                 },
             );
         }
@@ -1110,6 +1118,7 @@ mod tests {
                 SnapRecord {
                     assignment: whole(strokes),
                     rms: 0.0,
+                    profile: Profile::Smooth,
                 },
             );
             id

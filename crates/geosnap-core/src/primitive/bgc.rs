@@ -30,8 +30,9 @@
 //! `top` (at P_{K−1}). Regularisers: changes of the turn along the spine (an evenly bent
 //! spine, a circular arc, costs nothing) or, for a spine that bends both ways at the
 //! current pose (an S: at least 14° each way), second differences of the turns (an S
-//! whose bend changes sense evenly costs nothing); second differences of the radii (a
-//! smooth profile).
+//! whose bend changes sense evenly costs nothing); and, as [`Shape::profile`], second
+//! differences of the radii (a smooth profile, held as strongly as the fit's
+//! [`crate::snap::Profile`] says).
 
 use glam::{DMat3, DQuat, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -49,8 +50,6 @@ use crate::geom::projection::{model_direction_from_sketch, view_from_sketch};
 /// Weight (inside the residual) of a change (a C) or a second difference (an S) of the
 /// turns along the spine.
 const TURN_SMOOTHNESS: f64 = 15.0;
-/// Weight (inside the residual) of a second difference of the radii.
-const PROFILE_SMOOTHNESS: f64 = 15.0;
 /// Weight (inside the residual) of the pull of the spine's plane towards the view plane
 /// when no end ellipse is assigned (see [`Shape::untilted`]).
 const PLANE_PULL: f64 = 0.15;
@@ -375,7 +374,7 @@ impl Bgc {
         let min = self.size() * MIN_SIZE_FRACTION;
         let equalities = Vec::new();
         let inequalities = Self::inequalities(k, &s, h, kappa, radii, min, now);
-        let regularizers = Self::regularizers(x, kappa, radii, is_s_bend(&params[Self::turns(k)]));
+        let regularizers = Self::regularizers(x, kappa, is_s_bend(&params[Self::turns(k)]));
         Shape {
             curves: vec![
                 curve(
@@ -412,6 +411,7 @@ impl Bgc {
             equalities,
             inequalities,
             regularizers,
+            profile: radii.windows(3).map(|w| w[0] - w[1] * 2.0 + w[2]).collect(),
             // The spine's plane leans out of the view (1 − n_z²) only as far as its end
             // ellipses say: a drawn bend is as well a circular arc seen aslant, which the
             // turn smoothness prefers.
@@ -468,9 +468,9 @@ impl Bgc {
     }
 
     /// The shape's regularizers: smooth turns (`kappa`; for an S bend, when `s_bend`,
-    /// evenly changing ones), a smooth radius profile, and a unit rotation quaternion
-    /// in the parameters `x`.
-    fn regularizers<T: Real>(x: &[T], kappa: &[T], radii: &[T], s_bend: bool) -> Vec<T> {
+    /// evenly changing ones) and a unit rotation quaternion in the parameters `x` (the
+    /// smooth radius profile is [`Shape::profile`]).
+    fn regularizers<T: Real>(x: &[T], kappa: &[T], s_bend: bool) -> Vec<T> {
         // A spine that bends one way (a C) at the current pose is smoothed towards even
         // turns, a circular arc; one that bends both ways (an S) towards turns that
         // change evenly along it (even turns would straighten it into a C).
@@ -485,11 +485,6 @@ impl Bgc {
                 .map(|w| (w[1] - w[0]) * TURN_SMOOTHNESS)
                 .collect()
         };
-        regularizers.extend(
-            radii
-                .windows(3)
-                .map(|w| (w[0] - w[1] * 2.0 + w[2]) * PROFILE_SMOOTHNESS),
-        );
         let q = quaternion_at(x, Self::ROTATION);
         regularizers.push(q[0].square() + q[1].square() + q[2].square() + q[3].square() - 1.0);
         regularizers

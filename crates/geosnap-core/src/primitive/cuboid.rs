@@ -202,6 +202,7 @@ impl Cuboid {
                 ),
             ],
             regularizers: Vec::new(),
+            profile: Vec::new(),
             untilted: Vec::new(),
         }
     }

@@ -177,6 +177,7 @@ pub(crate) fn revolved_shape<T: Real>(
             ("axis not along the view", -a.z.square() + MAX_AXIS_Z2),
         ],
         regularizers: Vec::new(),
+        profile: Vec::new(),
         untilted: Vec::new(),
     }
 }

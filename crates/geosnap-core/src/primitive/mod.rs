@@ -207,6 +207,10 @@ pub struct Shape<T> {
     /// Regularising residuals r whose squares are added to the objective with a small
     /// weight (smoothness of profiles and spines); empty for most kinds.
     pub regularizers: Vec<T>,
+    /// Second differences of a bent tube's radii along its spine, unweighted: a fit holds
+    /// its profile smooth by them as strongly as its [`crate::snap::Profile`] says. Empty
+    /// for the other kinds.
+    pub profile: Vec<T>,
     /// Residuals of a pull towards the least tilted pose, added (squared, with the
     /// regularisers' weight) only when no end ellipse is assigned: without an end's
     /// evidence the outlines alone do not tell how a bent tube's plane leans out of the
@@ -222,6 +226,7 @@ impl<T> Default for Shape<T> {
             equalities: Vec::new(),
             inequalities: Vec::new(),
             regularizers: Vec::new(),
+            profile: Vec::new(),
             untilted: Vec::new(),
         }
     }

@@ -158,6 +158,7 @@ impl Sgc {
             equalities: vec![("unit axis", a.norm_squared() - 1.0)],
             inequalities,
             regularizers: radii.windows(3).map(|w| w[0] - w[1] * 2.0 + w[2]).collect(),
+            profile: Vec::new(),
             untilted: Vec::new(),
         }
     }

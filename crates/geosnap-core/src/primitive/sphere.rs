@@ -96,6 +96,7 @@ impl Sphere {
             equalities: Vec::new(),
             inequalities: vec![("positive radius", r - self.size() * MIN_SIZE_FRACTION)],
             regularizers: Vec::new(),
+            profile: Vec::new(),
             untilted: Vec::new(),
         }
     }

@@ -391,7 +391,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         (result.explained.unwrap_or(0.0) - alt.explained) / visible_length.max(f64::MIN_POSITIVE)
     });
     let depth = depth(primitive, result.rms);
-    let spread = super::spread::spread(primitive, &result.assignment, result.rms);
+    let spread = super::spread::spread(primitive, &result.assignment, result.rms, result.profile);
     let evidence = Evidence {
         rms,
         support,

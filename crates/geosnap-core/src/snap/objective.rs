@@ -35,6 +35,36 @@ const END_WEIGHT: f64 = 0.5;
 /// Weight of the regularisers.
 const REGULARIZER_WEIGHT: f64 = 0.01;
 
+/// How strongly a fit holds a bent tube's radius profile smooth: the weight, inside the
+/// residual, of the second differences of its radii ([`crate::primitive::Shape::profile`]).
+///
+/// A smooth profile is the right prior for a tube of one radius or a taper: the hand's
+/// wobble along its outlines must not bend its radii (a wobble of half a percent of the
+/// size is several percent of a thin tube's radius). It flattens a horn's flaring mouth,
+/// though: at the smooth weight a horn whose radius grows 1.7× towards its mouth came out
+/// 5 % off its drawing from its own pose. A cold snap of a bent tube therefore also fits
+/// it held as drawn, and keeps that reading where it fits its strokes clearly closer (see
+/// [`super::snap`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Profile {
+    /// Held smooth (weight 15).
+    #[default]
+    Smooth,
+    /// Held as its outlines draw it (weight 5: on the synthetic conditions bent tubes
+    /// were recovered about as often anywhere from 2 to 8).
+    Drawn,
+}
+
+impl Profile {
+    /// The weight of a second difference of the radii, inside the residual.
+    pub(crate) fn weight(self) -> f64 {
+        match self {
+            Self::Smooth => 15.0,
+            Self::Drawn => 5.0,
+        }
+    }
+}
+
 /// The normalised frame: `normalised = (model − origin) / scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
@@ -290,13 +320,15 @@ pub struct FitTerms<'g> {
 
 /// The terms of the snapping problem of `primitive` (already in `frame`) for the strokes
 /// of `assignment` (view-plane samples, converted into the frame here), over variables
-/// `x` (one per parameter of `primitive`) of graph `g`.
+/// `x` (one per parameter of `primitive`) of graph `g`; a bent tube's radii held as
+/// `profile` says.
 pub fn fit_terms<'g>(
     g: &'g Graph,
     x: &[Expr<'g>],
     primitive: &Primitive,
     assignment: &Assignment,
     frame: &Frame,
+    profile: Profile,
 ) -> FitTerms<'g> {
     let shape = primitive.shape(x);
     let numeric = primitive.current_shape();
@@ -325,7 +357,7 @@ pub fn fit_terms<'g>(
         ));
         push_end_terms(curve, &numeric.curves[k], &samples, ends_fixed, &mut terms);
     }
-    push_regularizer_terms(&shape, assignment, &mut terms);
+    push_regularizer_terms(&shape, assignment, profile, &mut terms);
     FitTerms {
         objective: g.sum(terms),
         equalities: shape.equalities,
@@ -430,16 +462,21 @@ fn push_end_terms<'g>(
     }
 }
 
-/// Pushes onto `terms` the weighted squares of `shape`'s regularisers, and of its pull
-/// towards the least tilted pose when fewer than two end ellipses have strokes in
-/// `assignment` (`Shape::untilted`).
+/// Pushes onto `terms` the weighted squares of `shape`'s regularisers, of its profile's
+/// second differences (held as `profile` says), and of its pull towards the least tilted
+/// pose when fewer than two end ellipses have strokes in `assignment` (`Shape::untilted`).
 fn push_regularizer_terms<'g>(
     shape: &Shape<Expr<'g>>,
     assignment: &Assignment,
+    profile: Profile,
     terms: &mut Vec<Expr<'g>>,
 ) {
     for r in &shape.regularizers {
         terms.push(r.square() * REGULARIZER_WEIGHT);
+    }
+    let held = profile.weight();
+    for r in &shape.profile {
+        terms.push((*r * held).square() * REGULARIZER_WEIGHT);
     }
     let ends_drawn = shape
         .curves
@@ -455,11 +492,17 @@ fn push_regularizer_terms<'g>(
 }
 
 /// Builds the snapping problem of `primitive` (already in `frame`) for the strokes of
-/// `assignment` (view-plane samples, converted into the frame here).
-pub fn build_problem(primitive: &Primitive, assignment: &Assignment, frame: &Frame) -> Problem {
+/// `assignment` (view-plane samples, converted into the frame here), a bent tube's radii
+/// held as `profile` says.
+pub fn build_problem(
+    primitive: &Primitive,
+    assignment: &Assignment,
+    frame: &Frame,
+    profile: Profile,
+) -> Problem {
     let g = Graph::new();
     let x = g.vars(primitive.params().len());
-    let terms = fit_terms(&g, &x, primitive, assignment, frame);
+    let terms = fit_terms(&g, &x, primitive, assignment, frame, profile);
     let mut builder = Problem::builder(&g, terms.objective);
     for (label, c) in terms.equalities {
         builder = builder.equality(label, c);
@@ -575,7 +618,7 @@ mod tests {
         let value = |assignment: &Assignment| {
             let g = Graph::new();
             let x = g.vars(p.params().len());
-            let terms = super::fit_terms(&g, &x, &p, assignment, &frame);
+            let terms = super::fit_terms(&g, &x, &p, assignment, &frame, super::Profile::Smooth);
             Tape::compile(&g, &[terms.objective]).eval(&p.params())[0]
         };
         let ends = value(&drawing(CurveClass::Feature));

@@ -37,7 +37,7 @@ use glam::DVec3;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use super::assign::Assignment;
-use super::objective::{build_problem, Frame};
+use super::objective::{build_problem, Frame, Profile};
 use super::SnapSettings;
 use crate::primitive::Primitive;
 use crate::solve::{Problem, SolveContext, Solver, Start};
@@ -196,10 +196,15 @@ fn step(x: f64) -> f64 {
 /// units), as the module docs say, with how far its own strokes would still move it
 /// added in quadrature; `None` when the fit's curvature is not finite or the settling
 /// fit fails.
-pub(crate) fn spread(primitive: &Primitive, assignment: &Assignment, rms: f64) -> Option<Spread> {
+pub(crate) fn spread(
+    primitive: &Primitive,
+    assignment: &Assignment,
+    rms: f64,
+    profile: Profile,
+) -> Option<Spread> {
     let frame = Frame::of(primitive);
     let local = frame.into_frame(primitive);
-    let mut problem = build_problem(&local, assignment, &frame);
+    let mut problem = build_problem(&local, assignment, &frame, profile);
     let pose = local.params();
     if pose.is_empty() || !pose.iter().all(|v| v.is_finite()) {
         return None;
@@ -399,7 +404,7 @@ fn feasible_directions(problem: &mut Problem, x: &[f64]) -> DMatrix<f64> {
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::spread;
+    use super::{spread, Profile};
     use crate::primitive::{Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::snap::{snap, SnapContext, SnapSettings};
@@ -451,7 +456,13 @@ mod tests {
         for axis in [DVec3::new(0.0, 1.0, 0.4), DVec3::new(0.0, 0.2, 1.0)] {
             let truth = can(axis);
             let result = snap(&drawing_of(&truth), &truth, &settings).expect("it snaps");
-            let s = spread(&result.primitive, &result.assignment, result.rms).expect("finite");
+            let s = spread(
+                &result.primitive,
+                &result.assignment,
+                result.rms,
+                Profile::Smooth,
+            )
+            .expect("finite");
             assert!(s.centre < 0.01 && s.radius < 0.02, "{s:?}");
             lengths.push(s.length);
         }
@@ -471,8 +482,15 @@ mod tests {
             radius: 1.3 * fitted.radius,
             ..*fitted
         });
-        let at_rest = spread(&result.primitive, &result.assignment, result.rms).expect("finite");
-        let moved = spread(&wider, &result.assignment, result.rms).expect("finite");
+        let at_rest = spread(
+            &result.primitive,
+            &result.assignment,
+            result.rms,
+            Profile::Smooth,
+        )
+        .expect("finite");
+        let moved =
+            spread(&wider, &result.assignment, result.rms, Profile::Smooth).expect("finite");
         assert!(at_rest.radius < 0.02, "{at_rest:?}");
         // Its strokes settle it 30 % narrower: the spread holds that move.
         assert!((moved.radius - 0.3).abs() < 0.05, "{moved:?}");

@@ -11,7 +11,7 @@ use super::{Document, GlobalSettings, PrimitiveId, Quantity, Related, RelationKe
 use crate::ad::{Expr, Graph, Vec3};
 use crate::primitive::{FeatureCurve, FeatureGeometry, Primitive};
 use crate::relation::{residuals, Member, Mode};
-use crate::snap::{fit_terms, Assignment, Frame};
+use crate::snap::{fit_terms, Assignment, Frame, Profile};
 use crate::solve::Problem;
 
 /// Weight of a part without strokes (loaded without its sketch) on staying where it is,
@@ -67,6 +67,8 @@ pub(super) struct Part<'d> {
     pub(super) primitive: &'d Primitive,
     pub(super) assignment: Option<&'d Assignment>,
     pub(super) own_rms: Option<f64>,
+    /// How its snap held a bent tube's radii (see [`crate::snap::Profile`]).
+    pub(super) profile: Profile,
     pub(super) frame: Frame,
     pub(super) local: Primitive,
     /// Whether it is held where it is (beyond the reach of the change).
@@ -247,7 +249,7 @@ fn part_terms<'g>(
     let moved = g.sum(x.iter().zip(&now).map(|(v, n)| (*v - *n).square()));
     let (value, eqs, ineqs, feats) = if let Some(assignment) = part.assignment {
         let assignment = thinned(assignment, SOLVE_SAMPLES);
-        let t = fit_terms(g, &x, &part.local, &assignment, &part.frame);
+        let t = fit_terms(g, &x, &part.local, &assignment, &part.frame, part.profile);
         let value = t.objective + moved * PROXIMAL_WEIGHT;
         (value, t.equalities, t.inequalities, t.features)
     } else {
@@ -370,6 +372,7 @@ impl Document {
                 primitive: &placed.primitive,
                 assignment: record.map(|r| &r.assignment),
                 own_rms: record.map(|r| r.rms),
+                profile: record.map_or(Profile::Smooth, |r| r.profile),
                 frame,
                 local,
                 held: is_held,
