@@ -976,6 +976,59 @@ mod tests {
     }
 
     #[test]
+    fn a_flared_tube_keeps_its_flare_in_the_global_solve() {
+        use crate::model::{Companions, Document, Fit, GlobalSettings, Placed, Relation};
+        use crate::primitive::Feature;
+        use crate::relation::{Mode, RelationKind};
+        let truth = horn();
+        let context = drawn_with_ends(&Primitive::Bgc(truth.clone()));
+        let result = super::snap(
+            &context,
+            &Primitive::Bgc(truth.clone()),
+            &SnapSettings::default(),
+        )
+        .expect("the horn snaps");
+        let Primitive::Bgc(snapped) = &result.primitive else {
+            panic!("a bent tube snaps to a bent tube");
+        };
+        // A post along the horn's narrow end, held to it: the solve frees the horn and
+        // fits it to its strokes again.
+        let end = snapped.spine[0];
+        let along = (snapped.spine[0] - snapped.spine[1]).normalize();
+        let mut doc = Document::new();
+        let horn = doc.add_snapped(&result);
+        let post = doc.add(Placed {
+            primitive: Primitive::Cylinder(Cylinder {
+                center: end + along * 60.0,
+                axis: (along + DVec3::new(0.0, 0.05, 0.0)).normalize(),
+                length: 100.0,
+                radius: 30.0,
+            }),
+            fit: Fit::default(),
+        });
+        doc.add_relation(Relation {
+            kind: RelationKind::Parallel,
+            members: vec![horn, post],
+            features: vec![Some(Feature::Bottom), Some(Feature::Top)],
+            mode: Mode::Hard,
+            inferred: None,
+        })
+        .expect("a valid relation");
+        doc.solve(None, &GlobalSettings::default(), Companions::default());
+        let Primitive::Bgc(solved) = &doc.get(horn).expect("placed").primitive else {
+            panic!("still a bent tube");
+        };
+        // Held smooth, the solve would flatten the mouth the snap followed.
+        let mouth = |b: &Bgc| b.radii[7] / b.radii[4];
+        assert!(
+            (mouth(solved) - mouth(&truth)).abs() < 0.03 * mouth(&truth),
+            "radii {:.1?} for {:.1?}",
+            solved.radii,
+            truth.radii
+        );
+    }
+
+    #[test]
     fn a_box_with_its_hidden_edges_drawn_keeps_its_sizes() {
         // A visible edge that takes a hidden one's stroke pulls the box off its drawing.
         let (truth, context) = assign::tests::plank_with_its_hidden_edges();
