@@ -917,22 +917,23 @@ mod tests {
     /// The visible curves of `part` as strokes, as a careful hand draws them: its ends
     /// as ellipses, its outlines as lines.
     fn drawn_with_ends(part: &Primitive) -> SnapContext {
-        let strokes: Vec<(Vec<DVec2>, StrokeClass)> = part
-            .current_shape()
-            .curves
-            .into_iter()
+        drawn(std::slice::from_ref(part), |curve| match curve {
+            Curve2::Ellipse { .. } => StrokeClass::Feature,
+            Curve2::Polyline(_) => StrokeClass::Silhouette,
+        })
+    }
+
+    /// The visible curves of `parts` as strokes, as a careful hand draws them, each
+    /// given the class `class` says.
+    fn drawn(parts: &[Primitive], class: impl Fn(&Curve2<f64>) -> StrokeClass) -> SnapContext {
+        let strokes: Vec<(Vec<DVec2>, StrokeClass)> = parts
+            .iter()
+            .flat_map(|p| p.current_shape().curves)
             .filter(|c| c.visible)
             .map(|c| {
-                let class = match c.curve {
-                    Curve2::Ellipse { .. } => StrokeClass::Feature,
-                    Curve2::Polyline(_) => StrokeClass::Silhouette,
-                };
-                let points = c
-                    .curve
-                    .points(64)
-                    .into_iter()
-                    .map(|q| DVec2::new(q.x, -q.y));
-                (points.collect(), class)
+                let points = c.curve.points(64).into_iter();
+                let points = points.map(|q| DVec2::new(q.x, -q.y)).collect();
+                (points, class(&c.curve))
             })
             .collect();
         SnapContext::new(
@@ -1148,24 +1149,7 @@ mod tests {
 
     /// The visible curves of `parts` as strokes, as a careful hand draws them.
     fn drawn_parts(parts: &[Primitive]) -> SnapContext {
-        let strokes: Vec<Vec<DVec2>> = parts
-            .iter()
-            .flat_map(|p| p.current_shape().curves)
-            .filter(|c| c.visible)
-            .map(|c| {
-                c.curve
-                    .points(64)
-                    .into_iter()
-                    .map(|q| DVec2::new(q.x, -q.y))
-                    .collect()
-            })
-            .collect();
-        SnapContext::new(
-            strokes
-                .iter()
-                .enumerate()
-                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Silhouette)),
-        )
+        drawn(parts, |_| StrokeClass::Silhouette)
     }
 
     #[test]
