@@ -26,11 +26,16 @@
 //! A case is judged as `synthetic_snap` judges it (`support::judge`: centre within 3 % of
 //! the size, axis within 5°, radii and lengths within 7 %). For a failed case the snap is
 //! also started from the truth itself: a failure that persists there is the drawing's or
-//! the objective's, not the search's ("truth" column).
+//! the objective's, not the search's ("truth" column). A failed snap whose projected
+//! curves lie within 1 % of the size of the truth's draws the same picture
+//! (`support::judge::picture_difference`, "same" column): it reads the strokes right,
+//! and what fails is what the drawing leaves open (the depth of a bent tube whose ends
+//! are nearly edge-on). A snap from the truth can fail for that reason too, so "truth"
+//! counts search failures among its drawing's limits; "same" tells them apart.
 //!
 //! The table has one row per kind, per condition, with and without hidden lines, per
 //! assembly kind and per condition among the assemblies: cases, successes, rate, the
-//! failures that persist from the truth, the share of strokes the classifier gave
+//! failures that persist from the truth, those that draw the truth's picture, the share of strokes the classifier gave
 //! another class than the renderer drew them with (joined strokes have no single class
 //! and are left out), and the most common failed criteria. A matrix of rates per kind
 //! and condition follows.
@@ -91,7 +96,7 @@ use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 use geosnap::core::snap::{nobody, snap, SnapContext, SnapResult, SnapSettings, Verdict};
 use glam::DVec2;
 use support::assemblies::{assembly_with_hand, perturbed_placement, AssemblyKind, Perturbation};
-use support::judge::{describe, distance_to, evaluate, Errors};
+use support::judge::{describe, distance_to, evaluate, picture_difference, Errors, SAME_PICTURE};
 use support::overlay::write_overlay;
 use support::synth::{bgc_across_post, scene_with, scene_with_hand, Condition, Rng, SynthStroke};
 
@@ -130,7 +135,8 @@ const REQUIRED_CONDITION_RATE: f64 = 0.90;
 /// Today's floor per kind in the floor test ([`FLOOR_CASES`], 32 cases per kind): the
 /// rate measured (cylinder 84.4 %, cone 93.8 %, sphere 100 %, box 75.0 % then, 87.5 %
 /// since, SGC 87.5 %, BGC 40.6 % then, 50.0 % since a bent tube's profile is held as
-/// drawn where its outlines show it) minus about 5 points, rounded down to 5 %.
+/// drawn where its outlines show it, 62.5 % since it also starts from a spine through
+/// its drawn ends) minus about 5 points, rounded down to 5 %.
 /// Raise these as snapping improves; the target is [`REQUIRED_KIND_RATE`].
 const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Cylinder, 0.75),
@@ -138,21 +144,23 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Sphere, 0.95),
     (PrimitiveKind::Cuboid, 0.80),
     (PrimitiveKind::Sgc, 0.80),
-    (PrimitiveKind::Bgc, 0.45),
+    (PrimitiveKind::Bgc, 0.55),
 ];
 /// Today's floor per condition in the floor test (24 cases per condition), as
 /// [`KIND_FLOOR`]: measured plain 95.8 %, near-axial 62.5 %, side-on 79.2 %, missing
-/// 91.7 %, overshoots 75.0 %, sketchy 83.3 %, joined 75.0 %, fragments 79.2 %. The
-/// target is [`REQUIRED_CONDITION_RATE`].
+/// 91.7 %, overshoots 75.0 %, sketchy 83.3 %, joined 75.0 %, fragments 79.2 %; side-on
+/// 100 % and fragments 95.8 % since a bent tube also starts from a spine through its
+/// drawn ends (overshoots, sketchy and joined one case more each). The target is
+/// [`REQUIRED_CONDITION_RATE`].
 const CONDITION_FLOOR: [(Condition, f64); 8] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.55),
-    (Condition::SideOn, 0.70),
+    (Condition::SideOn, 0.90),
     (Condition::Missing, 0.85),
     (Condition::Overshoots, 0.70),
     (Condition::Sketchy, 0.75),
     (Condition::Joined, 0.70),
-    (Condition::Fragments, 0.70),
+    (Condition::Fragments, 0.90),
 ];
 /// Today's floor per assembly kind (its parts; 23–39 per kind) in the floor test, as
 /// [`KIND_FLOOR`]: measured stack 87.0 %, table 68.4 %, ball+tubes 93.3 %, brick+studs
@@ -280,6 +288,9 @@ struct Outcome {
     shape: Option<&'static str>,
     /// For a failure: whether it persists when the snap starts from the truth.
     at_truth: Option<bool>,
+    /// For a failure: whether the snap draws the truth's picture (within
+    /// [`SAME_PICTURE`]).
+    same_picture: bool,
     /// The part's strokes (or the scene's) that the classifier gave another class than
     /// the renderer, and those compared (joined strokes are left out).
     misclassified: (usize, usize),
@@ -467,6 +478,17 @@ fn from_the_truth(
     (false, words)
 }
 
+/// A failed snap's [`picture_difference`] from the truth, in words.
+fn in_words(picture: Option<f64>) -> String {
+    match picture {
+        Some(d) if d <= SAME_PICTURE => {
+            format!("; draws the truth's picture ({:.2} %S apart)", 100.0 * d)
+        }
+        Some(d) => format!("; its picture {:.1} %S from the truth's", 100.0 * d),
+        None => String::new(),
+    }
+}
+
 /// Snaps `truth` dropped off by the issue's perturbation and judges it; writes the
 /// analysis into `report` when the case fails or is `shown`, and its overlay into `png`.
 #[expect(
@@ -508,6 +530,11 @@ fn judge_part(
     let from_truth = from_truth.filter(|_| !failed.is_empty());
     let at_truth = from_truth.as_ref().map(|(fails, _)| *fails);
     let (flagged, evidence) = judged_confidence(result.as_ref().ok(), &dropped, errors.as_ref());
+    let picture = (!failed.is_empty())
+        .then(|| result.as_ref().ok())
+        .flatten()
+        .map(|r| picture_difference(truth, &r.primitive));
+    let same_picture = picture.is_some_and(|d| d <= SAME_PICTURE);
     let outcome = Outcome {
         flagged,
         evidence,
@@ -516,6 +543,7 @@ fn judge_part(
         shape: shape_class(truth),
         failed,
         at_truth,
+        same_picture,
         misclassified: misclassified(context, strokes, own),
         elapsed,
     };
@@ -530,7 +558,7 @@ fn judge_part(
         (Ok(_), Some(e)) if !e.failures().is_empty() => e.failures().join(", "),
         _ => "recovered".to_owned(),
     };
-    let persists = from_truth.map_or_else(String::new, |(_, words)| words);
+    let persists = from_truth.map_or_else(String::new, |(_, words)| words) + &in_words(picture);
     let _ = writeln!(
         report,
         "  {}{part_name} (seed {:#x}{}): {verdict}{persists}; classes wrong {}/{}; {}",
@@ -836,6 +864,7 @@ struct Tally {
     cases: usize,
     ok: usize,
     at_truth: usize,
+    same_picture: usize,
     wrong_classes: (usize, usize),
     reasons: BTreeMap<&'static str, usize>,
     slowest: Duration,
@@ -847,6 +876,7 @@ impl Tally {
             cases: 0,
             ok: 0,
             at_truth: 0,
+            same_picture: 0,
             wrong_classes: (0, 0),
             reasons: BTreeMap::new(),
             slowest: Duration::ZERO,
@@ -855,6 +885,7 @@ impl Tally {
             t.cases += 1;
             t.ok += usize::from(o.ok());
             t.at_truth += usize::from(o.at_truth == Some(true));
+            t.same_picture += usize::from(o.same_picture);
             t.wrong_classes.0 += o.misclassified.0;
             t.wrong_classes.1 += o.misclassified.1;
             for r in &o.failed {
@@ -874,11 +905,12 @@ impl Tally {
         reasons.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
         let reasons: Vec<String> = reasons.iter().map(|(k, v)| format!("{k} {v}")).collect();
         format!(
-            "{label:<16}{:>6}{:>6}{:>7.1}%{:>7}{:>8.1}%{:>8.2}s  {}",
+            "{label:<16}{:>6}{:>6}{:>7.1}%{:>7}{:>6}{:>8.1}%{:>8.2}s  {}",
             self.cases,
             self.ok,
             100.0 * self.rate(),
             self.at_truth,
+            self.same_picture,
             100.0 * self.wrong_classes.0 as f64 / self.wrong_classes.1.max(1) as f64,
             self.slowest.as_secs_f64(),
             reasons.join(", ")
@@ -905,7 +937,9 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
          {:.1} s wall\n\
          drops: centre ±10 % of the size, axis ±10°, sizes ±25 %; classes from the \
          classifier; hidden lines in odd cases\n\
-         truth = failures that persist when the snap starts from the truth; cls = strokes \
+         truth = failures that persist when the snap starts from the truth; same = \
+         failures that draw the truth's picture (their curves within 1 % of the size of \
+         its curves: what fails is what the drawing leaves open); cls = strokes \
          the classifier gave another class\n\
          (joined strokes left out); slowest = the slowest single snap; reasons = failed \
          criteria (error = the snap returned an error)",
@@ -921,8 +955,8 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
         );
     }
     let header = format!(
-        "{:<16}{:>6}{:>6}{:>8}{:>7}{:>9}{:>9}  {}",
-        "", "cases", "ok", "rate", "truth", "cls", "slowest", "main failure reasons"
+        "{:<16}{:>6}{:>6}{:>8}{:>7}{:>6}{:>9}{:>9}  {}",
+        "", "cases", "ok", "rate", "truth", "same", "cls", "slowest", "main failure reasons"
     );
     let mut rates = Rates {
         kinds: Vec::new(),
@@ -1158,14 +1192,14 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 81.8 % \
-            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 44.4); \
-            conditions plain 91.7, near-axial 58.8, side-on 84.2, missing 91.2, overshoots \
-            81.7, sketchy 88.3, joined 75.0, fragments 83.3; assembly parts 83.3 % (stack \
+            assemblies per kind and condition (release): single primitives 83.0 % \
+            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 51.6); \
+            conditions plain 92.9, near-axial 59.2, side-on 87.5, missing 91.7, overshoots \
+            82.5, sketchy 89.6, joined 75.4, fragments 85.0; assembly parts 83.3 % (stack \
             93.2, table 76.9 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
             94.2, handle 88.2, tee 82.5, plug 64.9, valves 86.3, menorah 71.9); assembly \
             conditions from 61.5 (near-axial) to 92.0 (plain); wrong parts called \
-            doubtful or refused 381 of 795 (48 %), good ones 161 of 3797 (4.2 %)"]
+            doubtful or refused 356 of 772 (46 %), good ones 164 of 3820 (4.3 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),

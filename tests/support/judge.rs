@@ -254,3 +254,60 @@ pub(crate) fn distance_to(curve: &Curve2<f64>, p: DVec2) -> f64 {
             .fold(f64::INFINITY, f64::min),
     }
 }
+
+/// A failure whose projected curves lie within this of the truth's (relative to the
+/// size, see [`picture_difference`]) draws the truth's picture: the drawing cannot tell
+/// the two apart, so what fails is what it leaves open (a bent tube's depth), not the
+/// reading of the strokes.
+pub(crate) const SAME_PICTURE: f64 = 0.01;
+
+/// How far apart the pictures of `truth` and `fit` are: the 90th percentile of the
+/// distances from the samples of either's projected curves (all of them, hidden or not)
+/// to the other's curves, the larger of the two directions, over the truth's size.
+/// Curves are compared as one set each, so a reversed reading of the same picture
+/// differs by nothing.
+pub(crate) fn picture_difference(truth: &Primitive, fit: &Primitive) -> f64 {
+    let curves = |p: &Primitive| -> Vec<Vec<DVec2>> {
+        p.current_shape()
+            .curves
+            .iter()
+            .map(|c| densified(&c.curve.points(64), 4))
+            .collect()
+    };
+    let (a, b) = (curves(truth), curves(fit));
+    let one_way = |from: &[Vec<DVec2>], to: &[Vec<DVec2>]| {
+        let mut d: Vec<f64> = from
+            .iter()
+            .flatten()
+            .map(|p| {
+                to.iter()
+                    .flat_map(|c| c.windows(2))
+                    .map(|w| segment_distance(*p, w[0], w[1]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        if d.is_empty() {
+            return f64::INFINITY;
+        }
+        d.sort_by(f64::total_cmp);
+        d[(d.len() * 9) / 10]
+    };
+    one_way(&a, &b).max(one_way(&b, &a)) / truth.size()
+}
+
+/// `points` with `n − 1` more points evenly between each two.
+fn densified(points: &[DVec2], n: usize) -> Vec<DVec2> {
+    let mut out = Vec::with_capacity(points.len() * n);
+    for w in points.windows(2) {
+        out.extend((0..n).map(|k| w[0].lerp(w[1], k as f64 / n as f64)));
+    }
+    out.extend(points.last());
+    out
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + ab * t)
+}

@@ -37,6 +37,17 @@
 //! the end and back up the other outline is read in runs cut at its turns ([`turns`]),
 //! its legs paired as outlines and the turn between them read as an end.
 //!
+//! The medial axis runs out before the ends: the outlines of a tube whose ends are
+//! drawn off square (an S leaves its chord 25–60° off at both ends) stop at staggered
+//! points, and a hand stops them short. A spine fitted to the medial axis alone then
+//! leaves the ends nearer the chord than their ellipses are drawn, and the fit from it
+//! can run away (the end arcs go unassigned, the tube swings into depth). So where an
+//! end ellipse shows its minor axis (minor/major at most 0.8), a second start is read
+//! with the projected spine refitted through the ends' centres and along their minor
+//! axes (`ProjectedSpine::through_ends`). Both are snapped; the second stands only where
+//! its snap reads the drawing clearly better (see `snap::snap_from`), as a refit of the
+//! same reading differs from the first by the hand's noise alone.
+//!
 //! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
 //! measured half-widths linearly. `None` when the strokes show no tube near the drop, and
 //! for a BGC that is already bent (an earlier fit snaps from itself).
@@ -484,10 +495,21 @@ pub(crate) struct Start {
     /// clipped at its junctions, the drawing without the outlines of the parts it meets
     /// there (whose strokes the result names), and the far sides of those junctions.
     context: Option<Clipped>,
+    /// Whether this is the start before it with its spine drawn through the drawn ends
+    /// (see `ProjectedSpine::through_ends`): the same reading, told apart only where the
+    /// strokes clearly prefer it (see `snap::snap_from`).
+    variant: bool,
 }
 
-/// The starting BGCs for the dropped `primitive`, best first, or none (see the module
-/// docs).
+impl Start {
+    /// Whether this start is a variant of the one before it (see [`Start::variant`]).
+    pub(crate) fn is_variant(&self) -> bool {
+        self.variant
+    }
+}
+
+/// The starting BGCs for the dropped `primitive`, best first, each variant after the
+/// start it varies, or none (see the module docs).
 pub(crate) fn starts(context: &SnapContext, primitive: &Primitive) -> Vec<Start> {
     starting_poses(context, primitive).unwrap_or_default()
 }
@@ -511,27 +533,30 @@ fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Option<Vec<St
         return None;
     }
     let readings = medial_axis(context, [first, last], length + 3.0 * r, r);
-    let starts: Vec<Start> = readings
-        .into_iter()
-        .filter_map(|(medial, clipped, outlines, loose)| {
-            pose_from(context, dropped, &medial, &outlines, &loose).map(|pose| Start {
+    let mut starts: Vec<Start> = Vec::new();
+    for (medial, clipped, outlines, loose) in readings {
+        let poses = pose_from(context, dropped, &medial, &outlines, &loose).unwrap_or_default();
+        for (i, pose) in poses.into_iter().enumerate() {
+            starts.push(Start {
                 pose,
-                context: clipped,
-            })
-        })
-        .collect();
+                context: clipped.clone(),
+                variant: i > 0,
+            });
+        }
+    }
     Some(starts)
 }
 
-/// The starting BGC for `dropped` from the medial samples `medial` of its outlines (see
-/// the module docs).
+/// The starting BGCs for `dropped` from the medial samples `medial` of its outlines (see
+/// the module docs): the spine through the medial axis, then, where the drawn ends
+/// show their tangents, the spine through them as well.
 fn pose_from(
     context: &SnapContext,
     dropped: &Bgc,
     medial: &[(DVec2, f64)],
     outlines: &[StrokeId],
     loose: &[(Vec<DVec2>, StrokeClass)],
-) -> Option<Primitive> {
+) -> Option<Vec<Primitive>> {
     let k = dropped.spine.len();
     let first = dropped.spine.first()?.truncate();
     let last = dropped.spine.last()?.truncate();
@@ -543,11 +568,12 @@ fn pose_from(
     }
     let points: Vec<DVec2> = medial.iter().map(|(p, _)| *p).collect();
     let (projected, local) = ProjectedSpine::fit(&points, axis)?;
-    let (mut x0, mut x1) = local
+    let span = local
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.x), hi.max(p.x))
         });
+    let (x0, x1) = span;
     let curve = |x: f64| projected.at(x);
     let slope_dir = |x: f64| projected.tangent(x);
     // Radius profile: half-width linear in x.
@@ -567,36 +593,48 @@ fn pose_from(
         [slope_dir(x0), slope_dir(x1)],
         [width(x0), width(x1)],
     );
-    let to_x = |p: DVec2| projected.x_of(p);
-    if let Some((e, _)) = &bottom {
-        x0 = to_x(e.center);
+    // The spine through the medial axis alone, and through the drawn ends as well (see
+    // `ProjectedSpine::through_ends`: the medial axis runs out before the ends, most of
+    // all where they are drawn off square): the snaps of both compete.
+    let ends = [bottom.as_ref(), top.as_ref()];
+    let through = projected.through_ends(&local, ends);
+    let mut poses = Vec::new();
+    for spine in [Some(&projected), through.as_ref()].into_iter().flatten() {
+        let to_x = |p: DVec2| spine.x_of(p);
+        let (mut x0, mut x1) = span;
+        if let Some((e, _)) = &bottom {
+            x0 = to_x(e.center);
+        }
+        if let Some((e, _)) = &top {
+            x1 = to_x(e.center);
+        }
+        if !(x1 - x0 > 0.1 * length) {
+            continue;
+        }
+        let rows = tilt_rows(
+            bottom.as_ref(),
+            top.as_ref(),
+            [spine.tangent(x0), spine.tangent(x1)],
+        );
+        let tilt = plane_tilt(&rows);
+        let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
+        let points = spine.lifted((x0, x1), depth, tilt, k);
+        let mut radii: Vec<f64> = points.iter().map(|p| width(to_x(p.truncate()))).collect();
+        if let Some((e, _)) = &bottom {
+            radii[0] = f64::midpoint(radii[0], e.semi_major);
+        }
+        if let Some((e, _)) = &top {
+            radii[k - 1] = f64::midpoint(radii[k - 1], e.semi_major);
+        }
+        let mut bgc = Bgc::through(points, r);
+        bgc.radii = radii;
+        bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
+        let pose = Primitive::Bgc(bgc);
+        if pose.is_finite() {
+            poses.push(pose);
+        }
     }
-    if let Some((e, _)) = &top {
-        x1 = to_x(e.center);
-    }
-    if !(x1 - x0 > 0.1 * length) {
-        return None;
-    }
-    let rows = tilt_rows(
-        bottom.as_ref(),
-        top.as_ref(),
-        [slope_dir(x0), slope_dir(x1)],
-    );
-    let tilt = plane_tilt(&rows);
-    let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
-    let spine = projected.lifted((x0, x1), depth, tilt, k);
-    let mut radii: Vec<f64> = spine.iter().map(|p| width(to_x(p.truncate()))).collect();
-    if let Some((e, _)) = &bottom {
-        radii[0] = f64::midpoint(radii[0], e.semi_major);
-    }
-    if let Some((e, _)) = &top {
-        radii[k - 1] = f64::midpoint(radii[k - 1], e.semi_major);
-    }
-    let mut bgc = Bgc::through(spine, r);
-    bgc.radii = radii;
-    bgc.plane_normal = DVec3::new(-tilt.x, -tilt.y, 1.0).normalize();
-    let pose = Primitive::Bgc(bgc);
-    pose.is_finite().then_some(pose)
+    Some(poses)
 }
 
 /// The projected spine of a BGC in its principal frame: a cubic
@@ -632,6 +670,67 @@ impl ProjectedSpine {
             coef,
         };
         Some((spine, local))
+    }
+
+    /// The spine refitted to the medial points `local` (in its frame) and to the drawn
+    /// end ellipses `ends` (bottom, top): a cubic by weighted least squares that runs
+    /// through each end's centre and leaves it along the end's minor axis, where the
+    /// ellipse is flat enough to show it (minor/major at most 0.8) and the axis lies
+    /// within 75° of the frame's direction (the cubic is a graph over it). Each end's
+    /// rows weigh as much as all the medial points together. `None` where no end shows
+    /// its direction: the refit would be the medial spine again.
+    fn through_ends(&self, local: &[DVec2], ends: [Option<&(Ellipse2, bool)>; 2]) -> Option<Self> {
+        let to_local = |p: DVec2| {
+            DVec2::new(
+                (p - self.origin).dot(self.dir),
+                (p - self.origin).dot(self.normal),
+            )
+        };
+        let centres: Vec<DVec2> = ends
+            .iter()
+            .flatten()
+            .map(|(e, _)| to_local(e.center))
+            .collect();
+        let scale = local
+            .iter()
+            .chain(&centres)
+            .fold(0.0f64, |m, p| m.max(p.x.abs()))
+            .max(1e-300);
+        let at = |x: f64| {
+            let x = x / scale;
+            [1.0, x, x * x, x * x * x]
+        };
+        let mut rows: Vec<([f64; 4], f64, f64)> =
+            local.iter().map(|p| (at(p.x), p.y, 1.0)).collect();
+        let weight = (local.len() as f64).sqrt();
+        let mut any = false;
+        for ((e, _), c) in ends.into_iter().flatten().zip(&centres) {
+            rows.push((at(c.x), c.y, weight));
+            if e.semi_minor <= 0.8 * e.semi_major {
+                let m = e.minor_axis();
+                let (along, across) = (m.dot(self.dir), m.dot(self.normal));
+                if along.abs() >= 0.25 {
+                    // dy/dx in units of length (× scale): Σ k·C_k·X^(k−1).
+                    let x = c.x / scale;
+                    rows.push((
+                        [0.0, 1.0, 2.0 * x, 3.0 * x * x],
+                        across / along * scale,
+                        weight,
+                    ));
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return None;
+        }
+        let mut coef = weighted_cubic(&rows)?;
+        let mut power = 1.0;
+        for ck in &mut coef {
+            *ck /= power;
+            power *= scale;
+        }
+        Some(Self { coef, ..*self })
     }
 
     /// The image point of the spine at `x`.
@@ -894,6 +993,23 @@ fn polynomial<const N: usize>(points: &[DVec2]) -> Option<[f64; N]> {
     Some(c)
 }
 
+/// Weighted least squares over rows (basis values for c₀ … c₃ at a point, target,
+/// weight), solved with x rescaled for conditioning.
+fn weighted_cubic(rows: &[([f64; 4], f64, f64)]) -> Option<[f64; 4]> {
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for (row, y, w) in rows {
+        let w2 = w * w;
+        for i in 0..4 {
+            for j in 0..4 {
+                a[i][j] += w2 * row[i] * row[j];
+            }
+            b[i] += w2 * row[i] * y;
+        }
+    }
+    solve(a, b)
+}
+
 /// Least-squares y = c₀ + c₁·x.
 fn linear(points: &[DVec2]) -> Option<(f64, f64)> {
     let n = points.len() as f64;
@@ -1111,5 +1227,118 @@ mod tests {
         assert!((mid.length() - 100.0).abs() < 5.0, "middle at {mid}");
         // Two features side by side are not a tube on their own.
         assert!(start_of(&c_tube(), &[Feature, Feature, Feature, Feature]).is_none());
+    }
+
+    /// An S-shaped tube of radius 10 in the view plane, 300 long, whose spine turns by
+    /// 60° one way and back (the tangent angle 4·60°·u·(1 − u) from its chord's, so
+    /// both ends leave it 40° off the chord): its outlines (silhouettes, stopping a
+    /// radius short of the ends, as a hand does), its ends drawn nearly edge-on
+    /// (minor/major 0.15; the bottom whole, the top as its front arc; features), and the
+    /// spine's two ends and end tangents (bottom, top), in sketch coordinates.
+    fn s_tube() -> DrawnTube {
+        let n: u32 = 120;
+        let theta = |u: f64| 4.0 * 60f64.to_radians() * u * (1.0 - u);
+        let mut spine = vec![DVec2::ZERO];
+        for i in 0..n {
+            let u = (f64::from(i) + 0.5) / f64::from(n);
+            let last = *spine.last().unwrap_or(&DVec2::ZERO);
+            spine.push(last + DVec2::from_angle(theta(u)) * (300.0 / f64::from(n)));
+        }
+        // Turn the chord onto +y.
+        let chord = spine[spine.len() - 1] - spine[0];
+        let turn = DVec2::from_angle(DVec2::Y.to_angle() - chord.to_angle());
+        let spine: Vec<DVec2> = spine.iter().map(|p| turn.rotate(*p)).collect();
+        let n = n as usize;
+        let tangent = |i: usize| (spine[(i + 1).min(n)] - spine[i.saturating_sub(1)]).normalize();
+        let outline = |side: f64| -> Vec<DVec2> {
+            (n / 25..=n - n / 25)
+                .map(|i| spine[i] + tangent(i).perp() * 10.0 * side)
+                .collect()
+        };
+        let end = |i: usize, sweep: f64| -> Vec<DVec2> {
+            let (across, along) = (tangent(i).perp(), tangent(i));
+            (0..=24)
+                .map(|j| {
+                    let t = sweep * f64::from(j) / 24.0;
+                    spine[i] + across * 10.0 * t.cos() + along * 1.5 * t.sin()
+                })
+                .collect()
+        };
+        let strokes = vec![
+            (outline(1.0), StrokeClass::Silhouette),
+            (outline(-1.0), StrokeClass::Silhouette),
+            (end(0, std::f64::consts::TAU), StrokeClass::Feature),
+            (end(n, -std::f64::consts::PI), StrokeClass::Feature),
+        ];
+        DrawnTube {
+            strokes,
+            ends: [spine[0], spine[n]],
+            tangents: [tangent(0), tangent(n)],
+        }
+    }
+
+    /// A drawn tube: its strokes with their classes, and its spine's ends and end
+    /// tangents (bottom, top).
+    struct DrawnTube {
+        strokes: Vec<(Vec<DVec2>, StrokeClass)>,
+        ends: [DVec2; 2],
+        tangents: [DVec2; 2],
+    }
+
+    /// The image angle between lines along `a` and `b`, in degrees.
+    fn line_angle(a: DVec2, b: DVec2) -> f64 {
+        let turn = a.angle_to(b).abs();
+        turn.min(std::f64::consts::PI - turn).to_degrees()
+    }
+
+    /// The projected tangent of a start's spine at its first (`last` false) or last end:
+    /// the end segment turned back by half the next turn, as the model takes it.
+    fn end_direction(b: &Bgc, last: bool) -> DVec2 {
+        let p: Vec<DVec2> = if last {
+            b.spine.iter().rev().map(|q| q.truncate()).collect()
+        } else {
+            b.spine.iter().map(|q| q.truncate()).collect()
+        };
+        let (d0, d1) = (p[1] - p[0], p[2] - p[1]);
+        DVec2::from_angle(d0.to_angle() - d0.angle_to(d1) / 2.0)
+    }
+
+    #[test]
+    fn a_bent_tube_leaves_its_ends_along_their_drawn_ellipses() {
+        let DrawnTube {
+            strokes,
+            ends,
+            tangents,
+        } = s_tube();
+        // The context takes sketch points and the view flips their y.
+        let flip = |p: DVec2| DVec2::new(p.x, -p.y);
+        let (ends, tangents) = (ends.map(flip), tangents.map(flip));
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, (points, class))| (StrokeId(i as u32), points.as_slice(), *class)),
+        );
+        let spine = (0..8)
+            .map(|i| ends[0].lerp(ends[1], f64::from(i) / 7.0).extend(0.0))
+            .collect();
+        let dropped = Primitive::Bgc(Bgc::through(spine, 9.0));
+        let errors: Vec<[f64; 2]> = starts(&context, &dropped)
+            .iter()
+            .filter_map(|s| match &s.pose {
+                Primitive::Bgc(b) => Some([
+                    line_angle(end_direction(b, false), tangents[0]),
+                    line_angle(end_direction(b, true), tangents[1]),
+                ]),
+                _ => None,
+            })
+            .collect();
+        // The medial axis runs out before the ends, so a spine fitted to it alone leaves
+        // them 8° closer to the chord than drawn; one start leaves them as their
+        // ellipses are drawn.
+        assert!(
+            errors.iter().any(|e| e[0] < 5.0 && e[1] < 5.0),
+            "end tangents off by {errors:?} (degrees)"
+        );
     }
 }

@@ -470,13 +470,14 @@ fn snap_from(
             }
         }
     };
-    for start in bgc_start::starts(context, primitive) {
-        match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
-            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
-            Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
-            Err(e) => errors.push(e),
-        }
-    }
+    bgc_candidates(
+        context,
+        primitive,
+        settings,
+        &mut candidates,
+        &mut errors,
+        solve.reborrow(),
+    )?;
     if !candidates.iter().any(|c| good(&c.result)) {
         // No good fit from the drawn spine: the straight drop and the starting poses
         // compete alone, and the drop's error is the one reported when nothing snaps.
@@ -524,6 +525,34 @@ fn snap_from(
                 found: "no strokes".to_owned(),
             })),
     }
+}
+
+/// Snaps a dropped BGC from each start its drawing suggests (see [`bgc_start`]) into
+/// `candidates` (or `errors`). A variant of the start before it stands only where the
+/// strokes clearly prefer it ([`clearly_better`]): otherwise it is the same reading, up
+/// to the hand's noise. Nothing for another kind or a BGC already bent.
+fn bgc_candidates(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    candidates: &mut Vec<Scored>,
+    errors: &mut Vec<SnapError>,
+    mut solve: SolveContext<'_>,
+) -> Result<(), SnapError> {
+    for start in bgc_start::starts(context, primitive) {
+        match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
+            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+            Ok(r) => {
+                let scored = Scored::of(r, primitive.size(), settings);
+                let sibling = candidates.last().filter(|_| start.is_variant());
+                if sibling.is_none_or(|s| clearly_better(&scored, s)) {
+                    candidates.push(scored);
+                }
+            }
+            Err(e) => errors.push(e),
+        }
+    }
+    Ok(())
 }
 
 /// `best`, a cold snap of a bent tube fitted with a smooth profile (dropped at size
@@ -634,6 +663,23 @@ fn better(a: &Scored, b: &Scored) -> bool {
         }
     }
 }
+
+/// Whether `a` reads the drawing clearly better than `b`: a good fit against a poor
+/// one, clearly more of the drawing explained, or an RMS at most [`CLEARLY_CLOSER`] of
+/// `b`'s.
+fn clearly_better(a: &Scored, b: &Scored) -> bool {
+    let (ra, rb) = (&a.result, &b.result);
+    let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
+    (good(ra) && !good(rb))
+        || (good(ra) == good(rb)
+            && (a.explained > b.explained + margin
+                || (a.explained >= b.explained - margin && ra.rms <= CLEARLY_CLOSER * rb.rms)))
+}
+
+/// A second reading's RMS at most this fraction of the first's is clearly closer (as
+/// for [`DRAWN_PROFILE_RMS`]): a hand's noise moves a refit of the same reading by a few
+/// percent.
+const CLEARLY_CLOSER: f64 = 0.9;
 
 /// Whether a snap's RMS is within [`GOOD_FIT`] of its size.
 fn good(r: &SnapResult) -> bool {
