@@ -45,7 +45,7 @@
 //! end ellipse shows its minor axis (minor/major at most 0.8), a second start is read
 //! with the projected spine refitted through the ends' centres and along their minor
 //! axes (`ProjectedSpine::through_ends`). Both are snapped; the second stands only where
-//! its snap reads the drawing clearly better (see `snap::snap_from`), as a refit of the
+//! its snap reads the drawing clearly better (see `snap::bgc_candidates`), as a refit of the
 //! same reading differs from the first by the hand's noise alone.
 //!
 //! The spine is lifted onto that plane and resampled evenly in 3D; the radii follow the
@@ -497,7 +497,7 @@ pub(crate) struct Start {
     context: Option<Clipped>,
     /// Whether this is the start before it with its spine drawn through the drawn ends
     /// (see `ProjectedSpine::through_ends`): the same reading, told apart only where the
-    /// strokes clearly prefer it (see `snap::snap_from`).
+    /// strokes clearly prefer it (see `snap::bgc_candidates`).
     variant: bool,
 }
 

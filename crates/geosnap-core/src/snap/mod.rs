@@ -539,13 +539,16 @@ fn bgc_candidates(
     errors: &mut Vec<SnapError>,
     mut solve: SolveContext<'_>,
 ) -> Result<(), SnapError> {
+    // The candidate of the start before, when it gave one.
+    let mut previous: Option<usize> = None;
     for start in bgc_start::starts(context, primitive) {
+        let sibling = previous.take().filter(|_| start.is_variant());
         match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => {
                 let scored = Scored::of(r, primitive.size(), settings);
-                let sibling = candidates.last().filter(|_| start.is_variant());
-                if sibling.is_none_or(|s| clearly_better(&scored, s)) {
+                if sibling.is_none_or(|i| clearly_better(&scored, &candidates[i])) {
+                    previous = Some(candidates.len());
                     candidates.push(scored);
                 }
             }
