@@ -597,6 +597,7 @@ fn pose_from(
     // `ProjectedSpine::through_ends`: the medial axis runs out before the ends, most of
     // all where they are drawn off square): the snaps of both compete.
     let ends = [bottom.as_ref(), top.as_ref()];
+    let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
     let through = projected.through_ends(&local, ends);
     let mut poses = Vec::new();
     for spine in [Some(&projected), through.as_ref()].into_iter().flatten() {
@@ -617,7 +618,6 @@ fn pose_from(
             [spine.tangent(x0), spine.tangent(x1)],
         );
         let tilt = plane_tilt(&rows);
-        let depth = dropped.spine.iter().map(|q| q.z).sum::<f64>() / k as f64;
         let points = spine.lifted((x0, x1), depth, tilt, k);
         let mut radii: Vec<f64> = points.iter().map(|p| width(to_x(p.truncate()))).collect();
         if let Some((e, _)) = &bottom {

@@ -653,6 +653,17 @@ const GOOD_FIT: f64 = 0.05;
 /// fit that takes more strokes by bending itself out of shape loses to one that explains
 /// fewer strokes well.
 fn better(a: &Scored, b: &Scored) -> bool {
+    better_by(a, b, 1.0)
+}
+
+/// Whether `a` reads the drawing clearly better than `b`: as [`better`], but a closer
+/// fit wins a tie only with an RMS under [`CLEARLY_CLOSER`] of `b`'s.
+fn clearly_better(a: &Scored, b: &Scored) -> bool {
+    better_by(a, b, CLEARLY_CLOSER)
+}
+
+/// [`better`] with a closer fit winning a tie only with an RMS under `closer` × `b`'s.
+fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
     let (ra, rb) = (&a.result, &b.result);
     match (good(ra), good(rb)) {
         (true, false) => true,
@@ -662,21 +673,9 @@ fn better(a: &Scored, b: &Scored) -> bool {
             // wins.
             let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
             a.explained > b.explained + margin
-                || (a.explained >= b.explained - margin && ra.rms < rb.rms)
+                || (a.explained >= b.explained - margin && ra.rms < closer * rb.rms)
         }
     }
-}
-
-/// Whether `a` reads the drawing clearly better than `b`: a good fit against a poor
-/// one, clearly more of the drawing explained, or an RMS at most [`CLEARLY_CLOSER`] of
-/// `b`'s.
-fn clearly_better(a: &Scored, b: &Scored) -> bool {
-    let (ra, rb) = (&a.result, &b.result);
-    let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
-    (good(ra) && !good(rb))
-        || (good(ra) == good(rb)
-            && (a.explained > b.explained + margin
-                || (a.explained >= b.explained - margin && ra.rms <= CLEARLY_CLOSER * rb.rms)))
 }
 
 /// A second reading's RMS at most this fraction of the first's is clearly closer (as
