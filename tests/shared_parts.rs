@@ -108,9 +108,9 @@ const DROPS: usize = 10;
 /// Drops that must take the nominal strokes for a part to be stable.
 const STABLE_DROPS: usize = 9;
 
-/// Today's floor (45 of 62): parts whose snap matches their reference. Raise it as
+/// Today's floor (47 of 62): parts whose snap matches their reference. Raise it as
 /// snapping improves; never lower it to make a change pass.
-const GOOD_FLOOR: usize = 45;
+const GOOD_FLOOR: usize = 47;
 /// Today's floor (6 of 7): bent tubes whose snap matches their reference. Raise it as
 /// snapping improves.
 const GOOD_BGC_FLOOR: usize = 6;
@@ -119,18 +119,19 @@ const GOOD_BGC_FLOOR: usize = 6;
 /// change), 42 and 44 in that day's earlier runs; until the difference is explained the
 /// floor stays at the lowest.
 const STABLE_FLOOR: usize = 42;
-/// Today's ceiling (5 of the 45 good parts): good parts whose snap calls itself doubtful
+/// Today's ceiling (5 of the 47 good parts): good parts whose snap calls itself doubtful
 /// or refused. Three are called so for a length the drawing barely shows (the gramophone
 /// turntable's thickness and the square pipes' depth, which a 2D reference cannot
 /// check), two for an end radius nothing drawn fixes (the menorah's outer left arm where
 /// it meets the stem, the topless jug's open top), since the snap weighs how tightly its
 /// strokes pin each dimension. The target is at most 5 % of the parts.
 const GOOD_FLAGGED_CEILING: usize = 5;
-/// Today's ceiling (9 of 17): wrong parts accepted silently, their snap calling itself
+/// Today's ceiling (7 of 15): wrong parts accepted silently, their snap calling itself
 /// good; the target is that 90 % of wrong parts call themselves doubtful or refused. (A
 /// floor on the count of flagged wrong parts falls each time a wrong part is fixed: it
-/// was 10 of 23, 13 accepted, before six of the menorah's arms landed right.)
-const WRONG_ACCEPTED_CEILING: usize = 9;
+/// was 10 of 23, 13 accepted, before six of the menorah's arms landed right, and 9 of 17
+/// before a hand's slanted end ellipses stopped turning the axis.)
+const WRONG_ACCEPTED_CEILING: usize = 7;
 
 /// The sketches every part of which is scripted: all sixteen shared sketches.
 const SKETCHES: [&str; 16] = [
@@ -880,7 +881,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 }
 
 #[test]
-#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 45 of 62 parts good (73 %), 6 of 7 bent tubes, 45 of 62 stable (73 %), 6 of 17 wrong parts and 3 of 45 good ones called doubtful or refused"]
+#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 47 of 62 parts good (76 %), 6 of 7 bent tubes, 45 of 62 stable (73 %), 8 of 15 wrong parts and 5 of 47 good ones called doubtful or refused"]
 fn shared_parts_meet_the_targets() {
     let Some(dir) = common::shared_dir() else {
         return;

@@ -15,6 +15,7 @@ mod confidence;
 mod context;
 pub(crate) mod initial;
 mod objective;
+mod slant;
 mod spread;
 
 use thiserror::Error;
@@ -528,9 +529,9 @@ fn snap_from(
 }
 
 /// Snaps a dropped BGC from each start its drawing suggests (see [`bgc_start`]) into
-/// `candidates` (or `errors`). A variant of the start before it stands only where the
-/// strokes clearly prefer it ([`clearly_better`]): otherwise it is the same reading, up
-/// to the hand's noise. Nothing for another kind or a BGC already bent.
+/// `candidates` (or `errors`). A variant of a reading's start stands only where the
+/// strokes clearly prefer it ([`clearly_better`]) to the reading's standing snap:
+/// otherwise it is the same reading, up to the hand's noise. Nothing for another kind or a BGC already bent.
 fn bgc_candidates(
     context: &SnapContext,
     primitive: &Primitive,
@@ -539,16 +540,20 @@ fn bgc_candidates(
     errors: &mut Vec<SnapError>,
     mut solve: SolveContext<'_>,
 ) -> Result<(), SnapError> {
-    // The candidate of the start before, when it gave one.
-    let mut previous: Option<usize> = None;
+    // The candidate standing for the reading in hand (its first start's snap, or a
+    // variant's that beat it), when one does: every variant of the reading is weighed
+    // against it, not against whichever start came just before.
+    let mut standing: Option<usize> = None;
     for start in bgc_start::starts(context, primitive) {
-        let sibling = previous.take().filter(|_| start.is_variant());
+        if !start.is_variant() {
+            standing = None;
+        }
         match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => {
                 let scored = Scored::of(r, primitive.size(), settings);
-                if sibling.is_none_or(|i| clearly_better(&scored, &candidates[i])) {
-                    previous = Some(candidates.len());
+                if standing.is_none_or(|i| clearly_better(&scored, &candidates[i])) {
+                    standing = Some(candidates.len());
                     candidates.push(scored);
                 }
             }
@@ -768,10 +773,13 @@ fn snap_rounds(
     let mut evaluations = 0;
     let mut termination = Termination::Converged;
     for round in 0..3 {
+        // From the second round, each end ellipse's strokes are fitted turned about its
+        // centre by the hand's slant against the fitted pose (see [`slant`]).
+        let turned = (round > 0).then(|| slant::deslanted(&current, &assignment));
         // The solver refuses only a non-finite start.
         let (fitted, report) = fit(
             &current,
-            &assignment,
+            turned.as_ref().unwrap_or(&assignment),
             settings,
             multipliers.as_ref(),
             solve.reborrow(),
