@@ -531,7 +531,8 @@ fn snap_from(
 /// Snaps a dropped BGC from each start its drawing suggests (see [`bgc_start`]) into
 /// `candidates` (or `errors`). A variant of a reading's start stands only where the
 /// strokes clearly prefer it ([`clearly_better`]) to the reading's standing snap:
-/// otherwise it is the same reading, up to the hand's noise. Nothing for another kind or a BGC already bent.
+/// otherwise it is the same reading, up to the hand's noise. Nothing for another kind
+/// or a BGC already bent.
 fn bgc_candidates(
     context: &SnapContext,
     primitive: &Primitive,

@@ -23,7 +23,7 @@ use crate::primitive::{Curve2, Primitive};
 
 /// The largest slant of a hand's ellipse taken out by [`deslanted`]: the lego brick's
 /// studs lie within it; turned further, a stroke is more likely another curve's.
-pub(crate) const MAX_SLANT: f64 = 8.0 * std::f64::consts::PI / 180.0;
+const MAX_SLANT: f64 = 8.0 * std::f64::consts::PI / 180.0;
 
 /// `assignment` with the strokes of each end ellipse of a straight solid of revolution
 /// (cylinder, cone, SGC) turned about the ellipse's centre by the angle, within
