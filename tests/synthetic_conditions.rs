@@ -8,7 +8,7 @@
 //! slabs and planks; C and S spined, flared bent tubes), under each [`Condition`] (plain;
 //! near-axial and side-on views; 20–60 % of a silhouette missing; large overshoots and
 //! gaps; sketchy doubled lines; U and L strokes joined across corners; lines in short
-//! fragments), with hidden lines in every odd case (half of the scenes). The strokes
+//! fragments; end ellipses slanted by the hand), with hidden lines in every odd case (half of the scenes). The strokes
 //! become a [`Sketch`] without classes, and [`SnapContext::from_sketch`] preprocesses and
 //! classifies them as the app does. Each primitive is then dropped off its truth by
 //! [`Perturbation::ISSUE_16`] (centre by up to 10 % of its size, axis by up to 10°, each
@@ -150,9 +150,11 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
 /// [`KIND_FLOOR`]: measured plain 95.8 %, near-axial 62.5 %, side-on 79.2 %, missing
 /// 91.7 %, overshoots 75.0 %, sketchy 83.3 %, joined 75.0 %, fragments 79.2 %; side-on
 /// 100 % and fragments 95.8 % since a bent tube also starts from a spine through its
-/// drawn ends (overshoots, sketchy and joined one case more each). The target is
+/// drawn ends (overshoots, sketchy and joined one case more each); slanted 87.5 % when
+/// that condition joined, joined 79.2 % since a stroke drawn round a turn is read in its
+/// pieces and a far end's arc in the shape of the near end. The target is
 /// [`REQUIRED_CONDITION_RATE`].
-const CONDITION_FLOOR: [(Condition, f64); 8] = [
+const CONDITION_FLOOR: [(Condition, f64); 9] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.55),
     (Condition::SideOn, 0.90),
@@ -161,6 +163,7 @@ const CONDITION_FLOOR: [(Condition, f64); 8] = [
     (Condition::Sketchy, 0.75),
     (Condition::Joined, 0.70),
     (Condition::Fragments, 0.90),
+    (Condition::Slanted, 0.80),
 ];
 /// Today's floor per assembly kind (its parts; 23–39 per kind) in the floor test, as
 /// [`KIND_FLOOR`]: measured stack 87.0 %, table 68.4 %, ball+tubes 93.3 %, brick+studs
@@ -175,8 +178,10 @@ const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
 /// Today's floor per condition among the assemblies' parts (18–23 per condition) in the
 /// floor test, as [`KIND_FLOOR`]: measured plain 100 %, near-axial 82.6 %, side-on
 /// 72.2 %, missing 90.0 %, overshoots 90.9 %, sketchy 88.9 %, joined 66.7 %, fragments
-/// 94.7 %. The target is [`REQUIRED_CONDITION_RATE`].
-const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
+/// 94.7 %; slanted 100 % when that condition joined, joined 77.8 % since a stroke drawn
+/// round a turn is read in its pieces and a far end's arc in the shape of the near end.
+/// The target is [`REQUIRED_CONDITION_RATE`].
+const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 9] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.70),
     (Condition::SideOn, 0.65),
@@ -185,6 +190,7 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 8] = [
     (Condition::Sketchy, 0.85),
     (Condition::Joined, 0.60),
     (Condition::Fragments, 0.85),
+    (Condition::Slanted, 0.95),
 ];
 
 /// The largest share of good parts whose snap may call itself doubtful or refused (the
@@ -1192,14 +1198,14 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 83.0 % \
-            (cylinder 81.6, cone 88.8, sphere 100, box 89.1, SGC 86.9, BGC 51.6); \
-            conditions plain 92.9, near-axial 59.2, side-on 87.5, missing 91.7, overshoots \
-            82.5, sketchy 89.6, joined 75.4, fragments 85.0; assembly parts 83.3 % (stack \
-            93.2, table 76.9 with tops 60.9, ball+tubes 98.0, brick+studs 94.2, box+pipes \
-            94.2, handle 88.2, tee 82.5, plug 64.9, valves 86.3, menorah 71.9); assembly \
-            conditions from 61.5 (near-axial) to 92.0 (plain); wrong parts called \
-            doubtful or refused 356 of 772 (46 %), good ones 164 of 3820 (4.3 %)"]
+            assemblies per kind and condition (release): single primitives 83.5 % \
+            (cylinder 81.9, cone 90.3, sphere 100, box 90.3, SGC 88.3, BGC 50.0); \
+            conditions plain 92.9, near-axial 58.8, side-on 87.1, missing 91.7, overshoots \
+            82.9, sketchy 89.6, joined 77.5, fragments 84.2, slanted 86.7; assembly parts \
+            84.6 % (stack 92.7, table 78.2 with tops 63.9, ball+tubes 97.9, brick+studs \
+            94.6, box+pipes 94.9, handle 88.9, tee 85.6, plug 63.6, valves 88.2, menorah \
+            75.0); assembly conditions from 61.2 (near-axial) to 93.2 (plain); wrong parts \
+            called doubtful or refused 377 of 818 (46 %), good ones 181 of 4336 (4.2 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),

@@ -169,6 +169,10 @@
 //! - [`Condition::Fragments`]: 70 % of the curves drawn in 3–5 pieces of about equal
 //!   length (cuts ± 30 % of a piece), each joint a gap or an overlap of up to 2 % of the
 //!   curve's length.
+//! - [`Condition::Slanted`]: every end circle's curves (its ellipse, or its front arc and
+//!   hidden rest) turned about the circle's image centre by 2°–8° either way, one angle
+//!   per end: a freehand ellipse lands where it is meant and about as large, but its
+//!   axes come out a few degrees off (the shared lego brick's studs, 5–10°).
 
 use std::f64::consts::{PI, TAU};
 
@@ -776,6 +780,7 @@ impl Pen<'_> {
                 class,
                 label: label.to_owned(),
                 gap_factor,
+                pivot: None,
             });
             return;
         }
@@ -835,6 +840,7 @@ impl Pen<'_> {
                 class,
                 label,
                 gap_factor: 0.0,
+                pivot: None,
             });
             return;
         }
@@ -847,6 +853,17 @@ impl Pen<'_> {
     /// with axis `axis` (bottom to top) and slope `slope` at that end: whole when it faces
     /// the viewer, else its visible front arc (module docs).
     fn end(&mut self, m: DVec3, n: DVec3, axis: DVec3, r: f64, slope: f64, name: &str) {
+        let recorded = self.record.as_ref().map_or(0, Vec::len);
+        self.end_curves(m, n, axis, r, slope, name);
+        if let Some(record) = &mut self.record {
+            for ideal in &mut record[recorded..] {
+                ideal.pivot = Some(m.truncate());
+            }
+        }
+    }
+
+    /// The curves of [`Pen::end`].
+    fn end_curves(&mut self, m: DVec3, n: DVec3, axis: DVec3, r: f64, slope: f64, name: &str) {
         if n.z > 0.0 {
             let theta0 = self.rng.range(0.0, TAU);
             let sweep = TAU + self.rng.range(-1.0, 1.0) * self.style.closure;
@@ -1034,11 +1051,13 @@ pub(crate) enum Condition {
     Joined,
     /// Lines drawn in several short pieces.
     Fragments,
+    /// End ellipses drawn turned 2°–8° about their centres, as a hand slants them.
+    Slanted,
 }
 
 impl Condition {
     /// Every condition.
-    pub(crate) const ALL: [Self; 8] = [
+    pub(crate) const ALL: [Self; 9] = [
         Self::Plain,
         Self::NearAxial,
         Self::SideOn,
@@ -1047,6 +1066,7 @@ impl Condition {
         Self::Sketchy,
         Self::Joined,
         Self::Fragments,
+        Self::Slanted,
     ];
 
     /// A short name.
@@ -1060,6 +1080,7 @@ impl Condition {
             Self::Sketchy => "sketchy",
             Self::Joined => "joined",
             Self::Fragments => "fragments",
+            Self::Slanted => "slanted",
         }
     }
 
@@ -1103,6 +1124,9 @@ struct Ideal {
     label: String,
     /// Scales the chance of a gap, as in [`Pen::open`].
     gap_factor: f64,
+    /// The image centre of the end circle it draws, when it draws one (turned about it
+    /// under [`Condition::Slanted`]).
+    pivot: Option<DVec2>,
 }
 
 impl Ideal {
@@ -1637,6 +1661,9 @@ impl Pen<'_> {
     /// Draws the recorded ideals under `condition` (module docs, "Conditions").
     fn render(&mut self, condition: Condition) {
         let mut ideals = self.record.take().unwrap_or_default();
+        if condition == Condition::Slanted {
+            self.slant(&mut ideals);
+        }
         if condition == Condition::Joined {
             ideals = self.join(ideals);
         }
@@ -1677,6 +1704,28 @@ impl Pen<'_> {
         }
     }
 
+    /// Turns every end circle's curves about its centre by 2°–8° either way, one angle
+    /// per end (its front and hidden arcs alike).
+    fn slant(&mut self, ideals: &mut [Ideal]) {
+        let mut turns: Vec<(DVec2, f64)> = Vec::new();
+        for ideal in ideals.iter_mut() {
+            let Some(pivot) = ideal.pivot else {
+                continue;
+            };
+            let turn = if let Some((_, turn)) = turns.iter().find(|(p, _)| *p == pivot) {
+                *turn
+            } else {
+                let turn = self.rng.degrees(2.0, 8.0) * self.rng.sign();
+                turns.push((pivot, turn));
+                turn
+            };
+            let rotation = DVec2::from_angle(turn);
+            for p in &mut ideal.points {
+                *p = pivot + rotation.rotate(*p - pivot);
+            }
+        }
+    }
+
     /// Joins strokes across corners: the outlines of a solid of revolution or a tube and
     /// its far end's front arc into one U stroke; one or two pairs of box edges that meet
     /// at a corner into L strokes.
@@ -1696,6 +1745,7 @@ impl Pen<'_> {
                 class: StrokeClass::Silhouette,
                 label: format!("U: left + {} + right", ideals[a].label),
                 gap_factor: 0.0,
+                pivot: None,
             };
             let mut out: Vec<Ideal> = ideals
                 .into_iter()
@@ -1740,6 +1790,7 @@ impl Pen<'_> {
                 class: StrokeClass::Silhouette,
                 label: format!("L: {} + {}", ideals[a].label, ideals[b].label),
                 gap_factor: 0.0,
+                pivot: None,
             });
         }
         let mut out: Vec<Ideal> = ideals

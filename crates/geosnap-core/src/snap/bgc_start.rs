@@ -345,8 +345,10 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
     clipped
         .strokes
         .retain(|s| !across.contains(&s.id) && s.points.len() >= 2);
+    let clipped = SnapContext::of(clipped.strokes);
     let mut whole = context.clone();
     whole.strokes.retain(|s| !across.contains(&s.id));
+    whole.pieces.retain(|s| !across.contains(&s.id));
     vec![(
         tube.samples,
         Some((clipped, whole, tube.walls)),

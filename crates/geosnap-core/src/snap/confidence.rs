@@ -652,9 +652,7 @@ mod tests {
             Verdict::Good
         );
         // Three of its nine visible edges: enough to fit, not enough to trust.
-        let sparse = SnapContext {
-            strokes: full.strokes.iter().take(3).cloned().collect(),
-        };
+        let sparse = SnapContext::of(full.strokes.iter().take(3).cloned().collect());
         let result = snap(&sparse, &dropped, &settings).expect("three edges fit a box");
         let confidence = result.confidence(&dropped, &nobody, &settings);
         assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");

@@ -3,6 +3,7 @@
 
 use glam::DVec2;
 
+use super::pieces::turn_pieces;
 use crate::geom::projection::view_from_sketch;
 use crate::sketch::{
     classify_sketch, preprocess_report, ClassifyOptions, MergedStroke, PreprocessOptions, Sketch,
@@ -38,6 +39,9 @@ pub struct SnapStroke {
 pub struct SnapContext {
     /// The strokes.
     pub strokes: Vec<SnapStroke>,
+    /// The pieces of the strokes drawn round a turn (a U, an L), each under its stroke's
+    /// id: what the starting poses read besides whole strokes ([`super::pieces`]).
+    pub(crate) pieces: Vec<SnapStroke>,
 }
 
 impl SnapContext {
@@ -57,7 +61,20 @@ impl SnapContext {
                 prepare(id, points, class)
             })
             .collect();
-        Self { strokes }
+        Self::of(strokes)
+    }
+
+    /// A context of prepared strokes, with their pieces.
+    pub(crate) fn of(strokes: Vec<SnapStroke>) -> Self {
+        let pieces = strokes
+            .iter()
+            .flat_map(|s| {
+                turn_pieces(&s.points)
+                    .into_iter()
+                    .filter_map(|r| prepare(s.id, s.points[r].to_vec(), s.class))
+            })
+            .collect();
+        Self { strokes, pieces }
     }
 
     /// Prepares a whole sketch: preprocessing (dots dropped, duplicate strokes merged,

@@ -2,47 +2,22 @@
 //!
 //! A dropped primitive has a fixed tilt, but the strokes say how the part really sits,
 //! and the fit converges far more reliably from there. Four readings are made:
-//! - solids of revolution, from their end ellipses (below);
+//! - solids of revolution, from their end ellipses ([`ends`]);
 //! - solids of revolution, from their two outlines ([`outlines`]);
 //! - boxes, from the directions of their drawn edges ([`box_poses`]);
 //! - spheres, from the circle their outline draws near the drop ([`sphere_poses`]).
 //!
-//! # End ellipses
-//!
-//! An end circle of a solid of revolution seen at elevation φ projects (orthographically)
-//! to an ellipse with minor/major = |sin φ| (the axis' z component) whose minor axis runs
-//! along the projected axis, whatever the part's proportions. Every stroke near the drop,
-//! and every run of fragments that continue one another end to end (an ellipse drawn in
-//! three or four arcs), is fitted with an ellipse (Halíř–Flusser, refined); one it fits
-//! well (RMS within 8 % of
-//! the ellipse) over a quarter of a turn or more (an arc the classifier took for an
-//! outline must cover more: 2.5 rad), whose centre lies near an end of the dropped
-//! primitive and whose major semi-axis is within a factor 2 of the dropped radii, may
-//! draw an end.
-//!
-//! Two such ellipses draw the two ends when they agree as a solid's ends must: about the
-//! same minor/major and orientation, their centres offset along their minor axes. Of the
-//! pairs that agree, the one nearest the dropped ends (in place and radius) is taken; the
-//! tilt, the image axis (the minor axes, signed by the offset), the centre (midway), the
-//! length (the offset along the axis) and the radii then all come from the drawing. This
-//! holds for a rod as for a thin disc, whose two large concentric ellipses a tenth of a
-//! radius apart say its tilt and thickness although its outlines are too short to.
-//! Without a pair, the single ellipse nearest a dropped end gives the tilt, the image
-//! axis (its minor axis), the radius and, with the dropped projected length, the centre
-//! on the side of the drop.
-//!
-//! The mirror sign of the tilt does not change the projection, so the positive one is
-//! used.
-
 use glam::{DMat3, DQuat, DVec2, DVec3};
 
 use super::assign::{curve_bounds, ROUGHLY_STRAIGHT};
 use super::context::{SnapContext, SnapStroke};
-use crate::geom::{fit_circle, fit_ellipse, refine_ellipse, Circle2, Ellipse2};
+use crate::geom::{fit_circle, Circle2};
 use crate::primitive::{Cuboid, Primitive, Sphere};
-use crate::sketch::{StrokeClass, StrokeId};
 
+mod ends;
 mod outlines;
+
+pub(crate) use ends::repose_from_ellipses;
 
 /// The starting poses worth a try besides the dropped one (none when the drawing near it
 /// says nothing more).
@@ -61,98 +36,6 @@ pub(crate) fn starting_poses(context: &SnapContext, primitive: &Primitive) -> Ve
             .chain(outlines::outline_poses(context, primitive))
             .collect(),
     }
-}
-
-/// An ellipse fitted to a stroke, with its major axis the larger (`semi_major ≥
-/// semi_minor`).
-fn normalised(e: Ellipse2) -> Ellipse2 {
-    if e.semi_minor.abs() > e.semi_major.abs() {
-        Ellipse2 {
-            center: e.center,
-            semi_major: e.semi_minor.abs(),
-            semi_minor: e.semi_major.abs(),
-            angle: e.angle + std::f64::consts::FRAC_PI_2,
-        }
-    } else {
-        Ellipse2 {
-            semi_major: e.semi_major.abs(),
-            semi_minor: e.semi_minor.abs(),
-            ..e
-        }
-    }
-}
-
-/// An ellipse that a stroke, or a run of fragments, draws (see [`drawn_ellipses`]).
-struct Drawn {
-    /// The fitted ellipse.
-    ellipse: Ellipse2,
-    /// The strokes that draw it (one, or the fragments of a run in order).
-    strokes: Vec<StrokeId>,
-    /// Their points.
-    points: Vec<DVec2>,
-    /// The points' RMS distance to it.
-    rms: f64,
-}
-
-/// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
-/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed). Besides
-/// single strokes, runs of fragments ([`fragment_runs`]) are read together: a hand
-/// often draws an ellipse in three or four arcs, none of which says its shape alone.
-fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f64)) -> Vec<Drawn> {
-    let nearby: Vec<&SnapStroke> = context
-        .strokes
-        .iter()
-        .filter(|stroke| {
-            let (lo, hi) = stroke.bounds;
-            let closest = DVec2::new(near.x.clamp(lo.x, hi.x), near.y.clamp(lo.y, hi.y));
-            stroke.points.len() >= 3 && closest.distance(near) <= reach + 2.0 * radii.1
-        })
-        .collect();
-    let mut out = Vec::new();
-    let mut read = |run: &[&SnapStroke]| {
-        let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
-        if points.len() < 5 {
-            return;
-        }
-        let Some(fit) = fit_ellipse(&points) else {
-            return;
-        };
-        let fit = normalised(refine_ellipse(&fit, &points));
-        if fit.center.distance(near) > reach || !(radii.0..=radii.1).contains(&fit.semi_major) {
-            return;
-        }
-        // Only strokes the ellipse really fits (RMS within 8 % of its size) and that
-        // cover a good part of it tell the tilt; an arc classified as an outline must
-        // cover more of the turn, as an outline bent by the hand may fit a short arc.
-        let min_sweep = if run.iter().all(|s| s.class == StrokeClass::Feature) {
-            1.5
-        } else {
-            2.5
-        };
-        let (rms, span) = fit.rms_distance_and_span(&points);
-        let covered = span.map_or(0.0, |s| s.sweep);
-        if rms <= 0.08 * fit.semi_major && covered >= min_sweep {
-            out.push(Drawn {
-                ellipse: fit,
-                strokes: run.iter().map(|s| s.id).collect(),
-                points,
-                rms,
-            });
-        }
-    };
-    for stroke in &nearby {
-        read(std::slice::from_ref(stroke));
-    }
-    for run in fragment_runs(&nearby, radii.1) {
-        // Every stretch of two or more consecutive fragments: a run may carry on from an
-        // end arc into the outline it meets.
-        for len in 2..=run.len() {
-            for window in run.windows(len) {
-                read(window);
-            }
-        }
-    }
-    out
 }
 
 /// The longest run of fragments [`fragment_runs`] follows.
@@ -235,204 +118,6 @@ fn fragment_runs<'a>(strokes: &[&'a SnapStroke], radius: f64) -> Vec<Vec<&'a Sna
     runs
 }
 
-/// Whether two readings draw one ellipse between them (pieces of one end, or one end
-/// drawn twice) rather than two: they share a stroke, or one ellipse fits both about as
-/// well (RMS within 1.5 × the worse of their own) as each fits its own.
-fn one_ellipse(a: &Drawn, b: &Drawn) -> bool {
-    if a.strokes.iter().any(|s| b.strokes.contains(s)) {
-        return true;
-    }
-    let points: Vec<DVec2> = a.points.iter().chain(&b.points).copied().collect();
-    fit_ellipse(&points).is_some_and(|e| {
-        let e = refine_ellipse(&e, &points);
-        e.rms_distance(&points) <= 1.5 * a.rms.max(b.rms)
-    })
-}
-
-/// The axis with image direction `dir` and out-of-plane component `z` (|z| < 1).
-fn tilted(dir: DVec2, z: f64) -> DVec3 {
-    let xy = dir.normalize_or(DVec2::Y) * (1.0 - z * z).max(0.0).sqrt();
-    DVec3::new(xy.x, xy.y, z)
-}
-
-/// Minor over major of an ellipse, clamped below 0.95 (a rounder end says little of the
-/// image axis, and a tilt of 1 none of its length).
-fn roundness(e: &Ellipse2) -> f64 {
-    (e.semi_minor / e.semi_major.max(f64::MIN_POSITIVE)).clamp(0.0, 0.95)
-}
-
-/// Ellipses rounder than this do not tell the image axis by their minor axes.
-const ROUND: f64 = 0.9;
-
-/// Whether ellipses `b` and `t` can draw the two ends of one solid of revolution (module
-/// docs): the same roundness within 0.2, major axes within 20° (unless both are nearly
-/// round), and centres offset along the minor axes (across them by at most a quarter of
-/// the major semi-axis).
-fn ends_agree(b: &Ellipse2, t: &Ellipse2) -> bool {
-    let (rb, rt) = (roundness(b), roundness(t));
-    if (rb - rt).abs() > 0.2 {
-        return false;
-    }
-    let round = rb.min(rt) >= ROUND;
-    if !round && b.major_axis().perp_dot(t.major_axis()).abs() > 20f64.to_radians().sin() {
-        return false;
-    }
-    let across = (t.center - b.center).dot(b.major_axis()).abs();
-    round || across <= 0.25 * b.semi_major.max(t.semi_major)
-}
-
-/// What the drawn ends say of a solid of revolution: its image axis (unit, signed
-/// bottom to top), tilt, image centre, projected length and end radii.
-struct Reading {
-    dir: DVec2,
-    z: f64,
-    center: DVec2,
-    projected: f64,
-    radii: (f64, f64),
-}
-
-/// The drawn ends' reading (module docs), or `None` when no ellipse near the drop
-/// draws an end. `ends` are the dropped ends' image centres (bottom, top), `radii` their
-/// radii, `image_dir` the dropped image axis and `projected` its projected length.
-fn read_ends(
-    context: &SnapContext,
-    ends: (DVec2, DVec2),
-    radii: (f64, f64),
-    image_dir: DVec2,
-    projected: f64,
-    gate: f64,
-) -> Option<Reading> {
-    let mid = ends.0.midpoint(ends.1);
-    let reach = gate + ends.0.distance(ends.1) / 2.0;
-    let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
-    let drawn = drawn_ellipses(context, mid, reach, allowed);
-    let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
-    if let Some((i, j)) = end_pair(&drawn, &ellipses, ends, radii, gate) {
-        return Some(pair_reading(ellipses[i], ellipses[j], image_dir, gate));
-    }
-    // One end drawn: the nearest ellipse to either dropped end.
-    let (e, top) = ellipses
-        .iter()
-        .flat_map(|e| {
-            [
-                end_cost(e, ends.0, radii.0, gate).map(|c| (c, e, false)),
-                end_cost(e, ends.1, radii.1, gate).map(|c| (c, e, true)),
-            ]
-        })
-        .flatten()
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, e, top)| (e, top))?;
-    Some(one_end_reading(e, top, ends, radii, image_dir, projected))
-}
-
-/// How far an ellipse is from drawing an end at `at` with radius `r`: its centre's
-/// distance in gates plus its radius' in log ratio; `None` beyond a gate, where it does
-/// not draw that end.
-fn end_cost(e: &Ellipse2, at: DVec2, r: f64, gate: f64) -> Option<f64> {
-    let d = e.center.distance(at) / gate;
-    (d <= 1.0).then(|| d + (e.semi_major / r).ln().abs())
-}
-
-/// The indices among `ellipses` (the ellipses of `drawn`) of the bottom and top end
-/// ellipses that agree as the two ends of one solid and lie nearest the dropped ends
-/// (`ends`, with `radii`) by [`end_cost`], or `None` when no two do.
-fn end_pair(
-    drawn: &[Drawn],
-    ellipses: &[&Ellipse2],
-    ends: (DVec2, DVec2),
-    radii: (f64, f64),
-    gate: f64,
-) -> Option<(usize, usize)> {
-    let mut pair: Option<(f64, usize, usize)> = None;
-    for (i, b) in ellipses.iter().enumerate() {
-        for (j, t) in ellipses.iter().enumerate() {
-            if i == j || !ends_agree(b, t) {
-                continue;
-            }
-            let (Some(cb), Some(ct)) = (
-                end_cost(b, ends.0, radii.0, gate),
-                end_cost(t, ends.1, radii.1, gate),
-            ) else {
-                continue;
-            };
-            if pair.is_none_or(|(c, _, _)| cb + ct < c) && !one_ellipse(&drawn[i], &drawn[j]) {
-                pair = Some((cb + ct, i, j));
-            }
-        }
-    }
-    pair.map(|(_, i, j)| (i, j))
-}
-
-/// The reading of two drawn end ellipses, bottom `b` and top `t`: tilt from the rounder,
-/// image axis from their minor axes, the centre between them and the projected length
-/// along the axis. `image_dir` is the dropped image axis.
-fn pair_reading(b: &Ellipse2, t: &Ellipse2, image_dir: DVec2, gate: f64) -> Reading {
-    let z = roundness(b).max(roundness(t));
-    let offset = t.center - b.center;
-    // The image axis: the minor axes (sign-aligned), unless the ends are too round to
-    // tell, then the offset, then the drop's.
-    let along = |d: DVec2, like: DVec2| if d.dot(like) < 0.0 { -d } else { d };
-    let reference = if offset.length() > 1e-9 * gate {
-        offset
-    } else {
-        image_dir
-    };
-    let dir = if z < ROUND {
-        (along(b.minor_axis(), reference) + along(t.minor_axis(), reference))
-            .normalize_or(image_dir)
-    } else {
-        reference.normalize_or(image_dir)
-    };
-    Reading {
-        dir,
-        z,
-        center: b.center.midpoint(t.center),
-        projected: offset.dot(dir).abs(),
-        radii: (b.semi_major, t.semi_major),
-    }
-}
-
-/// The reading of one drawn end ellipse `e` (the top end when `top`): tilt and image axis
-/// from it, the dropped projected length, the centre on the drop's side of the end, and
-/// the dropped end radii scaled to its radius. `ends`, `radii`, `image_dir` and
-/// `projected` are the drop's as in [`read_ends`].
-fn one_end_reading(
-    e: &Ellipse2,
-    top: bool,
-    ends: (DVec2, DVec2),
-    radii: (f64, f64),
-    image_dir: DVec2,
-    projected: f64,
-) -> Reading {
-    let z = roundness(e);
-    let dir = if z < ROUND {
-        let m = e.minor_axis();
-        if m.dot(image_dir) < 0.0 {
-            -m
-        } else {
-            m
-        }
-    } else {
-        image_dir.normalize_or(DVec2::Y)
-    };
-    // The drop's projected length at the drawn tilt; the centre on the drop's side of
-    // the end.
-    let drop_centre = ends.0.midpoint(ends.1);
-    let side = if (drop_centre - e.center).dot(dir) < 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
-    let scale = e.semi_major / if top { radii.1 } else { radii.0 };
-    Reading {
-        dir,
-        z,
-        center: e.center + dir * (side * projected / 2.0),
-        projected,
-        radii: (radii.0 * scale, radii.1 * scale),
-    }
-}
-
 /// A solid of revolution's pose as the starting poses read and change it: centre, unit
 /// axis, length and end radii (bottom, top).
 pub(super) struct Revolution {
@@ -504,37 +189,6 @@ impl Revolution {
     }
 }
 
-/// The dropped primitive re-posed from its drawn end ellipses, or `None` when it is not
-/// a solid of revolution or no end ellipse is drawn near it.
-pub(crate) fn repose_from_ellipses(
-    context: &SnapContext,
-    primitive: &Primitive,
-) -> Option<Primitive> {
-    let dropped = Revolution::of(primitive)?;
-    let gate = 0.3 * primitive.size();
-    let half = dropped.axis * (dropped.length / 2.0);
-    let ends = (
-        (dropped.center - half).truncate(),
-        (dropped.center + half).truncate(),
-    );
-    let image_dir = dropped.axis.truncate();
-    let reading = read_ends(
-        context,
-        ends,
-        dropped.radii,
-        image_dir,
-        dropped.length * image_dir.length(),
-        gate,
-    )?;
-    Revolution {
-        center: DVec3::new(reading.center.x, reading.center.y, dropped.center.z),
-        axis: tilted(reading.dir, reading.z),
-        length: reading.projected / (1.0 - reading.z * reading.z).max(1e-6).sqrt(),
-        radii: reading.radii,
-    }
-    .applied_to(primitive)
-}
-
 /// The circles a sphere's outline may draw near a drop: a centre within half the dropped
 /// radius of the dropped centre and a radius within a factor 1.6 of the dropped one, as
 /// a hand's rough drop misses by less.
@@ -578,6 +232,7 @@ fn sphere_poses(context: &SnapContext, dropped: &Sphere) -> Vec<Sphere> {
     let nearby: Vec<&SnapStroke> = context
         .strokes
         .iter()
+        .chain(&context.pieces)
         .filter(|stroke| {
             let (lo, hi) = stroke.bounds;
             let closest = DVec2::new(c0.x.clamp(lo.x, hi.x), c0.y.clamp(lo.y, hi.y));
@@ -855,9 +510,11 @@ pub(super) fn strokes_near<'a>(
     }
     let (lo, hi) = (lo - DVec2::splat(margin), hi + DVec2::splat(margin));
     let inside = |p: &DVec2| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
+    // Whole strokes, and the pieces of those drawn round a turn (`pieces.rs`).
     context
         .strokes
         .iter()
+        .chain(&context.pieces)
         .filter(|s| keep(s) && s.points.iter().all(inside))
         .collect()
 }
@@ -973,8 +630,8 @@ fn poses_from_groups(groups: &[(DVec2, Vec<Edge>); 3], dropped: &Cuboid) -> Vec<
 pub(super) mod tests {
     use glam::{DQuat, DVec2, DVec3};
 
-    use super::{box_poses, fragment_runs, repose_from_ellipses, starting_poses};
-    use crate::primitive::{Cuboid, Curve2, Cylinder, Primitive, Sphere};
+    use super::{box_poses, fragment_runs, starting_poses};
+    use crate::primitive::{Cuboid, Curve2, Primitive, Sphere};
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::snap::context::SnapStroke;
     use crate::snap::SnapContext;
@@ -1235,7 +892,13 @@ pub(super) mod tests {
 
     /// A circle of `radius` about `centre` square to `axis`, from angle `from` to `to`
     /// (radians), as a stroke in sketch space (y down).
-    fn rim(centre: DVec3, axis: DVec3, radius: f64, from: f64, to: f64) -> Vec<DVec2> {
+    pub(in crate::snap) fn rim(
+        centre: DVec3,
+        axis: DVec3,
+        radius: f64,
+        from: f64,
+        to: f64,
+    ) -> Vec<DVec2> {
         let u = axis.any_orthonormal_vector();
         let v = axis.cross(u);
         (0..=48)
@@ -1255,142 +918,6 @@ pub(super) mod tests {
                 .enumerate()
                 .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), class)),
         )
-    }
-
-    /// A table top: radius 200, a tenth as thick, tilted 37° out of the view plane.
-    fn disc() -> Cylinder {
-        Cylinder {
-            center: DVec3::new(500.0, -400.0, 0.0),
-            axis: DVec3::new(0.48, 0.64, 0.6),
-            length: 20.0,
-            radius: 200.0,
-        }
-    }
-
-    /// The disc dropped as a hand would: in the palette's tilt, turned, smaller, off.
-    fn dropped_disc() -> Primitive {
-        Primitive::Cylinder(Cylinder {
-            center: DVec3::new(515.0, -390.0, 0.0),
-            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
-            length: 30.0,
-            radius: 160.0,
-        })
-    }
-
-    #[test]
-    fn two_concentric_large_ellipses_make_a_disc() {
-        let truth = disc();
-        let half = truth.axis * (truth.length / 2.0);
-        let tau = std::f64::consts::TAU;
-        let context = strokes_of(
-            &[
-                rim(truth.center + half, truth.axis, truth.radius, 0.0, tau),
-                rim(
-                    truth.center - half,
-                    truth.axis,
-                    truth.radius,
-                    0.0,
-                    tau / 2.0,
-                ),
-            ],
-            StrokeClass::Feature,
-        );
-        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
-            panic!("no pose");
-        };
-        let mirror = DVec3::new(c.axis.x, c.axis.y, -c.axis.z);
-        let angle = c
-            .axis
-            .dot(truth.axis)
-            .abs()
-            .max(mirror.dot(truth.axis).abs())
-            .min(1.0)
-            .acos();
-        assert!(angle.to_degrees() < 0.5, "{c:?}");
-        assert!(
-            (c.length - truth.length).abs() < 0.02 * truth.length,
-            "{c:?}"
-        );
-        assert!(
-            (c.radius - truth.radius).abs() < 0.01 * truth.radius,
-            "{c:?}"
-        );
-        assert!(c.center.truncate().distance(truth.center.truncate()) < 0.5);
-    }
-
-    #[test]
-    fn two_halves_of_one_ellipse_are_one_end() {
-        // Only the near end is drawn, in two strokes: they are not the disc's two ends
-        // (which would make it a disc of no thickness).
-        let truth = disc();
-        let near = truth.center + truth.axis * (truth.length / 2.0);
-        let pi = std::f64::consts::PI;
-        let context = strokes_of(
-            &[
-                rim(near, truth.axis, truth.radius, 0.0, pi),
-                rim(near, truth.axis, truth.radius, pi, 2.0 * pi),
-            ],
-            StrokeClass::Feature,
-        );
-        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped_disc()) else {
-            panic!("no pose");
-        };
-        // The tilt and image axis are the drawn end's; the length is the drop's.
-        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.01, "{c:?}");
-        let dir = c.axis.truncate().normalize();
-        assert!(
-            dir.dot(truth.axis.truncate().normalize()).abs() > 0.9999,
-            "{c:?}"
-        );
-        assert!(c.length > 20.0, "{c:?}");
-    }
-
-    #[test]
-    fn ends_drawn_in_fragments_are_read_together() {
-        // A rod whose top is drawn in five short arcs and whose bottom's half in three,
-        // with small gaps: no arc alone sweeps enough of a turn to tell the tilt.
-        let truth = Cylinder {
-            center: DVec3::new(300.0, -300.0, 0.0),
-            axis: DVec3::new(0.3, 0.8, 0.52).normalize(),
-            length: 150.0,
-            radius: 60.0,
-        };
-        let half = truth.axis * (truth.length / 2.0);
-        let tau = std::f64::consts::TAU;
-        let arcs = |centre: DVec3, from: f64, to: f64, n: usize| {
-            (0..n)
-                .map(|k| {
-                    let step = (to - from) / n as f64;
-                    let a = from + step * k as f64;
-                    rim(centre, truth.axis, truth.radius, a + 0.04, a + step - 0.04)
-                })
-                .collect::<Vec<_>>()
-        };
-        let mut strokes = arcs(truth.center + half, 0.0, tau, 5);
-        strokes.extend(arcs(truth.center - half, 0.0, tau / 2.0, 3));
-        let context = strokes_of(&strokes, StrokeClass::Feature);
-        let dropped = Primitive::Cylinder(Cylinder {
-            center: DVec3::new(310.0, -290.0, 0.0),
-            axis: DVec3::new(0.35, 0.87, 0.342).normalize(),
-            length: 120.0,
-            radius: 50.0,
-        });
-        let Some(Primitive::Cylinder(c)) = repose_from_ellipses(&context, &dropped) else {
-            panic!("no pose");
-        };
-        assert!((c.axis.z.abs() - truth.axis.z).abs() < 0.02, "{c:?}");
-        assert!(
-            (c.length - truth.length).abs() < 0.05 * truth.length,
-            "{c:?}"
-        );
-        assert!(
-            (c.radius - truth.radius).abs() < 0.03 * truth.radius,
-            "{c:?}"
-        );
-        assert!(
-            c.center.truncate().distance(truth.center.truncate()) < 3.0,
-            "{c:?}"
-        );
     }
 
     #[test]
@@ -1488,6 +1015,7 @@ pub(super) mod tests {
             )
         }));
         context.strokes.extend(extra.strokes);
+        context.pieces.extend(extra.pieces);
         let dropped = Cuboid {
             center: truth.center + DVec3::new(10.0, -8.0, 0.0),
             size: DVec3::new(230.0, 20.0, 120.0),

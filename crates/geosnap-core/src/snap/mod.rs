@@ -15,6 +15,7 @@ mod confidence;
 mod context;
 pub(crate) mod initial;
 mod objective;
+mod pieces;
 mod slant;
 mod spread;
 

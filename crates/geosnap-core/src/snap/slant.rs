@@ -2,10 +2,11 @@
 //!
 //! A freehand ellipse lands where it is meant and about as large, but its axes come out
 //! a few degrees off: the shared lego brick's studs are drawn with upright side lines and
-//! ellipses slanted 5–10° against them, and the tubes on the shared ball likewise. A straight solid of revolution has no freedom
-//! for that: its end ellipses' minor axes lie along its projected axis. Fitted as drawn,
-//! the slant turns the axis and, through the ellipses' flatness, its tilt and length,
-//! as a compromise between the outlines and the ends.
+//! ellipses slanted 5–10° against them, and the tubes on the shared ball likewise. A
+//! straight solid of revolution has no freedom for that: its end ellipses' minor axes
+//! lie along its projected axis. Fitted as drawn, the slant turns the axis and, through
+//! the ellipses' flatness, its tilt and length, as a compromise between the outlines and
+//! the ends.
 //!
 //! For a cylinder, a cone or an SGC whose outlines run at least an end's width (a squat
 //! part's ellipses are what says its axis, so they keep it), each end ellipse's strokes
@@ -75,15 +76,20 @@ pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assig
                 .map(|p| curve_distance(&curve.curve, c + turn.rotate(*p - c)).powi(2))
                 .sum::<f64>()
         };
-        // Golden-section search over the slant.
+        // Golden-section search over the slant, one new cost per step.
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut lo, mut hi) = (-MAX_SLANT, MAX_SLANT);
+        let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        let (mut f1, mut f2) = (cost(x1), cost(x2));
         for _ in 0..24 {
-            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            if cost(x1) < cost(x2) {
-                hi = x2;
+            if f1 < f2 {
+                (hi, x2, f2) = (x2, x1, f1);
+                x1 = hi - g * (hi - lo);
+                f1 = cost(x1);
             } else {
-                lo = x1;
+                (lo, x1, f1) = (x1, x2, f2);
+                x2 = lo + g * (hi - lo);
+                f2 = cost(x2);
             }
         }
         let t = 0.5 * (lo + hi);
