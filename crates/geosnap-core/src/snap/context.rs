@@ -40,7 +40,9 @@ pub struct SnapContext {
     /// The strokes.
     pub strokes: Vec<SnapStroke>,
     /// The pieces of the strokes drawn round a turn (a U, an L), each under its stroke's
-    /// id: what the starting poses read besides whole strokes ([`super::pieces`]).
+    /// id: what the starting poses read besides whole strokes ([`super::pieces`]). The
+    /// constructors keep them in step with `strokes`; a context whose strokes are
+    /// changed afterwards is rebuilt with [`SnapContext::of`].
     pub(crate) pieces: Vec<SnapStroke>,
 }
 

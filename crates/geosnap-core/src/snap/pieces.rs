@@ -61,7 +61,6 @@ pub(crate) fn turn_pieces(points: &[DVec2]) -> Vec<RangeInclusive<usize>> {
     let reversed: Vec<DVec2> = points.iter().rev().copied().collect();
     let head = straight_run(points);
     let tail = n - 1 - straight_run(&reversed);
-
     if head as f64 >= ALL_STRAIGHT * (n - 1) as f64
         || (n - 1 - tail) as f64 >= ALL_STRAIGHT * (n - 1) as f64
     {
