@@ -79,12 +79,16 @@ struct Drawn {
     sweep: f64,
 }
 
-/// The ellipses that strokes near the drop draw (module docs): a centre within `reach`
-/// of `near`, a major semi-axis in `radii` (the smallest and largest allowed). Besides
+/// The ellipses that the strokes and pieces `nearby` ([`ellipse_strokes`]) draw (module
+/// docs): a centre within `reach` of `near`, a major semi-axis in `radii` (the smallest and largest allowed). Besides
 /// single strokes, runs of fragments ([`fragment_runs`]) are read together: a hand
 /// often draws an ellipse in three or four arcs, none of which says its shape alone.
-fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f64)) -> Vec<Drawn> {
-    let nearby = ellipse_strokes(context, near, reach, radii.1);
+fn drawn_ellipses(
+    nearby: &[&SnapStroke],
+    near: DVec2,
+    reach: f64,
+    radii: (f64, f64),
+) -> Vec<Drawn> {
     let mut out = Vec::new();
     let mut read = |run: &[&SnapStroke]| {
         let points: Vec<DVec2> = run.iter().flat_map(|s| s.points.iter().copied()).collect();
@@ -118,10 +122,10 @@ fn drawn_ellipses(context: &SnapContext, near: DVec2, reach: f64, radii: (f64, f
             });
         }
     };
-    for stroke in &nearby {
+    for stroke in nearby {
         read(std::slice::from_ref(stroke));
     }
-    for run in fragment_runs(&nearby, radii.1) {
+    for run in fragment_runs(nearby, radii.1) {
         // Every stretch of two or more consecutive fragments: a run may carry on from an
         // end arc into the outline it meets.
         for len in 2..=run.len() {
@@ -223,12 +227,12 @@ fn read_ends(
     let mid = ends.0.midpoint(ends.1);
     let reach = gate + ends.0.distance(ends.1) / 2.0;
     let allowed = (0.5 * radii.0.min(radii.1), 2.0 * radii.0.max(radii.1));
-    let drawn = drawn_ellipses(context, mid, reach, allowed);
+    let nearby = ellipse_strokes(context, mid, reach, allowed.1);
+    let drawn = drawn_ellipses(&nearby, mid, reach, allowed);
     let ellipses: Vec<&Ellipse2> = drawn.iter().map(|d| &d.ellipse).collect();
     if let Some((i, j)) = end_pair(&drawn, &ellipses, ends, radii, gate) {
         return Some(pair_reading(ellipses[i], ellipses[j], image_dir, gate));
     }
-    let nearby = ellipse_strokes(context, mid, reach, allowed.1);
     if let Some((b, t)) = similar_pair(&drawn, &nearby, ends, radii, gate) {
         return Some(pair_reading(&b, &t, image_dir, gate));
     }
@@ -264,6 +268,20 @@ fn similar_pair(
     let mut best: Option<(f64, Ellipse2, Ellipse2, bool)> = None;
     for whole in drawn.iter().filter(|d| d.sweep >= WHOLE) {
         let e = &whole.ellipse;
+        // The arcs of its shape that the other strokes draw, apart enough from it (a
+        // squat part's ends lie closer than a radius apart: its far end's arc is a
+        // narrow band beside the whole ellipse, and a hand's error in drawing it is as
+        // large as the offset it would say).
+        let arcs: Vec<Ellipse2> = nearby
+            .iter()
+            .filter(|s| !whole.strokes.contains(&s.id))
+            .filter_map(|s| similar_arc(e, &s.points))
+            .filter(|other| {
+                let across = (other.center - e.center).dot(e.major_axis()).abs();
+                let larger = e.semi_major.max(other.semi_major);
+                across <= 0.25 * larger && other.center.distance(e.center) >= larger
+            })
+            .collect();
         for top in [false, true] {
             let (at, r, other_at, other_r) = if top {
                 (ends.1, radii.1, ends.0, radii.0)
@@ -273,25 +291,12 @@ fn similar_pair(
             let Some(cost) = end_cost(e, at, r, gate) else {
                 continue;
             };
-            for stroke in nearby.iter().filter(|s| !whole.strokes.contains(&s.id)) {
-                let Some(other) = similar_arc(e, &stroke.points) else {
-                    continue;
-                };
-                let across = (other.center - e.center).dot(e.major_axis()).abs();
-                if across > 0.25 * e.semi_major.max(other.semi_major) {
-                    continue;
-                }
-                // A squat part's ends lie closer than a radius apart: its far end's arc
-                // is a narrow band beside the whole ellipse, and a hand's error in
-                // drawing it is as large as the offset it would say.
-                if other.center.distance(e.center) < e.semi_major.max(other.semi_major) {
-                    continue;
-                }
-                let Some(other_cost) = end_cost(&other, other_at, other_r, gate) else {
+            for other in &arcs {
+                let Some(other_cost) = end_cost(other, other_at, other_r, gate) else {
                     continue;
                 };
                 if best.as_ref().is_none_or(|b| cost + other_cost < b.0) {
-                    best = Some((cost + other_cost, *e, other, top));
+                    best = Some((cost + other_cost, *e, *other, top));
                 }
             }
         }
