@@ -22,6 +22,9 @@
 //!   that a neighbouring part's stroke that merely passes the gate does not drag the fit
 //!   (a cup's small bottom ellipse set on a long stem's end).
 //!
+//! An end ellipse takes no straight piece of a stroke that runs on straight past the
+//! piece (a neighbour's outline through the sliver of an end seen from the side).
+//!
 //! Straight strokes must also run within 35° of a straight curve's direction. Several
 //! strokes may share a curve (a silhouette drawn in pieces, gaps are normal), and a stroke
 //! may serve several primitives. One stroke may also serve several curves of one part, in
@@ -341,6 +344,15 @@ fn candidate(
     if !direction_ok(&curve.curve, judged) {
         return None;
     }
+    if let (Some(near), Curve2::Ellipse { a, b, .. }) = (&part, &curve.curve) {
+        let (reach, _) = singular_values(glam::DMat2::from_cols(a.to_dvec2(), b.to_dvec2()));
+        if curve.class == CurveClass::Feature
+            && judged.straightness <= ROUGHLY_STRAIGHT
+            && runs_on_past(samples, near, reach)
+        {
+            return None;
+        }
+    }
     Some(Piece {
         factor,
         k,
@@ -351,6 +363,38 @@ fn candidate(
         indices: part.unwrap_or_else(|| (0..samples.len()).collect()),
         distances: d,
     })
+}
+
+/// Whether a stroke whose samples `near` (ascending indices among `samples`) make a
+/// straight piece runs on straight past that piece's either end by more than `reach`:
+/// then the piece is part of a line passing by, not a curve of its own. Seen from the
+/// side, an end ellipse is a sliver that a short straight stroke draws; but where a part
+/// ends on another's outline (an arm on a stem, a branch on a main pipe), the other's
+/// outline runs straight through that sliver and on, and a piece of it is not the end.
+/// A U's arc is not such a piece: its outlines leave it at a right angle.
+fn runs_on_past(samples: &[DVec2], near: &[usize], reach: f64) -> bool {
+    let (Some(&first), Some(&last)) = (near.first(), near.last()) else {
+        return false;
+    };
+    let (p, q) = (samples[first], samples[last]);
+    let Some(u) = (q - p).try_normalize() else {
+        return false;
+    };
+    // Along the piece's line from `from`, the stroke's samples in order: whether they
+    // pass `reach` beyond it before leaving the line by half of `reach`.
+    let on_past = |order: &mut dyn Iterator<Item = usize>, from: DVec2, sign: f64| {
+        for k in order {
+            let v = samples[k] - from;
+            if v.perp_dot(u).abs() > 0.5 * reach {
+                return false;
+            }
+            if sign * v.dot(u) > reach {
+                return true;
+            }
+        }
+        false
+    };
+    on_past(&mut (0..first).rev(), p, -1.0) || on_past(&mut (last + 1..samples.len()), q, 1.0)
 }
 
 /// How far a curve reaches for strokes: its gate (`curve_gate`, within its outline cap),
@@ -1011,6 +1055,38 @@ pub(super) mod tests {
         let ctx = SnapContext::new([(StrokeId(0), rim.as_slice(), StrokeClass::Feature)]);
         let a = assign(&ctx, &shape.curves, 0.3 * stem.size());
         assert!(a.stroke_ids().is_empty(), "{a:?}");
+    }
+
+    #[test]
+    fn an_arms_end_on_a_stem_does_not_take_the_stems_outline_through_it() {
+        // An arm (radius 25, length 300) seen from the side, its bottom end on a stem
+        // whose outline runs straight up the page through that end's sliver and on: a
+        // piece of the outline draws the sliver, but the line is the stem's.
+        let arm = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(150.0, 0.0, 0.0),
+            axis: DVec3::new(0.99, 0.0, 0.14),
+            length: 300.0,
+            radius: 25.0,
+        });
+        let shape = arm.current_shape();
+        let bottom = shape
+            .curves
+            .iter()
+            .position(|c| c.name == "bottom")
+            .unwrap();
+        let outline: Vec<DVec2> = (0..=40)
+            .map(|i| DVec2::new(1.5, -300.0 + 15.0 * f64::from(i)))
+            .collect();
+        // The same stroke ending on the sliver is taken: it draws the end.
+        let sliver: Vec<DVec2> = (0..=10)
+            .map(|i| DVec2::new(1.5, -30.0 + 6.0 * f64::from(i)))
+            .chain((1..=20).map(|i| DVec2::new(1.5 - 9.0 * f64::from(i), 30.0)))
+            .collect();
+        for (stroke, taken) in [(&outline, false), (&sliver, true)] {
+            let ctx = SnapContext::new([(StrokeId(0), stroke.as_slice(), StrokeClass::Feature)]);
+            let a = assign_within(&ctx, &shape.curves, 0.1 * arm.size(), true);
+            assert_eq!(a.has(bottom), taken, "{a:?}");
+        }
     }
 
     #[test]
