@@ -697,8 +697,15 @@ fn good(r: &SnapResult) -> bool {
 
 /// How much of the drawing a snapped primitive explains, as a length in view units: the
 /// length of the stroke samples it takes, each piece weighted by how close it runs to its
-/// curve (1 on it, 0 at `gate`), less the length of its visible curves that no stroke of
-/// theirs comes within `gate` of.
+/// curve (1 on it, 0 at `gate`), with a stretch of a curve that several strokes draw
+/// counted once (by the closest), less the length of its visible curves that no stroke
+/// of theirs comes within `gate` of.
+///
+/// A sketchy hand draws a line two or three times; counted once a stroke, whatever it
+/// drew thrice weighed three times, and a reading that took a neighbour's triple-drawn
+/// ellipse outweighed one that took its own end's triple-drawn arc by two ellipses'
+/// length. On the conditions suite counting each stretch once took assembly parts from
+/// 84.8 to 86.1 % recovered.
 ///
 /// Both halves matter in a cluttered drawing. Counting strokes alone favours a pose
 /// that grows to reach its neighbours' strokes: a table top stretched over its legs, or
@@ -716,6 +723,11 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
         // at the gate.
         let closeness =
             |p: glam::DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
+        let points = resampled(&curve.curve.points(96), gate / 2.0);
+        let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
+        // A line drawn over several times (a sketchy hand's 2–3 strokes) is drawn once:
+        // where strokes overlap along the curve, only the closest counts.
+        let closed = matches!(curve.curve, crate::primitive::Curve2::Ellipse { .. });
         taken += strokes
             .iter()
             .map(|s| {
@@ -724,12 +736,11 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
                     .map(|w| w[0].distance(w[1]) * closeness(w[0].midpoint(w[1])))
                     .sum::<f64>()
             })
-            .sum::<f64>();
+            .sum::<f64>()
+            - step * overdrawn(&points, strokes, &closeness, closed);
         if !curve.visible {
             continue;
         }
-        let points = resampled(&curve.curve.points(96), gate / 2.0);
-        let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
         let unsupported = points
             .iter()
             .filter(|p| {
@@ -742,6 +753,52 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
         missing += step * unsupported as f64;
     }
     taken - missing
+}
+
+/// How many of a curve's `points` its `strokes` draw more than once: over each point,
+/// the closeness of every stroke that covers it but the closest one's, summed. A piece
+/// between two samples of a stroke covers the points between the curve points nearest
+/// to its ends (the shorter way round a `closed` curve), by its `closeness` to the curve.
+fn overdrawn(
+    points: &[glam::DVec2],
+    strokes: &[AssignedStroke],
+    closeness: &dyn Fn(glam::DVec2) -> f64,
+    closed: bool,
+) -> f64 {
+    let n = points.len();
+    if n == 0 || strokes.len() < 2 {
+        return 0.0;
+    }
+    let nearest = |p: glam::DVec2| {
+        (0..n)
+            .min_by(|i, j| {
+                points[*i]
+                    .distance_squared(p)
+                    .total_cmp(&points[*j].distance_squared(p))
+            })
+            .unwrap_or(0)
+    };
+    let (mut sum, mut best) = (vec![0.0_f64; n], vec![0.0_f64; n]);
+    for s in strokes {
+        let mut own = vec![0.0_f64; n];
+        for w in s.samples.windows(2) {
+            let weight = closeness(w[0].midpoint(w[1]));
+            let (i, j) = (nearest(w[0]), nearest(w[1]));
+            let (lo, hi) = (i.min(j), i.max(j));
+            if closed && hi - lo > n / 2 {
+                (hi..n)
+                    .chain(0..=lo)
+                    .for_each(|k| own[k] = own[k].max(weight));
+            } else {
+                (lo..=hi).for_each(|k| own[k] = own[k].max(weight));
+            }
+        }
+        for k in 0..n {
+            sum[k] += own[k];
+            best[k] = best[k].max(own[k]);
+        }
+    }
+    sum.iter().zip(&best).map(|(s, b)| s - b).sum()
 }
 
 /// Points along a polyline no farther apart than `step` (each segment split evenly; the
@@ -1202,6 +1259,41 @@ mod tests {
         assert!(
             (e_true - drawn).abs() < 0.05 * drawn,
             "{e_true:.0} against {drawn:.0}"
+        );
+    }
+
+    #[test]
+    fn a_line_drawn_three_times_explains_what_it_does_drawn_once() {
+        // A cylinder's outlines and ends drawn once, then each drawn three times by a
+        // sketchy hand (the copies half a percent of the size apart): it explains the
+        // same drawing.
+        let truth = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.2, 0.9, 0.39).normalize(),
+            length: 300.0,
+            radius: 60.0,
+        });
+        let explained = |copies: u32| {
+            let parts: Vec<Primitive> = (0..copies)
+                .map(|k| truth.transformed(DVec3::new(0.8, -0.4, 0.0) * f64::from(k), 1.0))
+                .collect();
+            let context = drawn(&parts, |c| match c {
+                Curve2::Ellipse { .. } => StrokeClass::Feature,
+                Curve2::Polyline(_) => StrokeClass::Silhouette,
+            });
+            let gate = 0.1 * truth.size();
+            let a = assign(&context, &truth.current_shape().curves, gate);
+            assert_eq!(
+                a.stroke_ids().len(),
+                context.strokes.len(),
+                "every copy is taken: {a:?}"
+            );
+            explanation(&truth, &a, gate)
+        };
+        let (once, thrice) = (explained(1), explained(3));
+        assert!(
+            (thrice - once).abs() < 0.1 * once,
+            "drawn once {once:.0}, three times {thrice:.0}"
         );
     }
 
