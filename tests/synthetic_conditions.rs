@@ -152,9 +152,9 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
 /// 100 % and fragments 95.8 % since a bent tube also starts from a spine through its
 /// drawn ends (overshoots, sketchy and joined one case more each); slanted 87.5 % when
 /// that condition joined, joined 79.2 % since a stroke drawn round a turn is read in its
-/// pieces and a far end's arc in the shape of the near end. The target is
-/// [`REQUIRED_CONDITION_RATE`].
-const CONDITION_FLOOR: [(Condition, f64); 9] = [
+/// pieces and a far end's arc in the shape of the near end; rough 79.2 % when that
+/// condition joined. The target is [`REQUIRED_CONDITION_RATE`].
+const CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.55),
     (Condition::SideOn, 0.90),
@@ -164,6 +164,7 @@ const CONDITION_FLOOR: [(Condition, f64); 9] = [
     (Condition::Joined, 0.70),
     (Condition::Fragments, 0.90),
     (Condition::Slanted, 0.80),
+    (Condition::Rough, 0.70),
 ];
 /// Today's floor per assembly kind (its parts; 23–39 per kind) in the floor test, as
 /// [`KIND_FLOOR`]: measured stack 87.0 %, table 68.4 %, ball+tubes 93.3 %, brick+studs
@@ -179,9 +180,9 @@ const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
 /// floor test, as [`KIND_FLOOR`]: measured plain 100 %, near-axial 82.6 %, side-on
 /// 72.2 %, missing 90.0 %, overshoots 90.9 %, sketchy 88.9 %, joined 66.7 %, fragments
 /// 94.7 %; slanted 100 % when that condition joined, joined 77.8 % since a stroke drawn
-/// round a turn is read in its pieces and a far end's arc in the shape of the near end.
-/// The target is [`REQUIRED_CONDITION_RATE`].
-const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 9] = [
+/// round a turn is read in its pieces and a far end's arc in the shape of the near end;
+/// rough 91.3 % when that condition joined. The target is [`REQUIRED_CONDITION_RATE`].
+const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.70),
     (Condition::SideOn, 0.65),
@@ -191,6 +192,7 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 9] = [
     (Condition::Joined, 0.60),
     (Condition::Fragments, 0.85),
     (Condition::Slanted, 0.95),
+    (Condition::Rough, 0.85),
 ];
 
 /// The largest share of good parts whose snap may call itself doubtful or refused (the

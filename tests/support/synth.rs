@@ -173,6 +173,10 @@
 //!   hidden rest) turned about the circle's image centre by 2°–8° either way, one angle
 //!   per end: a freehand ellipse lands where it is meant and about as large, but its
 //!   axes come out a few degrees off (the shared lego brick's studs, 5–10°).
+//! - [`Condition::Rough`]: every curve drawn as 2–3 strokes, each with its own hand, the
+//!   later ones shifted by 1.5–3 % of the curve's extent in a random direction: a quick
+//!   hand that goes over its lines without meeting them (a sketchier hand than
+//!   [`Condition::Sketchy`]'s).
 
 use std::f64::consts::{PI, TAU};
 
@@ -1053,11 +1057,13 @@ pub(crate) enum Condition {
     Fragments,
     /// End ellipses drawn turned 2°–8° about their centres, as a hand slants them.
     Slanted,
+    /// Every line drawn as 2–3 strokes 1.5–3 % of its extent apart: a quick, rough hand.
+    Rough,
 }
 
 impl Condition {
     /// Every condition.
-    pub(crate) const ALL: [Self; 9] = [
+    pub(crate) const ALL: [Self; 10] = [
         Self::Plain,
         Self::NearAxial,
         Self::SideOn,
@@ -1067,6 +1073,7 @@ impl Condition {
         Self::Joined,
         Self::Fragments,
         Self::Slanted,
+        Self::Rough,
     ];
 
     /// A short name.
@@ -1081,6 +1088,7 @@ impl Condition {
             Self::Joined => "joined",
             Self::Fragments => "fragments",
             Self::Slanted => "slanted",
+            Self::Rough => "rough",
         }
     }
 
@@ -1682,17 +1690,24 @@ impl Pen<'_> {
                 self.draw_missing(ideal, scale);
                 continue;
             }
-            let copies = if condition == Condition::Sketchy && self.rng.chance(0.8) {
-                2 + (self.rng.next_u64() % 2) as usize
+            let copies = match condition {
+                Condition::Sketchy if self.rng.chance(0.8) => {
+                    2 + (self.rng.next_u64() % 2) as usize
+                }
+                Condition::Rough => 2 + (self.rng.next_u64() % 2) as usize,
+                _ => 1,
+            };
+            let apart = if condition == Condition::Rough {
+                (0.015, 0.03)
             } else {
-                1
+                (0.003, 0.012)
             };
             for copy in 0..copies {
                 let shift = if copy == 0 {
                     DVec2::ZERO
                 } else {
                     DVec2::from_angle(self.rng.range(0.0, TAU))
-                        * (self.rng.range(0.003, 0.012) * scale)
+                        * (self.rng.range(apart.0, apart.1) * scale)
                 };
                 let label = if copies > 1 {
                     format!("{} (copy {}/{copies})", ideal.label, copy + 1)
