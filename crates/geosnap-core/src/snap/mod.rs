@@ -698,8 +698,18 @@ fn good(r: &SnapResult) -> bool {
 /// How much of the drawing a snapped primitive explains, as a length in view units: the
 /// length of the stroke samples it takes, each piece weighted by how close it runs to its
 /// curve (1 on it, 0 at `gate`), with a stretch of a curve that several strokes draw
-/// counted once (by the closest), less the length of its visible curves that no stroke
-/// of theirs comes within `gate` of.
+/// counted once (by the closest), less the length of its visible curves that its
+/// strokes leave undrawn, each point by how far its nearest stroke runs (nothing when a
+/// stroke passes through it, wholly at `gate` or beyond).
+///
+/// The two halves weigh distance alike. A stroke counts for a reading by how close it
+/// runs, and a curve counts as drawn by the same measure: a stroke near the gate's edge
+/// is barely the reading's, and the curve it runs along is barely drawn. Counted drawn
+/// wherever a stroke came within the gate, a reading laid a fraction of the gate beside
+/// its strokes lacked nothing: an end set past its drawn ellipse, where overshooting
+/// outlines still run, cost nothing. On the conditions suite weighing both alike took
+/// assembly parts from 85.8 to 86.3 % recovered (9 of the 20 parts it recovered were
+/// drawn with overshoots; 1 was lost).
 ///
 /// A sketchy hand draws a line two or three times; counted once a stroke, whatever it
 /// drew thrice weighed three times, and a reading that took a neighbour's triple-drawn
@@ -741,16 +751,18 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
         if !curve.visible {
             continue;
         }
-        let unsupported = points
+        let unsupported: f64 = points
             .iter()
-            .filter(|p| {
-                !strokes
+            .map(|p| {
+                let nearest = strokes
                     .iter()
-                    .flat_map(|s| &s.samples)
-                    .any(|q| q.distance_squared(**p) <= gate * gate)
+                    .flat_map(|s| s.samples.windows(2))
+                    .map(|w| crate::geom::segment_distance(w[0], w[1], *p))
+                    .fold(f64::INFINITY, f64::min);
+                (nearest / gate).min(1.0)
             })
-            .count();
-        missing += step * unsupported as f64;
+            .sum();
+        missing += step * unsupported;
     }
     taken - missing
 }
@@ -1294,6 +1306,45 @@ mod tests {
         assert!(
             (thrice - once).abs() < 0.1 * once,
             "drawn once {once:.0}, three times {thrice:.0}"
+        );
+    }
+
+    #[test]
+    fn a_stroke_near_the_gates_edge_draws_its_curve_only_as_far_as_it_runs_close() {
+        // A cylinder seen from the side, drawn on its curves and drawn shifted sideways
+        // by half the gate: its outlines' strokes then run half the gate off them (its
+        // ends, flat ellipses across the shift, stay on theirs). Half the gate off, an
+        // outline's stroke is half its own and the outline half drawn: the two halves
+        // cancel, and the outlines explain nothing. Counted drawn wherever a stroke came
+        // within the gate, they kept half their length.
+        let part = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 300.0,
+            radius: 60.0,
+        });
+        let gate = 0.1 * part.size();
+        let explained = |shift: f64| {
+            let moved = part.transformed(DVec3::new(shift, 0.0, 0.0), 1.0);
+            let context = drawn(&[moved], |c| match c {
+                Curve2::Ellipse { .. } => StrokeClass::Feature,
+                Curve2::Polyline(_) => StrokeClass::Silhouette,
+            });
+            let a = assign(&context, &part.current_shape().curves, 2.0 * gate);
+            assert_eq!(a.stroke_ids().len(), context.strokes.len(), "{a:?}");
+            explanation(&part, &a, gate)
+        };
+        let outlines: f64 = part
+            .current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible && matches!(c.curve, Curve2::Polyline(_)))
+            .map(|c| curve_length(&c.curve))
+            .sum();
+        let (on, off) = (explained(0.0), explained(0.5 * gate));
+        assert!(
+            on - off > 0.9 * outlines,
+            "drawn on its curves {on:.0}, half the gate off {off:.0}, outlines {outlines:.0}"
         );
     }
 
