@@ -1200,14 +1200,15 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 83.8 % \
-            (cylinder 82.5, cone 90.0, sphere 100, box 91.4, SGC 88.3, BGC 50.8); \
-            conditions plain 92.9, near-axial 59.2, side-on 87.5, missing 92.5, overshoots \
-            83.3, sketchy 89.6, joined 78.3, fragments 84.6, slanted 86.7; assembly parts \
-            86.1 % (stack 93.3, table 82.0 with tops 63.9, ball+tubes 98.6, brick+studs \
-            94.9, box+pipes 94.9, handle 90.7, tee 86.2, plug 65.6, valves 89.9, menorah \
-            77.2); assembly conditions from 62.9 (near-axial) to 94.1 (plain); wrong parts \
-            called doubtful or refused 353 of 764 (46 %), good ones 175 of 4390 (4.0 %)"]
+            assemblies per kind and condition (release): single primitives 84.1 % \
+            (cylinder 82.2, cone 90.0, sphere 100, box 90.5, SGC 89.5, BGC 52.5); \
+            conditions plain 92.9, near-axial 60.0, side-on 89.2, missing 92.5, overshoots \
+            84.2, sketchy 89.6, joined 80.0, fragments 85.0, slanted 86.7, rough 81.2; \
+            assembly parts 87.2 % (stack 93.9, table 81.9 with tops 63.8, ball+tubes 98.1, \
+            brick+studs 94.9, box+pipes 97.5, handle 91.6, tee 86.5, plug 70.5, valves \
+            90.9, menorah 78.4); assembly conditions from 64.0 (near-axial) to 94.7 \
+            (plain); wrong parts called doubtful or refused 345 of 806 (43 %), good ones \
+            178 of 4912 (3.6 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -1360,8 +1361,39 @@ const SHRUNK_DROP_CASES: [(&str, usize); 7] = [
 
 #[test]
 fn drops_made_too_big_among_neighbours_land_on_their_part() {
+    let failures = cases_that_miss(&SHRUNK_DROP_CASES);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Drawings where the best snap of a drop had kept strokes it took within the wide gate,
+/// or read a box as its mirror image in depth, each with the part concerned: the best
+/// snap is read again at the tight gate from where it ended (and a box from its mirror
+/// image too, see `snap::rereads`), and each lands on its part. A yardstick of that
+/// mechanism, not a target: every one of these failed before it.
+const REREAD_CASES: [(&str, usize); 10] = [
+    ("cylinder:side-on:18", 0),
+    ("cone:fragments:36", 0),
+    ("cuboid:side-on:9", 0),
+    ("cuboid:near-axial:38", 0),
+    ("sgc:joined:14", 0),
+    ("box+pipes:side-on:4", 0),
+    ("plug:plain:2", 0),
+    ("table:missing:5", 0),
+    ("menorah:side-on:0", 0),
+    ("handle:joined:5", 1),
+];
+
+#[test]
+fn snaps_read_again_from_where_they_ended_land_on_their_part() {
+    let failures = cases_that_miss(&REREAD_CASES);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The cases (`subject:condition:index`, part) whose part is not recovered, each with
+/// its report.
+fn cases_that_miss(cases: &[(&str, usize)]) -> Vec<String> {
     let mut failures = Vec::new();
-    for (name, part) in SHRUNK_DROP_CASES {
+    for (name, part) in cases {
         let mut fields = name.split(':');
         let job = (|| {
             Some(Job {
@@ -1374,13 +1406,13 @@ fn drops_made_too_big_among_neighbours_land_on_their_part() {
         let (outcomes, report) = run_job(job, 1.0, false, None);
         let outcome = outcomes
             .iter()
-            .find(|o| o.part.unwrap_or(0) == part)
+            .find(|o| o.part.unwrap_or(0) == *part)
             .expect("the part's outcome");
         if !outcome.ok() {
             failures.push(format!("{name} part {part}: {report}"));
         }
     }
-    assert!(failures.is_empty(), "{failures:#?}");
+    failures
 }
 
 /// Where the confidences miss: more than [`MAX_GOOD_FLAGGED`] of the good parts called

@@ -312,6 +312,69 @@ fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
     Some(best)
 }
 
+/// The candidate [`choose`] would pick.
+fn leader(candidates: &[Scored]) -> Option<&Scored> {
+    candidates
+        .iter()
+        .reduce(|best, c| if better(c, best) { c } else { best })
+}
+
+/// Reads the leading candidate of a cold snap of `primitive` again from where it ended
+/// (see [`rereads`]) into `candidates`; a reread stands only where the strokes clearly
+/// prefer it ([`clearly_better`]): otherwise it is the same reading, up to the hand's
+/// noise.
+fn reread_leader(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    candidates: &mut Vec<Scored>,
+    mut solve: SolveContext<'_>,
+) -> Result<(), SnapError> {
+    let Some(lead) = leader(candidates) else {
+        return Ok(());
+    };
+    let reread = SnapSettings {
+        wide_gate: settings.tight_gate,
+        ..guess_settings(settings)
+    };
+    let mut clearer = Vec::new();
+    for start in rereads(&lead.result.primitive) {
+        match snap_rounds(context, &start, &reread, None, solve.reborrow()) {
+            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+            Ok(r) => {
+                let scored = Scored::of(r, primitive.size(), settings);
+                if clearly_better(&scored, lead) {
+                    clearer.push(scored);
+                }
+            }
+            Err(_) => {}
+        }
+    }
+    candidates.extend(clearer);
+    Ok(())
+}
+
+/// The poses from which the leading snap is read again, at the tight gate: the pose it
+/// ended at and, for a box, the pose mirrored in depth.
+///
+/// A fit that starts from a rough drop takes its strokes within the wide gate, and the
+/// rounds that narrow the gate may keep what it took on the way. Read afresh from where
+/// it ended, its strokes are taken within the tight gate from the start. A box's mirror
+/// image in depth draws the same outline with its other faces towards the viewer and
+/// other edges hidden (the Necker reversal), so its strokes may read the other way; a
+/// solid of revolution's mirror draws the very same curves. On the conditions suite
+/// the rereads recovered 40 parts and lost none: 31 boxes (plug bodies and blades,
+/// boxes with pipes, table tops), 6 cylinders, 2 generalized cylinders and a cone. A
+/// bent tube's starts already read both tilts of its plane ([`bgc_start`]); a sphere is
+/// read by its one outline.
+fn rereads(snapped: &Primitive) -> Vec<Primitive> {
+    match snapped.kind() {
+        PrimitiveKind::Sphere | PrimitiveKind::Bgc => Vec::new(),
+        PrimitiveKind::Cuboid => vec![snapped.clone(), snapped.mirrored_in_depth()],
+        _ => vec![snapped.clone()],
+    }
+}
+
 /// A snap keeps at most this many alternatives.
 const MAX_ALTERNATIVES: usize = 3;
 
@@ -455,23 +518,6 @@ fn snap_from(
     }
     let mut candidates: Vec<Scored> = Vec::new();
     let mut errors: Vec<SnapError> = Vec::new();
-    let attempt_with = |start: &Primitive,
-                        settings: &SnapSettings,
-                        candidates: &mut Vec<Scored>,
-                        errors: &mut Vec<SnapError>,
-                        solve: SolveContext<'_>| {
-        match snap_rounds(context, start, settings, None, solve) {
-            Err(SnapError::Cancelled) => Err(SnapError::Cancelled),
-            Ok(r) => {
-                candidates.push(Scored::of(r, primitive.size(), settings));
-                Ok(())
-            }
-            Err(e) => {
-                errors.push(e);
-                Ok(())
-            }
-        }
-    };
     bgc_candidates(
         context,
         primitive,
@@ -505,15 +551,20 @@ fn snap_from(
                 .map(|start| (start, read.clone())),
         );
         for (start, settings) in &starts {
-            attempt_with(
-                start,
-                settings,
-                &mut candidates,
-                &mut errors,
-                solve.reborrow(),
-            )?;
+            match snap_rounds(context, start, settings, None, solve.reborrow()) {
+                Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+                Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
+                Err(e) => errors.push(e),
+            }
         }
     }
+    reread_leader(
+        context,
+        primitive,
+        settings,
+        &mut candidates,
+        solve.reborrow(),
+    )?;
     match choose(candidates) {
         Some(best) if best.primitive.kind() == PrimitiveKind::Bgc => {
             drawn_profile(context, best, primitive.size(), settings, solve)
@@ -624,15 +675,19 @@ fn shrunk_drop(
     if reads(&shrunk).same_strokes(&reads(primitive)) {
         return None;
     }
-    let guess = SnapSettings {
+    Some((shrunk, guess_settings(settings)))
+}
+
+/// `settings` with the smaller evaluation budget of a guess ([`GUESS_EVALUATIONS`]).
+fn guess_settings(settings: &SnapSettings) -> SnapSettings {
+    SnapSettings {
         solver: settings
             .solver
             .clone()
             .with_max_evaluations(GUESS_EVALUATIONS)
             .unwrap_or_else(|_| settings.solver.clone()),
         ..settings.clone()
-    };
-    Some((shrunk, guess))
+    }
 }
 
 /// The factor by which a cold drop is also shrunk before it is snapped (see
