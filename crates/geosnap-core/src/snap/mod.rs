@@ -312,45 +312,49 @@ fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
     Some(best)
 }
 
-/// The candidate [`choose`] would pick.
-fn leader(candidates: &[Scored]) -> Option<&Scored> {
-    candidates
-        .iter()
-        .reduce(|best, c| if better(c, best) { c } else { best })
+/// The index of the candidate [`choose`] would pick.
+fn leader_index(candidates: &[Scored]) -> Option<usize> {
+    (0..candidates.len()).reduce(|best, i| {
+        if better(&candidates[i], &candidates[best]) {
+            i
+        } else {
+            best
+        }
+    })
 }
 
 /// Reads the leading candidate of a cold snap of `primitive` again from where it ended
-/// (see [`rereads`]) into `candidates`; a reread stands only where the strokes clearly
-/// prefer it ([`clearly_better`]): otherwise it is the same reading, up to the hand's
-/// noise.
+/// (see [`rereads`]). A reread takes the leader's place where the strokes clearly prefer
+/// it ([`clearly_better`]): it is the leader's reading read better, not a rival to it
+/// (kept beside it, the leader it replaced stood as an alternative explaining about as
+/// much, and the snap doubted itself against its own earlier fit). Otherwise the leader
+/// stays: the reread is the same reading, up to the hand's noise.
 fn reread_leader(
     context: &SnapContext,
     primitive: &Primitive,
     settings: &SnapSettings,
-    candidates: &mut Vec<Scored>,
+    candidates: &mut [Scored],
     mut solve: SolveContext<'_>,
 ) -> Result<(), SnapError> {
-    let Some(lead) = leader(candidates) else {
+    let Some(lead) = leader_index(candidates) else {
         return Ok(());
     };
     let reread = SnapSettings {
         wide_gate: settings.tight_gate,
         ..guess_settings(settings)
     };
-    let mut clearer = Vec::new();
-    for start in rereads(&lead.result.primitive) {
+    for start in rereads(&candidates[lead].result.primitive) {
         match snap_rounds(context, &start, &reread, None, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => {
                 let scored = Scored::of(r, primitive.size(), settings);
-                if clearly_better(&scored, lead) {
-                    clearer.push(scored);
+                if clearly_better(&scored, &candidates[lead]) {
+                    candidates[lead] = scored;
                 }
             }
             Err(_) => {}
         }
     }
-    candidates.extend(clearer);
     Ok(())
 }
 
