@@ -160,8 +160,10 @@
 //!   (at most 30 % of its length), 60 % of the open curves split by a gap of 4–12 % of
 //!   their length, closed curves missing or overlapping by up to 8 % of their length.
 //! - [`Condition::Sketchy`]: 80 % of the curves drawn as 2–3 strokes, each with its own
-//!   hand, the later ones shifted by 0.3–1.2 % of the curve's extent in a random
-//!   direction.
+//!   hand, the later ones shifted from the first by 0.3–1.2 % of the curve's extent in a
+//!   random direction (at most a quarter of the part's thinnest dimension: a hand keeps
+//!   the copies of one line closer than the lines it tells apart), the copies together
+//!   centred on the line meant (a line gone over reads as the middle of its strokes).
 //! - [`Condition::Joined`]: a solid of revolution's or a tube's two outlines and its far
 //!   end's front arc (which meets both) become one U stroke, outline + arc + outline; a
 //!   box has one or two pairs of edges that meet at a corner drawn as L strokes. Joined
@@ -170,11 +172,12 @@
 //!   length (cuts ± 30 % of a piece), each joint a gap or an overlap of up to 2 % of the
 //!   curve's length.
 //! - [`Condition::Slanted`]: every end circle's curves (its ellipse, or its front arc and
-//!   hidden rest) turned about the circle's image centre by 2°–8° either way, one angle
+//!   hidden rest) turned about the circle's image centre by 2°–20° either way, one angle
 //!   per end: a freehand ellipse lands where it is meant and about as large, but its
-//!   axes come out a few degrees off (the shared lego brick's studs, 5–10°).
+//!   axes come out off (the shared lego brick's studs lean 5–20°).
 //! - [`Condition::Rough`]: every curve drawn as 2–3 strokes, each with its own hand, the
-//!   later ones shifted by 1.5–3 % of the curve's extent in a random direction: a quick
+//!   later ones shifted by 1.5–8 % of the curve's extent, capped and centred as under
+//!   [`Condition::Sketchy`]: a quick
 //!   hand that goes over its lines without meeting them (a sketchier hand than
 //!   [`Condition::Sketchy`]'s).
 
@@ -373,6 +376,7 @@ pub(crate) fn scene(kind: PrimitiveKind, seed: u64, style: Option<Style>) -> Sce
         rng: &mut rng,
         style,
         size: truth.size(),
+        thin: thinnest(&truth),
         strokes: Vec::new(),
         record: None,
         hidden: false,
@@ -690,6 +694,10 @@ struct Pen<'a> {
     rng: &'a mut Rng,
     style: Style,
     size: f64,
+    /// The part's thinnest dimension (a tube's or a disc's width, a slab's thickness):
+    /// a hand keeps the copies of one line closer together than the lines it means to
+    /// tell apart ([`Pen::render`]).
+    thin: f64,
     strokes: Vec<SynthStroke>,
     /// When set, the curves are recorded here as ideals instead of being drawn: the
     /// conditioned renderer ([`Pen::render`]) draws them afterwards.
@@ -1013,6 +1021,7 @@ pub(crate) fn draw(truth: &Primitive, style: Style, rng: &mut Rng) -> Vec<SynthS
         rng,
         style,
         size: truth.size(),
+        thin: thinnest(truth),
         strokes: Vec::new(),
         record: None,
         hidden: false,
@@ -1055,9 +1064,9 @@ pub(crate) enum Condition {
     Joined,
     /// Lines drawn in several short pieces.
     Fragments,
-    /// End ellipses drawn turned 2°–8° about their centres, as a hand slants them.
+    /// End ellipses drawn turned 2°–20° about their centres, as a hand slants them.
     Slanted,
-    /// Every line drawn as 2–3 strokes 1.5–3 % of its extent apart: a quick, rough hand.
+    /// Every line drawn as 2–3 strokes 1.5–8 % of its extent apart: a quick, rough hand.
     Rough,
 }
 
@@ -1583,6 +1592,7 @@ fn conditioned(
         rng,
         style,
         size: truth.size(),
+        thin: thinnest(truth),
         strokes: Vec::new(),
         record: Some(Vec::new()),
         hidden: hidden_lines,
@@ -1607,6 +1617,22 @@ fn conditioned(
     }
     pen.render(condition);
     pen.strokes
+}
+
+/// The thinnest dimension of `truth`: a sphere's diameter, the smaller of a solid of
+/// revolution's length and widest diameter, a box's smallest side, a bent tube's
+/// narrowest diameter.
+fn thinnest(truth: &Primitive) -> f64 {
+    match truth {
+        Primitive::Cylinder(c) => c.length.min(2.0 * c.radius),
+        Primitive::Cone(c) => c.length.min(2.0 * c.radius_bottom.max(c.radius_top)),
+        Primitive::Sphere(s) => 2.0 * s.radius,
+        Primitive::Cuboid(b) => b.size.min_element(),
+        Primitive::Sgc(s) => s
+            .length
+            .min(2.0 * s.radii.iter().copied().fold(0.0, f64::max)),
+        Primitive::Bgc(b) => 2.0 * b.radii.iter().copied().fold(f64::INFINITY, f64::min),
+    }
 }
 
 /// The largest extent of a polyline's bounding box.
@@ -1698,17 +1724,29 @@ impl Pen<'_> {
                 _ => 1,
             };
             let apart = if condition == Condition::Rough {
-                (0.015, 0.03)
+                (0.015, 0.08)
             } else {
                 (0.003, 0.012)
             };
-            for copy in 0..copies {
-                let shift = if copy == 0 {
-                    DVec2::ZERO
-                } else {
-                    DVec2::from_angle(self.rng.range(0.0, TAU))
-                        * (self.rng.range(apart.0, apart.1) * scale)
-                };
+            // The later copies lie apart from the first by a fraction of the curve's
+            // extent (at most a quarter of the part's thinnest dimension), and the
+            // copies together are centred on the line meant: what a hand goes over
+            // several times reads as the middle of its strokes.
+            let mut shifts: Vec<DVec2> = (0..copies)
+                .map(|copy| {
+                    if copy == 0 {
+                        DVec2::ZERO
+                    } else {
+                        let apart = (self.rng.range(apart.0, apart.1) * scale).min(self.thin / 4.0);
+                        DVec2::from_angle(self.rng.range(0.0, TAU)) * apart
+                    }
+                })
+                .collect();
+            let mean = shifts.iter().copied().sum::<DVec2>() / copies as f64;
+            for s in &mut shifts {
+                *s -= mean;
+            }
+            for (copy, shift) in shifts.into_iter().enumerate() {
                 let label = if copies > 1 {
                     format!("{} (copy {}/{copies})", ideal.label, copy + 1)
                 } else {
@@ -1719,7 +1757,7 @@ impl Pen<'_> {
         }
     }
 
-    /// Turns every end circle's curves about its centre by 2°–8° either way, one angle
+    /// Turns every end circle's curves about its centre by 2°–20° either way, one angle
     /// per end (its front and hidden arcs alike).
     fn slant(&mut self, ideals: &mut [Ideal]) {
         let mut turns: Vec<(DVec2, f64)> = Vec::new();
@@ -1730,7 +1768,7 @@ impl Pen<'_> {
             let turn = if let Some((_, turn)) = turns.iter().find(|(p, _)| *p == pivot) {
                 *turn
             } else {
-                let turn = self.rng.degrees(2.0, 8.0) * self.rng.sign();
+                let turn = self.rng.degrees(2.0, 20.0) * self.rng.sign();
                 turns.push((pivot, turn));
                 turn
             };
