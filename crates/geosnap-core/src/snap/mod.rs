@@ -13,7 +13,6 @@ mod assign;
 mod bgc_start;
 mod confidence;
 mod context;
-mod copies;
 pub(crate) mod initial;
 mod objective;
 mod pieces;
@@ -841,7 +840,15 @@ fn overdrawn(
     if n == 0 || strokes.len() < 2 {
         return 0.0;
     }
-    let nearest = |p: glam::DVec2| crate::geom::nearest_index(points, p);
+    let nearest = |p: glam::DVec2| {
+        (0..n)
+            .min_by(|i, j| {
+                points[*i]
+                    .distance_squared(p)
+                    .total_cmp(&points[*j].distance_squared(p))
+            })
+            .unwrap_or(0)
+    };
     let (mut sum, mut best) = (vec![0.0_f64; n], vec![0.0_f64; n]);
     for s in strokes {
         let mut own = vec![0.0_f64; n];
