@@ -154,8 +154,9 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
 /// drawn ends (overshoots, sketchy and joined one case more each); slanted 87.5 % when
 /// that condition joined, joined 79.2 % since a stroke drawn round a turn is read in its
 /// pieces and a far end's arc in the shape of the near end; rough 79.2 % when that
-/// condition joined, 66.7 % since its copies lie up to 8 % apart; slanted 79.2 % since
-/// its ellipses turn by up to 20°. The target is [`REQUIRED_CONDITION_RATE`].
+/// condition joined, 87.5 % since its copies lie up to 8 % apart and a curve keeps a
+/// line's copies; slanted 79.2 % since its ellipses turn by up to 20°. The target is
+/// [`REQUIRED_CONDITION_RATE`].
 const CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.55),
@@ -166,7 +167,7 @@ const CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Joined, 0.70),
     (Condition::Fragments, 0.90),
     (Condition::Slanted, 0.70),
-    (Condition::Rough, 0.60),
+    (Condition::Rough, 0.70),
 ];
 /// Today's floor per assembly kind (its parts; 23–39 per kind) in the floor test, as
 /// [`KIND_FLOOR`]: measured stack 87.0 %, table 68.4 %, ball+tubes 93.3 %, brick+studs
@@ -183,9 +184,9 @@ const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
 /// 72.2 %, missing 90.0 %, overshoots 90.9 %, sketchy 88.9 %, joined 66.7 %, fragments
 /// 94.7 %; slanted 100 % when that condition joined, joined 77.8 % since a stroke drawn
 /// round a turn is read in its pieces and a far end's arc in the shape of the near end;
-/// rough 91.3 % when that condition joined, 69.6 % since its copies lie up to 8 % apart;
-/// slanted 81.0 % since its ellipses turn by up to 20°. The target is
-/// [`REQUIRED_CONDITION_RATE`].
+/// rough 91.3 % when that condition joined, 87.0 % since its copies lie up to 8 % apart
+/// and a curve keeps a line's copies; slanted 81.0 % since its ellipses turn by up to
+/// 20°. The target is [`REQUIRED_CONDITION_RATE`].
 const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.70),
@@ -196,7 +197,7 @@ const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Joined, 0.60),
     (Condition::Fragments, 0.85),
     (Condition::Slanted, 0.75),
-    (Condition::Rough, 0.60),
+    (Condition::Rough, 0.80),
 ];
 
 /// The largest share of good parts whose snap may call itself doubtful or refused (the
@@ -207,7 +208,8 @@ const MAX_GOOD_FLAGGED: f64 = 0.05;
 /// called themselves doubtful, so fewer of the wrong parts left do; 26 of 60 before, 14
 /// of 60 before the snap weighed how tightly its strokes pin it; 47 % at 40 cases per
 /// kind and condition either way; 20 of 60 once the slanted and rough hands were
-/// widened, 39 % at 40 cases); the target is 90 %.
+/// widened, 18 of 52 since a curve keeps a line's copies, 42 % at 40 cases); the target
+/// is 90 %.
 const WRONG_FLAGGED_FLOOR: f64 = 0.30;
 
 /// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
@@ -1205,15 +1207,15 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 82.2 % \
-            (cylinder 81.5, cone 88.0, sphere 97.8, box 91.0, SGC 87.5, BGC 47.2); \
-            conditions plain 92.9, near-axial 60.0, side-on 89.2, missing 92.5, overshoots \
-            84.2, sketchy 89.2, joined 80.0, fragments 85.0, slanted 77.9, rough 70.8; \
-            assembly parts 85.8 % (stack 91.9, table 80.6 with tops 68.8, ball+tubes 96.9, \
-            brick+studs 90.8, box+pipes 96.8, handle 90.4, tee 86.0, plug 68.3, valves \
-            90.3, menorah 78.0); assembly conditions from 64.0 (near-axial) to 94.7 \
-            (plain); wrong parts called doubtful or refused 349 of 899 (39 %), good ones \
-            187 of 4819 (3.9 %)"]
+            assemblies per kind and condition (release): single primitives 83.2 % \
+            (cylinder 82.8, cone 88.5, sphere 100, box 92.5, SGC 89.2, BGC 46.5); \
+            conditions plain 92.5, near-axial 59.6, side-on 88.8, missing 92.1, overshoots \
+            83.8, sketchy 88.8, joined 80.0, fragments 85.0, slanted 79.6, rough 82.5; \
+            assembly parts 86.4 % (stack 91.9, table 82.5 with tops 68.8, ball+tubes 98.4, \
+            brick+studs 92.6, box+pipes 97.1, handle 89.6, tee 87.0, plug 68.3, valves \
+            89.4, menorah 78.6); assembly conditions from 63.2 (near-axial) to 94.1 \
+            (plain); wrong parts called doubtful or refused 356 of 852 (42 %), good ones \
+            195 of 4866 (4.0 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -1391,6 +1393,29 @@ const REREAD_CASES: [(&str, usize); 10] = [
 #[test]
 fn snaps_read_again_from_where_they_ended_land_on_their_part() {
     let failures = cases_that_miss(&REREAD_CASES);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Cases of the rough hand (every line gone over 2–3 times, a few percent apart) that the
+/// snap missed while a curve kept only the closest of a line's copies, which held the fit
+/// on one copy, off the line meant; with the copies kept (`snap/copies.rs`) the fit
+/// settles in their middle. One of each kind but the bent tube, and parts of assemblies.
+const COPY_CASES: [(&str, usize); 10] = [
+    ("sphere:rough:0", 0),
+    ("cylinder:rough:2", 0),
+    ("cone:rough:7", 0),
+    ("cuboid:rough:5", 0),
+    ("sgc:rough:1", 0),
+    ("ball+tubes:rough:3", 0),
+    ("brick+studs:rough:7", 0),
+    ("table:rough:2", 4),
+    ("menorah:rough:1", 6),
+    ("tee:rough:5", 2),
+];
+
+#[test]
+fn lines_gone_over_several_times_snap_to_the_middle_of_their_copies() {
+    let failures = cases_that_miss(&COPY_CASES);
     assert!(failures.is_empty(), "{failures:#?}");
 }
 

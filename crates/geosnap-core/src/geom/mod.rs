@@ -14,6 +14,17 @@ pub use fit::{
     Ellipse2, Line2,
 };
 
+/// The index of the point of `points` nearest to `p` (the first of equals; 0 for none).
+pub(crate) fn nearest_index(points: &[DVec2], p: DVec2) -> usize {
+    (0..points.len())
+        .min_by(|i, j| {
+            points[*i]
+                .distance_squared(p)
+                .total_cmp(&points[*j].distance_squared(p))
+        })
+        .unwrap_or(0)
+}
+
 /// The distance from `p` to the segment `a`–`b`.
 pub(crate) fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
     let ab = b - a;

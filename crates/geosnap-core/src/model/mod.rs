@@ -25,7 +25,7 @@ use crate::relation::evidence::Inferred;
 use crate::relation::{residuals, InferenceSettings, Member, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
 use crate::snap::{
-    snap, Assignment, Confidence, Profile, SnapContext, SnapResult, SnapSettings, Verdict,
+    snap, Assignment, Confidence, Owner, Profile, SnapContext, SnapResult, SnapSettings, Verdict,
 };
 use crate::solve::SolveContext;
 
@@ -312,8 +312,9 @@ impl Document {
 
     /// Which part owns a piece of stroke: `owner(stroke, sample)` names the part, placed
     /// first, that took that sample of that stroke (its snap's assignment; a part read from
-    /// a file without one owns its strokes whole). What a new snap is judged against.
-    pub fn owner(&self) -> impl Fn(StrokeId, DVec2) -> Option<u32> {
+    /// a file without one owns its strokes whole), and `pose(part)` where it lies. What a
+    /// new snap is judged against.
+    pub fn owner(&self) -> impl Owner {
         // Per stroke, each owner with the samples it took (`None`: the whole stroke).
         let mut owners: BTreeMap<StrokeId, Vec<Taken>> = BTreeMap::new();
         for (id, placed) in &self.primitives {
@@ -339,21 +340,14 @@ impl Document {
                 }
             }
         }
-        move |stroke, sample| {
-            owners.get(&stroke).and_then(|list| {
-                list.iter()
-                    .find(|(_, samples)| {
-                        samples.as_ref().is_none_or(|s| {
-                            // Both snaps take the same evenly chosen samples of a stroke
-                            // (`stroke_samples`), so a taken sample is found again exactly
-                            // (up to rounding).
-                            s.iter().any(|q| {
-                                q.distance_squared(sample) <= 1e-12 * (1.0 + q.length_squared())
-                            })
-                        })
-                    })
-                    .map(|(p, _)| *p)
-            })
+        let poses = self
+            .primitives
+            .iter()
+            .map(|(id, placed)| (id.0, placed.primitive.clone()))
+            .collect();
+        Owners {
+            strokes: owners,
+            poses,
         }
     }
 
@@ -779,6 +773,36 @@ pub fn run_steps_with(
 
 /// A part's id with the samples of one stroke it took (`None`: the whole stroke).
 type Taken = (u32, Option<Vec<DVec2>>);
+
+/// What [`Document::owner`] tells a new snap: per stroke, each part with the samples it
+/// took (`None`: the whole stroke), and where each part lies.
+struct Owners {
+    strokes: BTreeMap<StrokeId, Vec<Taken>>,
+    poses: BTreeMap<u32, Primitive>,
+}
+
+impl Owner for Owners {
+    fn owner(&self, stroke: StrokeId, sample: DVec2) -> Option<u32> {
+        self.strokes.get(&stroke).and_then(|list| {
+            list.iter()
+                .find(|(_, samples)| {
+                    samples.as_ref().is_none_or(|s| {
+                        // Both snaps take the same evenly chosen samples of a stroke
+                        // (`stroke_samples`), so a taken sample is found again exactly
+                        // (up to rounding).
+                        s.iter().any(|q| {
+                            q.distance_squared(sample) <= 1e-12 * (1.0 + q.length_squared())
+                        })
+                    })
+                })
+                .map(|(p, _)| *p)
+        })
+    }
+
+    fn pose(&self, part: u32) -> Option<Primitive> {
+        self.poses.get(&part).cloned()
+    }
+}
 
 /// Marks `part` as owning the whole stroke in `entry`.
 fn entry_whole(entry: &mut [Taken], part: u32) {

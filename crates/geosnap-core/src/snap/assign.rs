@@ -20,7 +20,9 @@
 //!   best score plus a tenth of the gate; once the pose is fitted, of the curve's own
 //!   gate, so that an end ellipse judges by its radius, not by the part's length), so
 //!   that a neighbouring part's stroke that merely passes the gate does not drag the fit
-//!   (a cup's small bottom ellipse set on a long stem's end).
+//!   (a cup's small bottom ellipse set on a long stem's end); once the pose is fitted, a
+//!   stroke this drops stays when it is a hand's copy of one kept, the same line gone
+//!   over again a little apart (`copies`), so that the fit settles in their middle.
 //!
 //! An end ellipse takes no straight piece of a stroke that runs on straight past the
 //! piece (a neighbour's outline through the sliver of an end seen from the side).
@@ -226,6 +228,11 @@ pub(crate) fn assign_within(
             bounds: curve_bounds(&c.curve),
         })
         .collect();
+    let widths = if fitted {
+        super::copies::widths(curves)
+    } else {
+        Vec::new()
+    };
     let mut scored: Vec<Vec<(f64, AssignedStroke)>> = vec![Vec::new(); curves.len()];
     for stroke in &context.strokes {
         let (slo, shi) = stroke.bounds;
@@ -242,14 +249,29 @@ pub(crate) fn assign_within(
     // the curve's own gate: a long stem's gate, set by its length, is many times its
     // end's radius, and a cup's smaller ellipse set on that end passed it. At a hand's
     // drop the part's gate, as rough as the drop: its best stroke may be a neighbour's.
-    for ((k, mut candidates), reach) in scored.into_iter().enumerate().zip(&reaches) {
+    for ((k, candidates), reach) in scored.into_iter().enumerate().zip(&reaches) {
         let best = candidates
             .iter()
             .map(|(s, _)| *s)
             .fold(f64::INFINITY, f64::min);
         let slack = if fitted { reach.gate } else { gate };
-        candidates.retain(|(s, _)| *s <= 2.0 * best + 0.1 * slack);
-        assignment.curves[k] = candidates.into_iter().map(|(_, c)| c).collect();
+        let allowed = 2.0 * best + 0.1 * slack;
+        let (kept, dropped): (Vec<_>, Vec<_>) =
+            candidates.into_iter().partition(|(s, _)| *s <= allowed);
+        let mut kept: Vec<AssignedStroke> = kept.into_iter().map(|(_, c)| c).collect();
+        // Once the pose is fitted, a stroke that copies a kept one (a line gone over
+        // again a little apart, nearer to it than to the part's next line) stays: the
+        // line meant is the middle of its copies.
+        let within = widths.get(k).map_or(0.0, |w| 0.5 * w);
+        let copies: Vec<AssignedStroke> = dropped
+            .into_iter()
+            .filter(|(score, c)| {
+                super::copies::is_copy(&curves[k].curve, c, *score, &kept, allowed, within)
+            })
+            .map(|(_, c)| c)
+            .collect();
+        kept.extend(copies);
+        assignment.curves[k] = kept;
     }
     assignment
 }
@@ -696,6 +718,21 @@ fn curve_gate(curve: &Curve2<f64>, gate: f64) -> f64 {
 /// rod, a tenth of its length, is wider than the rod, and a neighbouring leg's outline
 /// (or the far side of a U drawn round its end) passes it.
 fn outline_caps(curves: &[ProjectedCurve<f64>]) -> Vec<f64> {
+    (0..curves.len())
+        .map(|k| {
+            if curves[k].visible {
+                distance_across(curves, k, true)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect()
+}
+
+/// The distance from the middle of the straight curve `k` of `curves` (its chord's
+/// midpoint) to the nearest other straight curve running within 35° of it, among the
+/// visible ones when `visible`; infinite for an ellipse or where none runs alongside.
+pub(crate) fn distance_across(curves: &[ProjectedCurve<f64>], k: usize, visible: bool) -> f64 {
     let chord = |c: &Curve2<f64>| match c {
         Curve2::Polyline(p) if p.len() >= 2 => {
             let (a, b) = (p[0].to_dvec2(), p[p.len() - 1].to_dvec2());
@@ -703,26 +740,19 @@ fn outline_caps(curves: &[ProjectedCurve<f64>]) -> Vec<f64> {
         }
         _ => None,
     };
+    let Some((mid, dir)) = chord(&curves[k].curve) else {
+        return f64::INFINITY;
+    };
     curves
         .iter()
         .enumerate()
-        .map(|(k, curve)| {
-            let Some((mid, dir)) = chord(&curve.curve).filter(|_| curve.visible) else {
-                return f64::INFINITY;
-            };
-            curves
-                .iter()
-                .enumerate()
-                .filter(|(j, other)| *j != k && other.visible)
-                .filter_map(|(_, other)| {
-                    let (_, d) = chord(&other.curve)?;
-                    (d.dot(dir).abs() >= ROUGHLY_PARALLEL)
-                        .then(|| curve_distance(&other.curve, mid))
-                })
-                .filter(|d| *d > 0.0)
-                .fold(f64::INFINITY, f64::min)
+        .filter(|(j, other)| *j != k && (other.visible || !visible))
+        .filter_map(|(_, other)| {
+            let (_, d) = chord(&other.curve)?;
+            (d.dot(dir).abs() >= ROUGHLY_PARALLEL).then(|| curve_distance(&other.curve, mid))
         })
-        .collect()
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// cos 35°: two outlines this close in direction run alongside each other.
@@ -1087,6 +1117,43 @@ pub(super) mod tests {
             let a = assign_within(&ctx, &shape.curves, 0.1 * arm.size(), true);
             assert_eq!(a.has(bottom), taken, "{a:?}");
         }
+    }
+
+    #[test]
+    fn an_outline_gone_over_twice_keeps_both_strokes() {
+        // A cylinder (radius 50, length 300) seen from the side, its right outline drawn
+        // once on it and once again 8 to the right (a rough hand's copy): the copy fits
+        // far worse than the first stroke, which alone would win the competition and
+        // hold the fit on it; as a copy it stays, and the fit settles between them.
+        let cyl = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.99, 0.14).normalize(),
+            length: 300.0,
+            radius: 50.0,
+        });
+        let shape = cyl.current_shape();
+        let right = shape.curves.iter().position(|c| c.name == "right").unwrap();
+        let (a, b) = match &shape.curves[right].curve {
+            super::Curve2::Polyline(p) => (p[0].to_dvec2(), p[p.len() - 1].to_dvec2()),
+            super::Curve2::Ellipse { .. } => panic!("an outline is a polyline"),
+        };
+        // Away from the axis (the outline runs up the page, the axis through x = 0).
+        let outward = DVec2::new((a.x + b.x).signum() * 8.0, 0.0);
+        // Sketch space, y down.
+        let stroke = |shift: DVec2| -> Vec<DVec2> {
+            (0..=30)
+                .map(|i| a.lerp(b, f64::from(i) / 30.0) + shift)
+                .map(|p| DVec2::new(p.x, -p.y))
+                .collect()
+        };
+        let (first, again) = (stroke(DVec2::ZERO), stroke(outward));
+        let ctx = SnapContext::new([
+            (StrokeId(0), first.as_slice(), StrokeClass::Silhouette),
+            (StrokeId(1), again.as_slice(), StrokeClass::Silhouette),
+        ]);
+        let assignment = assign_within(&ctx, &shape.curves, 0.1 * cyl.size(), true);
+        let ids: Vec<StrokeId> = assignment.curves[right].iter().map(|s| s.stroke).collect();
+        assert_eq!(ids, vec![StrokeId(0), StrokeId(1)], "{assignment:?}");
     }
 
     #[test]

@@ -97,6 +97,9 @@ pub struct Evidence {
     pub owned: f64,
     /// The part that owns most of that length, if any.
     pub owner: Option<u32>,
+    /// How far its outline lies from that part's ([`outline_distance`], relative to the
+    /// larger size); `None` when no part owns its strokes or the owner's pose is unknown.
+    pub apart_from_owner: Option<f64>,
     /// Projected distance of the snapped centre from the dropped one, over the dropped
     /// size.
     pub moved: f64,
@@ -183,14 +186,14 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
 /// The fraction of the stroke length `result` takes that `owner` gives to another part,
 /// and the part that owns most of it. A piece between two samples is owned when both
 /// its ends are, by the owner of the first.
-fn owned(result: &SnapResult, owner: &Owner<'_>) -> (f64, Option<u32>) {
+fn owned(result: &SnapResult, owner: &dyn Owner) -> (f64, Option<u32>) {
     let mut total = 0.0;
     let mut by_owner: Vec<(u32, f64)> = Vec::new();
     for stroke in result.assignment.curves.iter().flatten() {
         let owners: Vec<Option<u32>> = stroke
             .samples
             .iter()
-            .map(|p| owner(stroke.stroke, *p))
+            .map(|p| owner.owner(stroke.stroke, *p))
             .collect();
         for (w, o) in stroke.samples.windows(2).zip(owners.windows(2)) {
             let length = w[0].distance(w[1]);
@@ -320,8 +323,27 @@ pub(crate) fn depth(primitive: &Primitive, rms: f64) -> f64 {
 /// different readings of the drawing.
 pub(crate) const DISTINCT: f64 = 0.04;
 
-/// Which placed part, if any, owns a sample (view-plane point) of a stroke.
-pub type Owner<'a> = dyn Fn(StrokeId, DVec2) -> Option<u32> + 'a;
+/// What the parts placed before a snap say about it: which of them, if any, owns a
+/// sample (view-plane point) of a stroke, and where each of them lies.
+///
+/// Any `Fn(StrokeId, DVec2) -> Option<u32>` is an owner that knows no poses (such as
+/// [`nobody`]); [`crate::model::Document::owner`] knows both.
+pub trait Owner {
+    /// The placed part that took `sample` of `stroke`, if any.
+    fn owner(&self, stroke: StrokeId, sample: DVec2) -> Option<u32>;
+
+    /// Placed part `part` as it lies now, if known.
+    fn pose(&self, part: u32) -> Option<Primitive> {
+        let _ = part;
+        None
+    }
+}
+
+impl<F: Fn(StrokeId, DVec2) -> Option<u32>> Owner for F {
+    fn owner(&self, stroke: StrokeId, sample: DVec2) -> Option<u32> {
+        self(stroke, sample)
+    }
+}
 
 /// No part owns any stroke: the first part of a model.
 pub fn nobody(_: StrokeId, _: DVec2) -> Option<u32> {
@@ -374,12 +396,15 @@ fn tube_factors(primitive: &Primitive, dropped: &Primitive) -> [(f64, String); 2
 /// Judges `result`, a snap of `dropped`; `owner` tells which placed part, if any, owns a
 /// piece of stroke; `gate` is the distance (view units) within which a stroke supports a
 /// curve.
-pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: f64) -> Confidence {
+pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &dyn Owner, gate: f64) -> Confidence {
     let primitive = &result.primitive;
     let size = primitive.size().max(f64::MIN_POSITIVE);
     let rms = result.rms / size;
     let (support, visible_length) = support(primitive, result, gate);
     let (owned, owner_id) = owned(result, owner);
+    let apart_from_owner = owner_id
+        .and_then(|id| owner.pose(id))
+        .map(|pose| outline_distance(primitive, &pose));
     let moved = (primitive.center().truncate() - dropped.center().truncate()).length()
         / dropped.size().max(f64::MIN_POSITIVE);
     // Sizes as drawn: a drop lies in the view plane at its drawn length, and a part seen
@@ -397,6 +422,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &Owner<'_>, gate: 
         support,
         owned,
         owner: owner_id,
+        apart_from_owner,
         moved,
         resized,
         margin,
@@ -441,6 +467,7 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
         support,
         owned,
         owner: owner_id,
+        apart_from_owner,
         moved,
         resized,
         margin,
@@ -462,16 +489,7 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
                 100.0 * support
             ),
         ),
-        (
-            ramp(owned, 0.7, 1.0).max(0.3),
-            match owner_id {
-                Some(p) => format!(
-                    "{:.0} % of its strokes belong to part #{p} already",
-                    100.0 * owned
-                ),
-                None => String::new(),
-            },
-        ),
+        ownership(owned, owner_id, apart_from_owner),
         (
             ramp(moved, 0.35, 1.0) * ramp(resized, 2.5, 4.5),
             format!(
@@ -503,6 +521,38 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
             pinned(spread.as_ref()),
         ),
     ]
+}
+
+/// A part whose strokes belong to placed parts at least this much has nothing drawn of
+/// its own: a hand's stray fragment aside, every stroke it takes is already explained.
+const ALL_OWNED: f64 = 0.95;
+
+/// The factor of how much of its strokes placed parts own, with what it says. A part
+/// dropped on a modelled part is doubted (it may be meant to replace it, or to double
+/// it). A part that takes only strokes other parts explain, and is not one of them
+/// (its outline `apart` from the main owner's by more than [`DISTINCT`]), explains
+/// nothing in the drawing: a drop on empty paper that reached a neighbour's outline, or
+/// a part bridging two placed ones. It is refused.
+fn ownership(owned: f64, owner: Option<u32>, apart: Option<f64>) -> (f64, String) {
+    let Some(p) = owner else {
+        return (1.0, String::new());
+    };
+    if owned >= ALL_OWNED && apart.is_some_and(|d| d > DISTINCT) {
+        return (
+            0.0,
+            format!(
+                "all its strokes belong to placed parts (most to part #{p}, which it does \
+                 not match): nothing drawn there is its own"
+            ),
+        );
+    }
+    (
+        ramp(owned, 0.7, 1.0).max(0.3),
+        format!(
+            "{:.0} % of its strokes belong to part #{p} already",
+            100.0 * owned
+        ),
+    )
 }
 
 /// The weaker of two factors that weigh one doubt (how loosely the drawing holds the
@@ -548,7 +598,7 @@ fn pinned(spread: Option<&Spread>) -> (f64, String) {
 mod tests {
     use glam::{DVec2, DVec3};
 
-    use super::{depth, nobody, Verdict};
+    use super::{depth, nobody, Owner, Verdict};
     use crate::model::Document;
     use crate::primitive::{Cuboid, Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
@@ -620,6 +670,41 @@ mod tests {
         assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");
         let spread = confidence.evidence.spread.expect("a spread");
         assert!(spread.length > 0.2, "{spread:?}");
+    }
+
+    #[test]
+    fn a_part_made_only_of_another_parts_strokes_is_refused() {
+        let (context, dropped) = drawn_cylinder();
+        let settings = SnapSettings::default();
+        let first = snap(&context, &dropped, &settings).expect("it snaps");
+        let mut document = Document::new();
+        let id = document.add_snapped(&first);
+        // The same strokes read as a cylinder half as wide again: not the placed part,
+        // and nothing in the drawing is its own.
+        let mut wider = first.clone();
+        let Primitive::Cylinder(c) = &mut wider.primitive else {
+            panic!("a cylinder");
+        };
+        c.radius *= 1.5;
+        let confidence = wider.confidence(&dropped, &document.owner(), &settings);
+        assert_eq!(confidence.verdict, Verdict::Refused, "{confidence:?}");
+        assert!(confidence.value < 1e-12, "{confidence:?}");
+        assert!(confidence
+            .evidence
+            .apart_from_owner
+            .is_some_and(|d| d > 0.04));
+        let reason = confidence.reason.unwrap_or_default();
+        assert!(reason.contains(&format!("part #{}", id.0)), "{reason}");
+        assert!(
+            reason.contains("nothing drawn there is its own"),
+            "{reason}"
+        );
+        // An owner that knows no poses cannot tell it from the placed part.
+        let owner = document.owner();
+        let strokes_only = |stroke, sample| owner.owner(stroke, sample);
+        let blind = wider.confidence(&dropped, &strokes_only, &settings);
+        assert!(blind.value > 0.0, "{blind:?}");
+        assert_eq!(blind.evidence.apart_from_owner, None);
     }
 
     #[test]

@@ -13,6 +13,7 @@ mod assign;
 mod bgc_start;
 mod confidence;
 mod context;
+mod copies;
 pub(crate) mod initial;
 mod objective;
 mod pieces;
@@ -196,7 +197,7 @@ impl SnapResult {
     pub fn confidence(
         &self,
         dropped: &Primitive,
-        owner: &Owner<'_>,
+        owner: &dyn Owner,
         settings: &SnapSettings,
     ) -> Confidence {
         // A snap that grew is held to the scale it was dropped at: its own size would
@@ -840,15 +841,7 @@ fn overdrawn(
     if n == 0 || strokes.len() < 2 {
         return 0.0;
     }
-    let nearest = |p: glam::DVec2| {
-        (0..n)
-            .min_by(|i, j| {
-                points[*i]
-                    .distance_squared(p)
-                    .total_cmp(&points[*j].distance_squared(p))
-            })
-            .unwrap_or(0)
-    };
+    let nearest = |p: glam::DVec2| crate::geom::nearest_index(points, p);
     let (mut sum, mut best) = (vec![0.0_f64; n], vec![0.0_f64; n]);
     for s in strokes {
         let mut own = vec![0.0_f64; n];

@@ -8,11 +8,14 @@
 //! the ellipses' flatness, its tilt and length, as a compromise between the outlines and
 //! the ends.
 //!
-//! For a cylinder, a cone or an SGC whose outlines run at least an end's width (a squat
-//! part's ellipses are what says its axis, so they keep it), each end ellipse's strokes
-//! are fitted turned about the ellipse's centre by the angle, within ±[`MAX_SLANT`], that
-//! lays them closest on it at the pose fitted so far. What an ellipse says besides its
-//! orientation (its centre, its size, its flatness) counts as drawn. Nothing else is
+//! For a cylinder, a cone or an SGC whose outlines run at least an end's width, each end
+//! ellipse's strokes are fitted turned about the ellipse's centre by the angle, within
+//! ±[`MAX_SLANT`], that lays them closest on it at the pose fitted so far. What an
+//! ellipse says besides its orientation (its centre, its size, its flatness) counts as
+//! drawn. A squat part's ellipses are what says its axis, so they keep their common
+//! slant; but a rigid part draws its two ends parallel, and a turn between them is the
+//! hand's alone: each end is turned by its own angle less the two ends' mean, which
+//! leaves the axis they agree on and takes out what they disagree on. Nothing else is
 //! turned: a bent tube's end ellipses say where its spine leaves them, and the result's
 //! RMS, explanation and confidence are measured on the strokes as drawn.
 
@@ -28,7 +31,8 @@ const MAX_SLANT: f64 = 8.0 * std::f64::consts::PI / 180.0;
 
 /// `assignment` with the strokes of each end ellipse of a straight solid of revolution
 /// (cylinder, cone, SGC) turned about the ellipse's centre by the angle, within
-/// ±[`MAX_SLANT`], that lays them closest on it at the pose `primitive`.
+/// ±[`MAX_SLANT`], that lays them closest on it at the pose `primitive`; for a squat
+/// part, by that angle less the two ends' mean (module docs).
 pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assignment {
     if !matches!(
         primitive,
@@ -37,65 +41,43 @@ pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assig
         return assignment.clone();
     }
     let shape = primitive.current_shape();
-    // Only where the outlines run at least an end's width (its longer semi-diameter,
-    // twice): a squat part's ellipses are what says its axis.
-    let ends: Vec<(DVec2, f64)> = shape
+    let ends: Vec<(usize, DVec2, f64)> = shape
         .curves
         .iter()
-        .filter_map(|c| match &c.curve {
+        .enumerate()
+        .filter_map(|(k, c)| match &c.curve {
             Curve2::Ellipse { center, a, b } => Some((
+                k,
                 center.to_dvec2(),
                 a.to_dvec2().length().max(b.to_dvec2().length()),
             )),
             Curve2::Polyline(_) => None,
         })
         .collect();
-    let [(c0, a0), (c1, a1)] = ends[..] else {
+    let [(k0, c0, a0), (k1, c1, a1)] = ends[..] else {
         return assignment.clone();
     };
-    if c0.distance(c1) < 2.0 * a0.max(a1) {
+    let slants = [k0, k1].map(|k| {
+        let strokes = assignment.curves.get(k)?;
+        slant(&shape.curves[k].curve, strokes)
+    });
+    // Where the outlines run at least an end's width (its longer semi-diameter, twice),
+    // they say the axis and each end's whole slant is the hand's. A squat part's ellipses
+    // are what says its axis, so only the turn between its two ends, which no rigid part
+    // draws, is taken out.
+    let turns = if c0.distance(c1) >= 2.0 * a0.max(a1) {
+        slants
+    } else if let [Some(t0), Some(t1)] = slants {
+        let mean = 0.5 * (t0 + t1);
+        [Some(t0 - mean), Some(t1 - mean)]
+    } else {
         return assignment.clone();
-    }
+    };
     let mut out = assignment.clone();
-    for (curve, strokes) in shape.curves.iter().zip(&mut out.curves) {
-        let Curve2::Ellipse { center, .. } = &curve.curve else {
+    for ((k, c, _), turn) in [(k0, c0, a0), (k1, c1, a1)].into_iter().zip(turns) {
+        let (Some(t), Some(strokes)) = (turn, out.curves.get_mut(k)) else {
             continue;
         };
-        let c = center.to_dvec2();
-        let samples: Vec<DVec2> = strokes
-            .iter()
-            .flat_map(|s| s.samples.iter().copied())
-            .collect();
-        if samples.len() < 8 {
-            continue;
-        }
-        let cost = |t: f64| {
-            let turn = DVec2::from_angle(t);
-            samples
-                .iter()
-                .map(|p| curve_distance(&curve.curve, c + turn.rotate(*p - c)).powi(2))
-                .sum::<f64>()
-        };
-        // Golden-section search over the slant, one new cost per step.
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut lo, mut hi) = (-MAX_SLANT, MAX_SLANT);
-        let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        let (mut f1, mut f2) = (cost(x1), cost(x2));
-        for _ in 0..24 {
-            if f1 < f2 {
-                (hi, x2, f2) = (x2, x1, f1);
-                x1 = hi - g * (hi - lo);
-                f1 = cost(x1);
-            } else {
-                (lo, x1, f1) = (x1, x2, f2);
-                x2 = lo + g * (hi - lo);
-                f2 = cost(x2);
-            }
-        }
-        let t = 0.5 * (lo + hi);
-        if cost(t) >= cost(0.0) {
-            continue;
-        }
         let turn = DVec2::from_angle(t);
         for s in strokes.iter_mut() {
             for p in &mut s.samples {
@@ -106,6 +88,48 @@ pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assig
     out
 }
 
+/// The turn about the centre of the ellipse `curve`, within ±[`MAX_SLANT`], that lays
+/// `strokes` closest on it; `None` for too few samples to say or where no turn lays them
+/// closer.
+fn slant(curve: &Curve2<f64>, strokes: &[super::AssignedStroke]) -> Option<f64> {
+    let Curve2::Ellipse { center, .. } = curve else {
+        return None;
+    };
+    let c = center.to_dvec2();
+    let samples: Vec<DVec2> = strokes
+        .iter()
+        .flat_map(|s| s.samples.iter().copied())
+        .collect();
+    if samples.len() < 8 {
+        return None;
+    }
+    let cost = |t: f64| {
+        let turn = DVec2::from_angle(t);
+        samples
+            .iter()
+            .map(|p| curve_distance(curve, c + turn.rotate(*p - c)).powi(2))
+            .sum::<f64>()
+    };
+    // Golden-section search over the slant, one new cost per step.
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut lo, mut hi) = (-MAX_SLANT, MAX_SLANT);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (cost(x1), cost(x2));
+    for _ in 0..24 {
+        if f1 < f2 {
+            (hi, x2, f2) = (x2, x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = cost(x1);
+        } else {
+            (lo, x1, f1) = (x1, x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = cost(x2);
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    (cost(t) < cost(0.0)).then_some(t)
+}
+
 #[cfg(test)]
 mod tests {
     use glam::{DVec2, DVec3};
@@ -113,6 +137,58 @@ mod tests {
     use crate::primitive::{Curve2, Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::snap::{snap, SnapContext, SnapSettings};
+
+    /// A squat cylinder (its outlines shorter than its ends are wide) whose two end
+    /// ellipses a hand turned 5° and −3°: the ends keep the slant they share (1°, which
+    /// may be the axis's) and lose the 4° either way between them, which no rigid part
+    /// draws.
+    #[test]
+    fn a_squat_parts_ends_lose_the_turn_between_them() {
+        use crate::snap::assign::assign_within;
+        let disc = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.2, 0.8, 0.55).normalize(),
+            length: 30.0,
+            radius: 50.0,
+        });
+        let shape = disc.current_shape();
+        let ends: Vec<usize> = (0..shape.curves.len())
+            .filter(|k| matches!(shape.curves[*k].curve, Curve2::Ellipse { .. }))
+            .collect();
+        let turned = |k: usize, degrees: f64| -> Vec<DVec2> {
+            let Curve2::Ellipse { center, .. } = &shape.curves[k].curve else {
+                unreachable!("an end is an ellipse");
+            };
+            let (m, turn) = (center.to_dvec2(), DVec2::from_angle(degrees.to_radians()));
+            let points = shape.curves[k].curve.points(48).into_iter();
+            // Sketch space, y down.
+            points
+                .map(|q| m + turn.rotate(q - m))
+                .map(|q| DVec2::new(q.x, -q.y))
+                .collect()
+        };
+        let strokes = [turned(ends[0], 5.0), turned(ends[1], -3.0)];
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Feature)),
+        );
+        let assignment = assign_within(&context, &shape.curves, 0.1 * disc.size(), true);
+        let slant_of = |a: &crate::snap::Assignment, k: usize| {
+            super::slant(&shape.curves[k].curve, &a.curves[k]).map_or(0.0, f64::to_degrees)
+        };
+        assert!((slant_of(&assignment, ends[0]) + 5.0).abs() < 0.3);
+        assert!((slant_of(&assignment, ends[1]) - 3.0).abs() < 0.3);
+        let out = super::deslanted(&disc, &assignment);
+        for k in ends {
+            let left = slant_of(&out, k);
+            assert!(
+                (left + 1.0).abs() < 0.3,
+                "end {k} still turned {left:.2}° off"
+            );
+        }
+    }
 
     /// A cylinder drawn by a hand that slants its ellipses 6° about their centres (as
     /// hands do: the tubes on the shared ball), its outlines straight: the snap takes
