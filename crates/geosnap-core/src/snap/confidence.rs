@@ -97,8 +97,9 @@ pub struct Evidence {
     pub owned: f64,
     /// The part that owns most of that length, if any.
     pub owner: Option<u32>,
-    /// How far its outline lies from that part's ([`outline_distance`], relative to the
-    /// larger size); `None` when no part owns its strokes or the owner's pose is unknown.
+    /// How far its outline lies from that part's (the mean distance between their
+    /// visible curves, relative to the larger size); `None` when no part owns its strokes
+    /// or the owner's pose is unknown.
     pub apart_from_owner: Option<f64>,
     /// Projected distance of the snapped centre from the dropped one, over the dropped
     /// size.
