@@ -155,7 +155,8 @@ const KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
 /// that condition joined, joined 79.2 % since a stroke drawn round a turn is read in its
 /// pieces and a far end's arc in the shape of the near end; rough 79.2 % when that
 /// condition joined, 87.5 % since its copies lie up to 8 % apart and a curve keeps a
-/// line's copies; slanted 79.2 % since its ellipses turn by up to 20°. The target is
+/// line's copies, 79.2 % since half the later copies go over a stretch of the line only;
+/// slanted 79.2 % since its ellipses turn by up to 20°. The target is
 /// [`REQUIRED_CONDITION_RATE`].
 const CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
@@ -186,7 +187,8 @@ const ASSEMBLY_FLOOR: [(AssemblyKind, f64); 5] = [
 /// round a turn is read in its pieces and a far end's arc in the shape of the near end;
 /// rough 91.3 % when that condition joined, 87.0 % since its copies lie up to 8 % apart
 /// and a curve keeps a line's copies; slanted 81.0 % since its ellipses turn by up to
-/// 20°. The target is [`REQUIRED_CONDITION_RATE`].
+/// 20°; since half the later copies go over a stretch of the line only, sketchy 88.9 %
+/// (94.4 % before) and rough 100 %. The target is [`REQUIRED_CONDITION_RATE`].
 const ASSEMBLY_CONDITION_FLOOR: [(Condition, f64); 10] = [
     (Condition::Plain, 0.85),
     (Condition::NearAxial, 0.70),
@@ -208,8 +210,9 @@ const MAX_GOOD_FLAGGED: f64 = 0.05;
 /// called themselves doubtful, so fewer of the wrong parts left do; 26 of 60 before, 14
 /// of 60 before the snap weighed how tightly its strokes pin it; 47 % at 40 cases per
 /// kind and condition either way; 20 of 60 once the slanted and rough hands were
-/// widened, 18 of 52 since a curve keeps a line's copies, 42 % at 40 cases); the target
-/// is 90 %.
+/// widened, 18 of 52 since a curve keeps a line's copies, 42 % at 40 cases; 18 of 52,
+/// 40 % at 40 cases, since the sketchy and rough hands go over stretches of lines); the
+/// target is 90 %.
 const WRONG_FLAGGED_FLOOR: f64 = 0.30;
 
 /// How far (a fraction of the size) a perfect hand's stroke of an SGC or BGC may be from
@@ -1207,15 +1210,15 @@ fn env_usize(name: &str) -> Option<usize> {
 /// The issue's acceptance: ≥ 95 % per kind and per assembly kind, ≥ 90 % per condition.
 #[test]
 #[ignore = "today's snapper misses the targets: 40 cases per kind and condition, 8 \
-            assemblies per kind and condition (release): single primitives 83.2 % \
-            (cylinder 82.8, cone 88.5, sphere 100, box 92.5, SGC 89.2, BGC 46.5); \
+            assemblies per kind and condition (release): single primitives 82.7 % \
+            (cylinder 82.0, cone 87.8, sphere 99.5, box 91.8, SGC 88.8, BGC 46.5); \
             conditions plain 92.5, near-axial 59.6, side-on 88.8, missing 92.1, overshoots \
-            83.8, sketchy 88.8, joined 80.0, fragments 85.0, slanted 79.6, rough 82.5; \
-            assembly parts 86.4 % (stack 91.9, table 82.5 with tops 68.8, ball+tubes 98.4, \
-            brick+studs 92.6, box+pipes 97.1, handle 89.6, tee 87.0, plug 68.3, valves \
-            89.4, menorah 78.6); assembly conditions from 63.2 (near-axial) to 94.1 \
-            (plain); wrong parts called doubtful or refused 356 of 852 (42 %), good ones \
-            195 of 4866 (4.0 %)"]
+            83.8, sketchy 90.0, joined 80.0, fragments 85.0, slanted 79.6, rough 75.8; \
+            assembly parts 86.2 % (stack 91.4, table 81.7 with tops 65.0, ball+tubes 98.4, \
+            brick+studs 92.8, box+pipes 96.0, handle 90.8, tee 86.0, plug 69.8, valves \
+            88.1, menorah 78.1); assembly conditions from 63.2 (near-axial) to 94.1 \
+            (plain), sketchy 92.0, rough 83.3; wrong parts called doubtful or refused 353 \
+            of 873 (40 %), good ones 185 of 4845 (3.8 %)"]
 fn conditions_meet_the_issue_targets() {
     let run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
@@ -1396,21 +1399,22 @@ fn snaps_read_again_from_where_they_ended_land_on_their_part() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// Cases of the rough hand (every line gone over 2–3 times, a few percent apart) that the
-/// snap missed while a curve kept only the closest of a line's copies, which held the fit
-/// on one copy, off the line meant; with the copies kept (`snap/copies.rs`) the fit
-/// settles in their middle. One of each kind but the bent tube, and parts of assemblies.
+/// Cases of the rough hand (every line gone over 2–3 times, a few percent apart, half
+/// the later times over a stretch of it only) that the snap misses while a curve keeps
+/// only the closest of a line's copies, which holds the fit on one copy, off the line
+/// meant; with the copies kept (`snap/copies.rs`) the fit settles in their middle. One
+/// of each kind but the bent tube, and parts of assemblies.
 const COPY_CASES: [(&str, usize); 10] = [
-    ("sphere:rough:0", 0),
+    ("sphere:rough:5", 0),
     ("cylinder:rough:2", 0),
-    ("cone:rough:7", 0),
+    ("cone:rough:12", 0),
     ("cuboid:rough:5", 0),
-    ("sgc:rough:1", 0),
+    ("sgc:rough:0", 0),
     ("ball+tubes:rough:3", 0),
-    ("brick+studs:rough:7", 0),
+    ("brick+studs:rough:0", 1),
     ("table:rough:2", 4),
-    ("menorah:rough:1", 6),
-    ("tee:rough:5", 2),
+    ("menorah:rough:2", 3),
+    ("valves:rough:1", 0),
 ];
 
 #[test]

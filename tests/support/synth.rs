@@ -164,6 +164,9 @@
 //!   random direction (at most a quarter of the part's thinnest dimension: a hand keeps
 //!   the copies of one line closer than the lines it tells apart), the copies together
 //!   centred on the line meant (a line gone over reads as the middle of its strokes).
+//!   Half the later copies go over a stretch of the line only (40–90 % of it, anywhere
+//!   along it; an end ellipse's stretch is an open arc): a hand goes back over the part
+//!   of a line it doubts.
 //! - [`Condition::Joined`]: a solid of revolution's or a tube's two outlines and its far
 //!   end's front arc (which meets both) become one U stroke, outline + arc + outline; a
 //!   box has one or two pairs of edges that meet at a corner drawn as L strokes. Joined
@@ -1152,6 +1155,18 @@ impl Ideal {
     }
 }
 
+/// The share of a line's later copies that go over a stretch of it only.
+const PARTIAL_COPIES: f64 = 0.5;
+
+/// How one stroke of an ideal is drawn: under which condition, shifted by how much (a
+/// copy of a line gone over again), over which stretch of it (fractions of its length).
+#[derive(Clone, Copy)]
+struct Hand {
+    condition: Condition,
+    shift: DVec2,
+    stretch: (f64, f64),
+}
+
 /// A unit axis `elevation_deg` (a range, either sign) out of the view plane, any
 /// in-plane direction.
 fn axis_in(rng: &mut Rng, view: ViewRange) -> DVec3 {
@@ -1747,12 +1762,35 @@ impl Pen<'_> {
                 *s -= mean;
             }
             for (copy, shift) in shifts.into_iter().enumerate() {
-                let label = if copies > 1 {
-                    format!("{} (copy {}/{copies})", ideal.label, copy + 1)
+                // Half the later copies go over a stretch of the line only (40–90 % of
+                // it, anywhere along it): a hand goes back over the part it doubts.
+                let stretch = if copies > 1 {
+                    let (partial, f) = (self.rng.chance(PARTIAL_COPIES), self.rng.range(0.4, 0.9));
+                    let a = self.rng.range(0.0, 1.0 - f);
+                    if copy > 0 && partial {
+                        (a, a + f)
+                    } else {
+                        (0.0, 1.0)
+                    }
                 } else {
-                    ideal.label.clone()
+                    (0.0, 1.0)
                 };
-                self.draw_ideal(ideal, &label, scale, condition, shift);
+                let label = match (copies > 1, stretch == (0.0, 1.0)) {
+                    (false, _) => ideal.label.clone(),
+                    (true, true) => format!("{} (copy {}/{copies})", ideal.label, copy + 1),
+                    (true, false) => format!(
+                        "{} (copy {}/{copies}, {:.0} % of it)",
+                        ideal.label,
+                        copy + 1,
+                        100.0 * (stretch.1 - stretch.0)
+                    ),
+                };
+                let hand = Hand {
+                    condition,
+                    shift,
+                    stretch,
+                };
+                self.draw_ideal(ideal, &label, scale, hand);
             }
         }
     }
@@ -1859,14 +1897,12 @@ impl Pen<'_> {
     /// One drawing of an ideal: over- and undershoots and gaps (larger under
     /// [`Condition::Overshoots`]), in pieces under [`Condition::Fragments`], moved by
     /// `shift` (a sketchy copy).
-    fn draw_ideal(
-        &mut self,
-        ideal: &Ideal,
-        label: &str,
-        scale: f64,
-        condition: Condition,
-        shift: DVec2,
-    ) {
+    fn draw_ideal(&mut self, ideal: &Ideal, label: &str, scale: f64, hand: Hand) {
+        let Hand {
+            condition,
+            shift,
+            stretch,
+        } = hand;
         let total = *cumulative(&ideal.points).last().unwrap_or(&0.0);
         if total <= 0.0 {
             return;
@@ -1925,6 +1961,12 @@ impl Pen<'_> {
                 let gap = self.rng.range(lo, hi) * total;
                 pieces = vec![(s0, at - gap / 2.0), (at + gap / 2.0, s1)];
             }
+        }
+        if stretch != (0.0, 1.0) {
+            // A stretch of the line, gone over once more: it starts and stops where the
+            // hand does (drawn after the same draws as a whole copy, so that the rest of
+            // the drawing does not change with it).
+            pieces = vec![(stretch.0 * total, stretch.1 * total)];
         }
         let n = pieces.len();
         for (k, (a, b)) in pieces.into_iter().enumerate() {
