@@ -19,6 +19,7 @@ mod objective;
 mod pieces;
 mod slant;
 mod spread;
+mod swallowed;
 
 use thiserror::Error;
 
@@ -247,17 +248,35 @@ impl SnapResult {
 struct Scored {
     result: SnapResult,
     explained: f64,
+    /// The drawn length the reading swallows (see [`swallowed`]).
+    swallowed: f64,
+    /// The gate the explanation was weighed with: a length of stroke that tells readings
+    /// apart.
+    gate: f64,
 }
 
 impl Scored {
     /// `result` scored at the smaller of its size and the `dropped` size: a snap that
     /// grew must not widen the gate within which strokes count for it (as its confidence
     /// is judged, see [`SnapResult::confidence`]).
-    fn of(mut result: SnapResult, dropped: f64, settings: &SnapSettings) -> Self {
+    fn of(
+        context: &SnapContext,
+        mut result: SnapResult,
+        dropped: f64,
+        settings: &SnapSettings,
+    ) -> Self {
         let gate = settings.tight_gate * result.primitive.size().min(dropped);
         let explained = explanation(&result.primitive, &result.assignment, gate);
         result.explained = Some(explained);
-        Self { result, explained }
+        let band = (SWALLOW_BAND_RMS * result.rms).max(SWALLOW_BAND_SIZE * result.primitive.size());
+        let swallowed =
+            swallowed::swallowed(context, &result.primitive, &result.assignment, band, gate);
+        Self {
+            result,
+            explained,
+            swallowed,
+            gate,
+        }
     }
 }
 
@@ -348,7 +367,7 @@ fn reread_leader(
         match snap_rounds(context, &start, &reread, None, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => {
-                let scored = Scored::of(r, primitive.size(), settings);
+                let scored = Scored::of(context, r, primitive.size(), settings);
                 if clearly_better(&scored, &candidates[lead]) {
                     candidates[lead] = scored;
                 }
@@ -558,7 +577,7 @@ fn snap_from(
         for (start, settings) in &starts {
             match snap_rounds(context, start, settings, None, solve.reborrow()) {
                 Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
-                Ok(r) => candidates.push(Scored::of(r, primitive.size(), settings)),
+                Ok(r) => candidates.push(Scored::of(context, r, primitive.size(), settings)),
                 Err(e) => errors.push(e),
             }
         }
@@ -609,7 +628,7 @@ fn bgc_candidates(
         match bgc_start::snap_start(context, &start, settings, solve.reborrow()) {
             Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
             Ok(r) => {
-                let scored = Scored::of(r, primitive.size(), settings);
+                let scored = Scored::of(context, r, primitive.size(), settings);
                 if standing.is_none_or(|i| clearly_better(&scored, &candidates[i])) {
                     standing = Some(candidates.len());
                     candidates.push(scored);
@@ -640,7 +659,7 @@ fn drawn_profile(
     };
     match snap_rounds(context, &best.primitive, &drawn, None, solve) {
         Ok(refit) if refit.rms < DRAWN_PROFILE_RMS * best.rms => {
-            let mut refit = Scored::of(refit, dropped, settings).result;
+            let mut refit = Scored::of(context, refit, dropped, settings).result;
             refit.alternatives = best.alternatives;
             Ok(refit)
         }
@@ -716,9 +735,19 @@ const GOOD_FIT: f64 = 0.05;
 
 /// Whether snap `a` is better than snap `b` of the same drop: a good fit (RMS within
 /// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, the one
-/// that explains more of the drawing wins (see [`explanation`]), then the closer one. A
-/// fit that takes more strokes by bending itself out of shape loses to one that explains
-/// fewer strokes well.
+/// that explains more of the drawing wins (see [`explanation`]). Two that explain about
+/// as much (within a quarter of the size) tie: one fitting at under [`SWALLOW_TIE_RMS`]
+/// of the other's RMS wins, then the one that swallows clearly less of the drawing (by
+/// more than the explanation's gate, see [`swallowed`]), then the closer one. A fit that
+/// takes more strokes by bending itself out of shape loses to one that explains fewer
+/// strokes well.
+///
+/// A tie went to the closer fit alone before what a reading swallows was weighed: an arm
+/// of a menorah read on through its stem to the other arm's inner end, whose whole drawn
+/// ellipse fits more closely than its own end's arc, won over its own reading (RMS 1.21
+/// against 1.41, explanations 674 and 657), leaving its own drawn end inside it. On the
+/// conditions suite weighing what each swallows took assembly parts from 86.2 to 86.6 %
+/// recovered (menorahs 78.1 → 79.4 %, handles 90.8 → 92.0 %).
 fn better(a: &Scored, b: &Scored) -> bool {
     better_by(a, b, 1.0)
 }
@@ -736,14 +765,40 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
         (true, false) => true,
         (false, true) => false,
         _ => {
-            // Explanations within a quarter of the size apart are a tie: the closer fit
-            // wins.
+            // Explanations within a quarter of the size apart are a tie.
             let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
-            a.explained > b.explained + margin
-                || (a.explained >= b.explained - margin && ra.rms < closer * rb.rms)
+            if a.explained > b.explained + margin {
+                return true;
+            }
+            if a.explained < b.explained - margin {
+                return false;
+            }
+            // A tie: a reading that fits at a fraction of the other's RMS sits on its
+            // strokes where the other does not; otherwise the reading that swallows
+            // clearly less of the drawing wins, then the closer fit.
+            if ra.rms < SWALLOW_TIE_RMS * rb.rms {
+                return true;
+            }
+            if rb.rms < SWALLOW_TIE_RMS * ra.rms {
+                return false;
+            }
+            let clear = a.gate.max(b.gate);
+            if (a.swallowed - b.swallowed).abs() > clear {
+                return a.swallowed < b.swallowed;
+            }
+            ra.rms < closer * rb.rms
         }
     }
 }
+
+/// A reading's curves keep a band of this many times its fit's RMS (the hand's noise
+/// it sees) free of what it swallows (see [`swallowed`]) …
+const SWALLOW_BAND_RMS: f64 = 3.0;
+/// … and of at least this fraction of its size.
+const SWALLOW_BAND_SIZE: f64 = 0.01;
+/// Of two readings that explain about as much, one whose RMS is under this fraction of
+/// the other's fits clearly closer, whatever they swallow.
+const SWALLOW_TIE_RMS: f64 = 0.5;
 
 /// A second reading's RMS at most this fraction of the first's is clearly closer (as
 /// for [`DRAWN_PROFILE_RMS`]): a hand's noise moves a refit of the same reading by a few
@@ -1075,6 +1130,52 @@ mod tests {
     use crate::primitive::{Bgc, Cuboid, Curve2, Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::solve::SolveContext;
+
+    /// A good snap of a cylinder of size 100 that explains `explained`, swallows
+    /// `swallowed` and fits at `rms`, scored with a gate of 10.
+    fn scored(explained: f64, swallowed: f64, rms: f64) -> super::Scored {
+        let primitive = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 100.0,
+            radius: 10.0,
+        });
+        super::Scored {
+            result: super::SnapResult {
+                primitive,
+                assignment: super::Assignment::default(),
+                rms,
+                termination: crate::solve::Termination::Converged,
+                evaluations: 0,
+                explained: Some(explained),
+                alternatives: Vec::new(),
+                profile: super::Profile::Smooth,
+                multipliers: None,
+            },
+            explained,
+            swallowed,
+            gate: 10.0,
+        }
+    }
+
+    #[test]
+    fn of_two_readings_that_explain_as_much_the_one_swallowing_less_wins() {
+        // An arm read on through its stem to the other arm's end: it explains a little
+        // more, fits a little closer, and leaves its own drawn end inside it.
+        let through = scored(674.0, 60.0, 1.21);
+        let own = scored(657.0, 0.0, 1.41);
+        assert!(super::better(&own, &through));
+        assert!(!super::better(&through, &own));
+        // What they swallow differs by less than the gate: the closer fit wins.
+        let close = scored(674.0, 8.0, 1.21);
+        assert!(super::better(&close, &own));
+        // A fit at under half the other's RMS wins whatever it swallows.
+        let tight = scored(674.0, 60.0, 0.6);
+        assert!(super::better(&tight, &own));
+        // Explaining clearly more still wins first.
+        let more = scored(800.0, 60.0, 1.41);
+        assert!(super::better(&more, &own));
+    }
 
     /// A horn: a C-shaped tube whose radius grows slowly along most of it and fast at
     /// its mouth (radii 30 → 50 over eight spine points), its plane turned 20° out of the
