@@ -887,7 +887,7 @@ fn shared_part_drops_are_stable_at_least_as_often_as_today() {
 }
 
 #[test]
-#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 47 of 62 parts good (76 %), 6 of 7 bent tubes, 45 of 62 stable (73 %), 8 of 15 wrong parts and 5 of 47 good ones called doubtful or refused"]
+#[ignore = "the targets (95 % of parts good, 90 % of bent tubes good, 90 % of parts stable, 90 % of wrong parts and at most 5 % of good ones called doubtful or refused) are not met yet: today 47 of 62 parts good (76 %), 6 of 7 bent tubes, 47 of 62 stable (76 %), 7 of 15 wrong parts and 5 of 47 good ones called doubtful or refused"]
 fn shared_parts_meet_the_targets() {
     let Some(dir) = common::shared_dir() else {
         return;

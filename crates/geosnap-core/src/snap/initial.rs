@@ -4,7 +4,8 @@
 //! and the fit converges far more reliably from there. Four readings are made:
 //! - solids of revolution, from their end ellipses ([`ends`]);
 //! - solids of revolution, from their two outlines ([`outlines`]);
-//! - boxes, from the directions of their drawn edges ([`box_poses`]);
+//! - boxes, from the directions of their drawn edges ([`box_poses`]), standing also
+//!   where their own edges lie on drawn lines ([`aligned`]);
 //! - spheres, from the circle their outline draws near the drop ([`sphere_poses`]).
 //!
 use glam::{DMat3, DQuat, DVec2, DVec3};
@@ -14,6 +15,7 @@ use super::context::{SnapContext, SnapStroke};
 use crate::geom::{fit_circle, Circle2};
 use crate::primitive::{Cuboid, Primitive, Sphere};
 
+mod aligned;
 mod ends;
 mod outlines;
 
@@ -548,7 +550,7 @@ pub(crate) fn box_poses(context: &SnapContext, dropped: &Cuboid) -> Vec<Cuboid> 
             continue;
         }
         seen.push(directions);
-        poses.extend(poses_from_groups(&groups, dropped));
+        poses.extend(poses_from_groups(&strokes, &groups, dropped));
     }
     poses
 }
@@ -559,7 +561,11 @@ const ABSORB: [f64; 2] = [2.0, 1.0];
 
 /// The poses of a box (labelled as the dropped box) whose edges draw the direction
 /// groups `groups` (see [`box_poses`]).
-fn poses_from_groups(groups: &[(DVec2, Vec<Edge>); 3], dropped: &Cuboid) -> Vec<Cuboid> {
+fn poses_from_groups(
+    strokes: &[&SnapStroke],
+    groups: &[(DVec2, Vec<Edge>); 3],
+    dropped: &Cuboid,
+) -> Vec<Cuboid> {
     let Some(orientations) = box_axes([0, 1, 2].map(|i| groups[i].0)) else {
         return Vec::new();
     };
@@ -616,11 +622,28 @@ fn poses_from_groups(groups: &[(DVec2, Vec<Edge>); 3], dropped: &Cuboid) -> Vec<
                 ..read.clone()
             };
             let apart = read.center.truncate().distance(dropped.center.truncate());
-            Some(if apart > 0.1 * read.size.max_element() {
-                vec![read, at_drop]
+            let mut poses = if apart > 0.1 * read.size.max_element() {
+                vec![read.clone(), at_drop]
             } else {
-                vec![read]
-            })
+                vec![read.clone()]
+            };
+            // Next to parts drawn the same way, the bounds' middle may fall between two of
+            // them: the box also stands where its own edges lie on drawn lines.
+            let tried: Vec<DVec2> = poses.iter().map(|p| p.center.truncate()).collect();
+            if let Some(centre) =
+                aligned::aligned_centre(strokes, &read, dropped.center.truncate(), &tried)
+            {
+                let new = poses
+                    .iter()
+                    .all(|p| p.center.truncate().distance(centre) > 0.02 * read.size.max_element());
+                if new {
+                    poses.push(Cuboid {
+                        center: DVec3::new(centre.x, centre.y, dropped.center.z),
+                        ..read
+                    });
+                }
+            }
+            Some(poses)
         })
         .flatten()
         .collect()

@@ -1123,7 +1123,7 @@ impl SnapSession {
 
 #[cfg(test)]
 mod tests {
-    use glam::{DVec2, DVec3};
+    use glam::{DQuat, DVec2, DVec3};
 
     use super::assign::curve_length;
     use super::{assign, explanation, initial, SnapContext, SnapSession, SnapSettings};
@@ -1536,6 +1536,32 @@ mod tests {
             (c.center.x - 100.0).abs() < 3.0 && (c.radius - 12.0).abs() < 1.0,
             "landed on {c:?}"
         );
+    }
+
+    #[test]
+    fn a_box_dropped_beside_a_twin_blade_gets_a_start_on_the_blade_nearest_the_drop() {
+        // A plug's two thin blades side by side, a blade and a half apart, turned to show
+        // their three faces.
+        let rotation = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(-0.6);
+        let blade = |x: f64| Cuboid {
+            center: rotation * DVec3::new(x, 0.0, 0.0) + DVec3::new(300.0, -300.0, 0.0),
+            rotation,
+            size: DVec3::new(24.0, 200.0, 6.0),
+        };
+        let row = [blade(0.0), blade(36.0)];
+        let context = drawn_parts(&row.clone().map(Primitive::Cuboid));
+        // Dropped off the first blade towards the other, turned by 8° and a fifth too
+        // big: the edges near it span both blades, and the middle of their bounds falls
+        // between them.
+        let meant = &row[0];
+        let dropped = Cuboid {
+            center: meant.center + rotation * DVec3::new(12.0, 6.0, 0.0),
+            rotation: DQuat::from_rotation_z(0.14) * rotation,
+            size: meant.size * 1.2,
+        };
+        let starts = initial::box_poses(&context, &dropped);
+        let on_blade = |c: &Cuboid| c.center.truncate().distance(meant.center.truncate()) < 4.0;
+        assert!(starts.iter().any(on_blade), "{starts:?}");
     }
 
     /// Two vertical lines 20 apart and 60 long: the outline of a side-on cylinder.
