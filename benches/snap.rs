@@ -7,7 +7,9 @@
 //! plus short distractor strokes; each kind is dragged over its own drawing along a small
 //! circle (a new pose every frame), through [`SnapSession::update`]. A second table sweeps
 //! each kind along a wider circle (a quarter of its size), so the strokes under the cursor
-//! change now and then and those frames snap afresh ('fresh%' of the frames).
+//! change now and then and those frames snap afresh ('fresh%' of the frames). A point
+//! drop of each kind at its first step's point, with no size or direction, snaps every
+//! guess the drawing suggests ([`snap_at`]).
 //!
 //! Run with `cargo bench --no-default-features --bench snap`. The SVG import case reads
 //! `legobrick.svg` from `GEOSNAP_SHARED_SKETCHES` (or `../shared/sketches`) when present.
@@ -21,7 +23,7 @@ use std::path::{Path, PathBuf};
 use geosnap::core::model::Step;
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind, DEFAULT_SIZE_FRACTION};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeId};
-use geosnap::core::snap::{nobody, snap, SnapContext, SnapSession, SnapSettings};
+use geosnap::core::snap::{guesses, nobody, snap, snap_at, SnapContext, SnapSession, SnapSettings};
 use geosnap::core::solve::SolveContext;
 use geosnap::io::script::parse_script;
 use geosnap::io::svg::{import_svg, SvgOptions};
@@ -243,7 +245,7 @@ fn main() {
         );
         table.row(kind.name(), &stats, &extras);
     }
-
+    point_drops(&bench, &context, &settings, &placements);
     let table = Table::new(
         "Confidence of a cold snap, at release (SnapResult::confidence: evidence + spread)",
         34,
@@ -264,6 +266,40 @@ fn main() {
         table.row(kind.name(), &stats, &[verdict]);
     }
 
+    svg_import(&bench);
+}
+
+/// The point drop of each kind at its first step's point: no size, no direction, every
+/// guess the drawing suggests snapped ([`snap_at`]).
+fn point_drops(
+    bench: &Bench,
+    context: &SnapContext,
+    settings: &SnapSettings,
+    placements: &[(PrimitiveKind, Placement)],
+) {
+    let table = Table::new(
+        "Point drop (snap_at: no size, no direction; every guess the drawing suggests)",
+        34,
+        &[("guesses", 8), ("strokes", 8)],
+    );
+    for (kind, placement) in placements {
+        let guesses = guesses(context, *kind, placement.at, None).len();
+        let mut last = None;
+        let stats = bench.each(|_| {
+            let (result, time) = timed(|| snap_at(context, *kind, placement.at, None, settings));
+            last = result.ok();
+            time
+        });
+        let strokes = last.map_or_else(
+            || "fail".to_owned(),
+            |p| p.result.assignment.stroke_ids().len().to_string(),
+        );
+        table.row(kind.name(), &stats, &[guesses.to_string(), strokes]);
+    }
+}
+
+/// The SVG import of the largest shared sketch, when it is found.
+fn svg_import(bench: &Bench) {
     let table = Table::new("SVG import", 34, &[("strokes", 8)]);
     if let Some(path) = shared_legobrick() {
         let data = std::fs::read(&path).expect("readable");

@@ -2203,3 +2203,45 @@ fn a_drop_whose_fit_runs_away_is_placed_freely() {
         harness.state().drop_note()
     );
 }
+
+/// A part let go from the palette without the wheel is sized and turned by the drawing:
+/// a cylinder dropped on one lying across the page lies along it, as the script's full
+/// step (centre, axis and sizes given) places it.
+#[test]
+fn a_palette_drop_is_sized_and_turned_by_the_drawing() {
+    let dir = scratch("point-drop");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = load_script(root.join("sketches/cylinders.script.json")).expect("the script");
+    let mut harness = app(&dir, Some(script.sketch.clone()));
+    let geosnap::core::model::Step::Place { placement, .. } = &script.steps[1] else {
+        panic!("the sample's steps are placements");
+    };
+    let (_, outcomes) = geosnap::core::model::run_steps(
+        harness.state().editor().sketch(),
+        &script.steps,
+        &geosnap::core::model::SessionSettings::default(),
+        geosnap::core::solve::SolveContext::default(),
+    );
+    let geosnap::core::model::StepOutcome::Placed { snap, .. } = &outcomes[1] else {
+        panic!("the full step places the lying cylinder: {:?}", outcomes[1]);
+    };
+    let expected = snap.primitive.clone();
+    drag_from_palette(
+        &mut harness,
+        "Cylinder",
+        placement.at + DVec2::new(6.0, -4.0),
+    );
+    let app = harness.state();
+    let (_, placed) = app
+        .editor()
+        .document()
+        .primitives()
+        .next()
+        .unwrap_or_else(|| panic!("the cylinder is placed: {:?}", app.messages()));
+    let (a, b) = (&placed.primitive, &expected);
+    let apart = a.center().truncate().distance(b.center().truncate()) / b.size();
+    assert!(
+        a.kind() == b.kind() && apart < 0.05 && (a.size() / b.size() - 1.0).abs() < 0.1,
+        "placed {a:?}, the full step's {b:?}"
+    );
+}

@@ -84,16 +84,17 @@
 mod support;
 
 use std::collections::BTreeMap;
+use std::f64::consts::TAU;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use geosnap::core::geom::projection::view_from_sketch;
-use geosnap::core::primitive::{Primitive, PrimitiveKind};
+use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
+use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
-use geosnap::core::snap::{nobody, snap, SnapContext, SnapResult, SnapSettings, Verdict};
+use geosnap::core::snap::{nobody, snap, snap_at, SnapContext, SnapResult, SnapSettings, Verdict};
 use glam::DVec2;
 use support::assemblies::{assembly_with_hand, perturbed_placement, AssemblyKind, Perturbation};
 use support::judge::{describe, distance_to, evaluate, picture_difference, Errors, SAME_PICTURE};
@@ -524,7 +525,41 @@ fn in_words(picture: Option<f64>) -> String {
     }
 }
 
-/// Snaps `truth` dropped off by the issue's perturbation and judges it; writes the
+/// `truth` dropped as `drops` says and snapped (`run` snaps a rough drop): the drop (for
+/// a point drop, the guess its snap came from), the snap and its errors.
+fn drop_and_snap(
+    drops: Drops,
+    truth: &Primitive,
+    context: &SnapContext,
+    rng: &mut Rng,
+    run: impl Fn(&Primitive) -> (Result<SnapResult, String>, Option<Errors>),
+) -> (Primitive, Result<SnapResult, String>, Option<Errors>) {
+    match drops {
+        Drops::Rough => {
+            let place = perturbed_placement(truth, rng, Perturbation::ISSUE_16);
+            let dropped = Primitive::from_placement(truth.kind(), &place, truth.size());
+            let (result, errors) = run(&dropped);
+            (dropped, result, errors)
+        }
+        Drops::Point => {
+            let off = DVec2::from_angle(rng.range(0.0, TAU)) * (rng.range(0.0, 0.1) * truth.size());
+            let at = sketch_from_view(truth.center().truncate() + off);
+            match snap_at(context, truth.kind(), at, None, &SnapSettings::default()) {
+                Ok(snapped) => {
+                    let errors = Some(evaluate(truth, &snapped.result.primitive));
+                    (snapped.guess, Ok(snapped.result), errors)
+                }
+                Err(e) => {
+                    let dropped =
+                        Primitive::from_placement(truth.kind(), &Placement::at(at), truth.size());
+                    (dropped, Err(e.to_string()), None)
+                }
+            }
+        }
+    }
+}
+
+/// Snaps `truth` dropped as `drops` says and judges it; writes the
 /// analysis into `report` when the case fails or is `shown`, and its overlay into `png`.
 #[expect(
     clippy::too_many_arguments,
@@ -532,6 +567,7 @@ fn in_words(picture: Option<f64>) -> String {
 )]
 fn judge_part(
     job: Job,
+    drops: Drops,
     part: Option<usize>,
     truth: &Primitive,
     context: &SnapContext,
@@ -542,15 +578,13 @@ fn judge_part(
     report: &mut String,
 ) -> Outcome {
     let mut rng = Rng::new(job.seed() ^ 0xD80F_D80F ^ (part.unwrap_or(0) as u64) << 32);
-    let place = perturbed_placement(truth, &mut rng, Perturbation::ISSUE_16);
-    let dropped = Primitive::from_placement(truth.kind(), &place, truth.size());
     let run = |start: &Primitive| -> (Result<SnapResult, String>, Option<Errors>) {
         let result = snap(context, start, &SnapSettings::default()).map_err(|e| e.to_string());
         let errors = result.as_ref().ok().map(|r| evaluate(truth, &r.primitive));
         (result, errors)
     };
     let start = Instant::now();
-    let (result, errors) = run(&dropped);
+    let (dropped, result, errors) = drop_and_snap(drops, truth, context, &mut rng, run);
     let elapsed = start.elapsed();
     let failed = errors
         .as_ref()
@@ -697,7 +731,13 @@ fn assignment_lines(report: &mut String, label: &str, result: &SnapResult) {
 }
 
 /// Runs one job: its outcomes (one per part of an assembly) and its report.
-fn run_job(job: Job, hand: f64, shown: bool, png: Option<&Path>) -> (Vec<Outcome>, String) {
+fn run_job(
+    job: Job,
+    drops: Drops,
+    hand: f64,
+    shown: bool,
+    png: Option<&Path>,
+) -> (Vec<Outcome>, String) {
     let mut report = String::new();
     let hidden = job.hidden_lines();
     match job.subject {
@@ -711,6 +751,7 @@ fn run_job(job: Job, hand: f64, shown: bool, png: Option<&Path>) -> (Vec<Outcome
             let all: Vec<usize> = (0..scene.strokes.len()).collect();
             let outcome = judge_part(
                 job,
+                drops,
                 None,
                 &scene.truth,
                 &context,
@@ -739,6 +780,7 @@ fn run_job(job: Job, hand: f64, shown: bool, png: Option<&Path>) -> (Vec<Outcome
                         .collect();
                     judge_part(
                         job,
+                        drops,
                         Some(i),
                         truth,
                         &context,
@@ -775,6 +817,20 @@ struct Run {
     only_conditions: Vec<Condition>,
     /// The hand's errors scaled by this (`Style::steadier`; 1: the generator's hand).
     hand: f64,
+    /// How the parts are dropped.
+    drops: Drops,
+}
+
+/// How a run drops each part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Drops {
+    /// As a hand that sizes and turns it: the issue's perturbation
+    /// ([`Perturbation::ISSUE_16`]).
+    Rough,
+    /// As the palette drops it when the wheel has not sized or turned it, or a script step
+    /// that gives only a point: at a point within 10 % of the part's size of its centre,
+    /// with no size and no direction ([`snap_at`]).
+    Point,
 }
 
 impl Run {
@@ -813,6 +869,7 @@ impl Run {
                 .and_then(|v| v.trim().parse::<f64>().ok())
                 .filter(|h| h.is_finite() && *h >= 0.0)
                 .unwrap_or(1.0),
+            drops: Drops::Rough,
         }
     }
 }
@@ -875,7 +932,7 @@ fn run_all(run: &Run) -> (Vec<Outcome>, String) {
                     if run.progress {
                         eprintln!("start {}", job.name());
                     }
-                    let (outcomes, report) = run_job(*job, run.hand, shown, png);
+                    let (outcomes, report) = run_job(*job, run.drops, run.hand, shown, png);
                     if run.progress {
                         eprintln!("end {}", job.name());
                     }
@@ -979,8 +1036,7 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
         table,
         "{title}: {} cases per kind and condition, {} assemblies per kind and condition, \
          {:.1} s wall\n\
-         drops: centre ±10 % of the size, axis ±10°, sizes ±25 %; classes from the \
-         classifier; hidden lines in odd cases\n\
+         drops: {}; classes from the classifier; hidden lines in odd cases\n\
          truth = failures that persist when the snap starts from the truth; same = \
          failures that draw the truth's picture (their curves within 1 % of the size of \
          its curves: what fails is what the drawing leaves open); cls = strokes \
@@ -989,7 +1045,11 @@ fn report(title: &str, run: &Run, outcomes: &[Outcome], failures: &str, wall: Du
          criteria (error = the snap returned an error)",
         run.cases,
         run.assemblies,
-        wall.as_secs_f64()
+        wall.as_secs_f64(),
+        match run.drops {
+            Drops::Rough => "centre ±10 % of the size, axis ±10°, sizes ±25 %",
+            Drops::Point => "a point within 10 % of the size of the centre, no size, no direction",
+        }
     );
     if (run.hand - 1.0).abs() > 1e-12 {
         let _ = writeln!(
@@ -1246,20 +1306,20 @@ fn env_usize(name: &str) -> Option<usize> {
             (plain), sketchy 93.6, rough 84.9; wrong parts called doubtful or refused 336 \
             of 842 (39.9 %), good ones 196 of 4876 (4.0 %)"]
 fn conditions_meet_the_issue_targets() {
-    let run = Run::from_env(
+    meet_the_issue_targets(Drops::Rough, "drawing conditions (acceptance)");
+}
+
+/// The acceptance run of parts dropped as `drops` says: asserts the issue's targets.
+fn meet_the_issue_targets(drops: Drops, title: &str) {
+    let mut run = Run::from_env(
         env_usize("GEOSNAP_SYNTH_CONDITION_CASES").unwrap_or(ACCEPTANCE_CASES),
         env_usize("GEOSNAP_SYNTH_CONDITION_ASSEMBLIES").unwrap_or(ACCEPTANCE_ASSEMBLIES),
         &ACCEPTANCE_KINDS,
     );
+    run.drops = drops;
     let start = Instant::now();
     let (outcomes, failures) = run_all(&run);
-    let rates = report(
-        "drawing conditions (acceptance)",
-        &run,
-        &outcomes,
-        &failures,
-        start.elapsed(),
-    );
+    let rates = report(title, &run, &outcomes, &failures, start.elapsed());
     if run.show.is_some() {
         // One case shown for a diagnosis: no rates to judge.
         return;
@@ -1288,6 +1348,73 @@ fn conditions_meet_the_issue_targets() {
     assert!(
         missed.is_empty(),
         "below the issue's targets: {} (table above)",
+        missed.join(", ")
+    );
+}
+
+/// The point drops' acceptance run: as [`conditions_meet_the_issue_targets`], each part
+/// dropped as the palette drops it, at a point, with no size and no direction
+/// ([`Drops::Point`]). A user who lets go of a part without sizing it with the wheel
+/// meets this, and so does a script step that gives only `at`.
+#[test]
+#[ignore = "today's snapper misses the targets from a point drop: 40 cases per kind and \
+            condition, 8 assemblies per kind and condition (release): single primitives \
+            81.5 % (cylinder 81.2, cone 85.8, sphere 99.2, box 91.0, SGC 83.2, BGC 48.2), \
+            conditions from 60.4 (near-axial) to 92.1 (plain); assembly parts 66.7 % \
+            (stack 80.3, table 50.3, ball+tubes 96.2, brick+studs 68.8, box+pipes 89.2, \
+            handle 74.9, tee 64.0, plug 57.3, valves 51.9, menorah 56.7)"]
+fn point_drops_meet_the_issue_targets() {
+    meet_the_issue_targets(Drops::Point, "point drops (acceptance)");
+}
+
+/// Single cases per kind and condition of the point drops' floor test.
+const POINT_FLOOR_CASES: usize = 2;
+
+/// Today's floor of the point drops' floor test ([`POINT_FLOOR_CASES`], 20 cases per
+/// kind): single parts found from a point drop, per kind, a few points under the rate
+/// measured (cylinder 80 %, cone 100 %, sphere 95 %, box 100 %, SGC 85 %, BGC 55 %). Sized
+/// by the palette's default instead (the strokes under the point), the acceptance set's
+/// point drops found 7.8 % of the cylinders, none of the spheres, 3.8 % of the boxes.
+const POINT_KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
+    (PrimitiveKind::Cylinder, 0.7),
+    (PrimitiveKind::Cone, 0.9),
+    (PrimitiveKind::Sphere, 0.9),
+    (PrimitiveKind::Cuboid, 0.9),
+    (PrimitiveKind::Sgc, 0.75),
+    (PrimitiveKind::Bgc, 0.45),
+];
+
+/// A part dropped at a point, with no size and no direction (as the palette drops it
+/// unless the wheel sized it), lands on its part: the drawing sizes and turns the drop.
+#[test]
+fn point_drops_stay_above_todays_floor() {
+    let mut run = Run::from_env(POINT_FLOOR_CASES, 0, &[]);
+    run.drops = Drops::Point;
+    let start = Instant::now();
+    let (outcomes, failures) = run_all(&run);
+    let rates = report(
+        "point drops (floor)",
+        &run,
+        &outcomes,
+        &failures,
+        start.elapsed(),
+    );
+    if run.show.is_some() {
+        return;
+    }
+    let missed = below(
+        &rates.kinds,
+        |k| {
+            POINT_KIND_FLOOR
+                .iter()
+                .find(|(x, _)| *x == k)
+                .map_or(0.0, |(_, f)| *f)
+        },
+        |k| k.name().to_owned(),
+    );
+    assert!(
+        missed.is_empty(),
+        "point drops below today's floor (a regression): {} (table above)",
         missed.join(", ")
     );
 }
@@ -1484,7 +1611,7 @@ fn cases_that_miss(cases: &[(&str, usize)]) -> Vec<String> {
             })
         })()
         .expect("a case name");
-        let (outcomes, report) = run_job(job, 1.0, false, None);
+        let (outcomes, report) = run_job(job, Drops::Rough, 1.0, false, None);
         let outcome = outcomes
             .iter()
             .find(|o| o.part.unwrap_or(0) == *part)

@@ -41,6 +41,9 @@ pub struct Drag {
     /// The request the newest preview answers (equal to `generation` when it is up to
     /// date).
     preview_generation: u64,
+    /// For a point drop, the guess (the drop sized and turned by the drawing) the newest
+    /// preview came from.
+    guess: Option<Primitive>,
     /// The poses the newest cold snap found (its choice, then the alternatives), for
     /// Tab; empty before the first snap.
     poses: Vec<SnapResult>,
@@ -65,6 +68,7 @@ impl Drag {
             size: None,
             sized_at: None,
             preview_generation: 0,
+            guess: None,
             poses: Vec::new(),
             shown: 0,
         }
@@ -73,6 +77,13 @@ impl Drag {
     /// Its kind.
     pub fn kind(&self) -> PrimitiveKind {
         self.kind
+    }
+
+    /// Whether it is a point drop: a new part whose size was read off the strokes under
+    /// the cursor and that the wheel has neither sized nor turned. The drawing then sizes
+    /// and turns it (`snap_at`), as a script step that gives only a point.
+    pub fn is_point(&self) -> bool {
+        self.original.is_none() && self.sized_at.is_some()
     }
 
     /// The newest preview request.
@@ -161,6 +172,7 @@ impl Drag {
         }
         self.preview_time = result.elapsed;
         self.preview_generation = result.generation;
+        self.guess = result.guess;
         match result.result {
             Ok(snapped) => {
                 // A cold snap (other strokes under the cursor, a new size or axis) reads
@@ -305,11 +317,13 @@ impl GeosnapApp {
             return;
         };
         drag.generation += 1;
+        let point = drag.is_point();
         self.workers.request_preview(PreviewRequest {
             generation: drag.generation,
             dragged,
             context,
             strokes_revision,
+            point,
         });
     }
 
@@ -386,10 +400,13 @@ impl GeosnapApp {
         // The pose the preview shows is placed as it is; a preview behind the cursor (of
         // an earlier pointer position, perhaps over other strokes) is not used: the part
         // is snapped afresh from where it was dropped.
-        let readings = drag.readings(dragged.clone());
-        let start = match (&readings, drag.preview.as_ref()) {
-            (Some(_), Some(p)) => p.primitive.clone(),
-            _ => dragged,
+        // A point drop's poses were found from the guess the drawing sized and turned:
+        // that guess stands for the drop in the confidence.
+        let point = drag.is_point();
+        let readings = drag.readings(drag.guess.clone().unwrap_or_else(|| dragged.clone()));
+        let (start, point) = match (&readings, drag.preview.as_ref()) {
+            (Some(_), Some(p)) => (p.primitive.clone(), false),
+            _ => (dragged, point),
         };
         let label = match replacing {
             Some(id) => format!(
@@ -404,7 +421,7 @@ impl GeosnapApp {
                 worker::place(
                     document,
                     &context,
-                    &start,
+                    (&start, point),
                     readings,
                     replacing,
                     (&settings, unit),
@@ -445,7 +462,7 @@ impl GeosnapApp {
                 worker::place(
                     document,
                     &context,
-                    &dropped,
+                    (&dropped, false),
                     Some(readings),
                     Some(id),
                     (&settings, unit),

@@ -12,9 +12,10 @@ use std::time::{Duration, Instant};
 
 use super::editor::Editor;
 use crate::clock::MonotonicClock;
+use crate::core::geom::projection::sketch_from_model;
 use crate::core::model::{Companions, Document, Fit, GlobalOutcome, PrimitiveId, SessionSettings};
 use crate::core::primitive::Primitive;
-use crate::core::snap::{snap, SnapContext, SnapError, SnapResult, SnapSession, Verdict};
+use crate::core::snap::{snap, snap_at, SnapContext, SnapError, SnapResult, SnapSession, Verdict};
 use crate::core::solve::{CancelFlag, Iterate, SolveContext};
 
 /// Called from a worker thread when something is ready for the UI.
@@ -31,6 +32,10 @@ pub struct PreviewRequest {
     pub context: Arc<SnapContext>,
     /// The strokes' revision (a new one starts the session afresh).
     pub strokes_revision: u64,
+    /// Whether the drop gives no size or direction (a palette drag the wheel has not
+    /// sized or turned): the drawing sizes and turns it (`snap_at`), `dragged` giving
+    /// only its kind and the point.
+    pub point: bool,
 }
 
 /// The snapped preview of a drag frame.
@@ -42,6 +47,9 @@ pub struct PreviewResult {
     pub result: Result<SnapResult, SnapError>,
     /// How long the snap took.
     pub elapsed: Duration,
+    /// For a point drop, the guess (the drop sized and turned by the drawing) its snap
+    /// came from, which stands for the drop in its confidence.
+    pub guess: Option<Primitive>,
 }
 
 #[derive(Default)]
@@ -151,11 +159,23 @@ fn preview_loop(
             continue;
         };
         let started = Instant::now();
-        let result = session.update(&request.dragged, SolveContext::default());
+        let (result, guess) = if request.point {
+            let at = sketch_from_model(request.dragged.center());
+            match session.update_at(request.dragged.kind(), at, None, SolveContext::default()) {
+                Ok(p) => (Ok(p.result), Some(p.guess)),
+                Err(e) => (Err(e), None),
+            }
+        } else {
+            (
+                session.update(&request.dragged, SolveContext::default()),
+                None,
+            )
+        };
         let sent = results.send(PreviewResult {
             generation: request.generation,
             result,
             elapsed: started.elapsed(),
+            guess,
         });
         if sent.is_err() {
             return;
@@ -457,6 +477,22 @@ impl Job {
     }
 }
 
+/// The snap of `dragged` and the drop it stands for: itself, or for a point drop
+/// (`point`: no size or direction given) the guess the drawing sized and turned.
+fn snap_drop(
+    context: &SnapContext,
+    dragged: &Primitive,
+    point: bool,
+    settings: &crate::core::snap::SnapSettings,
+) -> Result<(SnapResult, Primitive), SnapError> {
+    if point {
+        let at = sketch_from_model(dragged.center());
+        snap_at(context, dragged.kind(), at, None, settings).map(|p| (p.result, p.guess))
+    } else {
+        snap(context, dragged, settings).map(|s| (s, dragged.clone()))
+    }
+}
+
 /// The job of a release: snap `dragged` (or take the pose `readings` shows, as its
 /// preview showed it), add it (in place of `replacing` when re-dragging a part), infer
 /// its relations and solve.
@@ -467,7 +503,7 @@ impl Job {
 pub(crate) fn place(
     mut document: Document,
     context: &SnapContext,
-    dragged: &Primitive,
+    (dragged, point): (&Primitive, bool),
     readings: Option<Readings>,
     replacing: Option<PrimitiveId>,
     (settings, unit): (&SessionSettings, super::words::Unit),
@@ -487,10 +523,10 @@ pub(crate) fn place(
             let dropped = readings.dropped.clone();
             (pose, dropped, readings)
         }
-        _ => match snap(context, dragged, &settings.snap) {
-            Ok(s) => {
-                let readings = Readings::of(dragged.clone(), &s);
-                (s, dragged.clone(), readings)
+        _ => match snap_drop(context, dragged, point, &settings.snap) {
+            Ok((s, dropped)) => {
+                let readings = Readings::of(dropped.clone(), &s);
+                (s, dropped, readings)
             }
             Err(SnapError::Cancelled) => {
                 output.cancelled = true;
@@ -780,6 +816,7 @@ mod tests {
                 dragged: dragged.clone(),
                 context: Arc::clone(&context),
                 strokes_revision: 0,
+                point: false,
             });
         }
         let mut last = None;
@@ -807,7 +844,7 @@ mod tests {
                     place(
                         Document::new(),
                         &context,
-                        &dragged,
+                        (&dragged, false),
                         None,
                         None,
                         (&settings, crate::app::words::Unit::default()),
@@ -831,7 +868,7 @@ mod tests {
                 place(
                     Document::new(),
                     &context,
-                    &dragged,
+                    (&dragged, false),
                     None,
                     None,
                     (&settings, crate::app::words::Unit::default()),

@@ -25,7 +25,8 @@ use crate::relation::evidence::Inferred;
 use crate::relation::{residuals, InferenceSettings, Member, Mode, RelationKind};
 use crate::sketch::{Sketch, StrokeId};
 use crate::snap::{
-    snap, Assignment, Confidence, Owner, Profile, SnapContext, SnapResult, SnapSettings, Verdict,
+    snap, snap_at_with, Assignment, Confidence, Owner, Profile, SnapContext, SnapResult,
+    SnapSettings, Verdict,
 };
 use crate::solve::SolveContext;
 
@@ -684,6 +685,38 @@ pub fn run_steps(
     run_steps_with(sketch, steps, settings, solve, &mut |_, _| {})
 }
 
+/// The snap of one step and the drop it stands for. A step that gives no size is sized
+/// (and, without an axis of its own, turned) by the drawing, as the palette's drop is
+/// (see [`snap_at_with`]); the guess it was snapped from stands for the drop in its
+/// confidence.
+fn snap_step(
+    context: &SnapContext,
+    step: &Step,
+    default_size: f64,
+    settings: &SessionSettings,
+    solve: SolveContext<'_>,
+) -> Result<(SnapResult, Primitive), String> {
+    match step {
+        Step::Invalid { reason } => Err(reason.clone()),
+        Step::Place { kind, placement } if placement.is_unsized() => snap_at_with(
+            context,
+            *kind,
+            placement.at,
+            placement.given_axis(),
+            &settings.snap,
+            solve,
+        )
+        .map(|p| (p.result, p.guess))
+        .map_err(|e| e.to_string()),
+        Step::Place { kind, placement } => {
+            let dropped = Primitive::from_placement(*kind, placement, default_size);
+            snap(context, &dropped, &settings.snap)
+                .map(|result| (result, dropped))
+                .map_err(|e| e.to_string())
+        }
+    }
+}
+
 /// [`run_steps`], calling `on_step` with each step's index and outcome as soon as the
 /// step is done (for progress reports on long scripts). Once `solve`'s cancel flag is
 /// raised no further step starts: the outcomes then cover only the steps begun.
@@ -710,19 +743,10 @@ pub fn run_steps_with(
         {
             break; // cancelled: no more steps, the outcomes cover those done
         }
-        let dropped = match step {
-            Step::Invalid { reason } => Err(reason.clone()),
-            Step::Place { kind, placement } => {
-                Ok(Primitive::from_placement(*kind, placement, default_size))
-            }
-        };
-        let outcome = dropped.and_then(|dropped| {
-            snap(&context, &dropped, &settings.snap)
-                .map_err(|e| e.to_string())
-                .map(|result| {
-                    let confidence = result.confidence(&dropped, &document.owner(), &settings.snap);
-                    (result, confidence)
-                })
+        let snapped = snap_step(&context, step, default_size, settings, solve.reborrow());
+        let outcome = snapped.map(|(result, dropped)| {
+            let confidence = result.confidence(&dropped, &document.owner(), &settings.snap);
+            (result, confidence)
         });
         let skip = |reason: String| Skipped {
             step: index,

@@ -253,6 +253,22 @@ pub struct Placement {
 }
 
 impl Placement {
+    /// Whether it gives no size at all: a drop the drawing sizes (see
+    /// [`crate::snap::snap_at`]).
+    pub fn is_unsized(&self) -> bool {
+        self.length.is_none()
+            && self.radius.is_none()
+            && self.radius_bottom.is_none()
+            && self.radius_top.is_none()
+            && self.size.is_none()
+    }
+
+    /// The direction it gives: `None` for the default, up the page, which says nothing
+    /// of the part (an unsized drop is then turned by the drawing).
+    pub fn given_axis(&self) -> Option<DVec2> {
+        (self.axis != Self::at(self.at).axis).then_some(self.axis)
+    }
+
     /// A placement at `at` with every size defaulted.
     pub fn at(at: DVec2) -> Self {
         Self {

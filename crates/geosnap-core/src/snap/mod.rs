@@ -17,10 +17,12 @@ mod copies;
 pub(crate) mod initial;
 mod objective;
 mod pieces;
+mod point;
 mod slant;
 mod spread;
 mod swallowed;
 
+use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 pub use assign::{
@@ -30,6 +32,7 @@ pub use assign::{
 pub use confidence::{judge, nobody, Confidence, Evidence, Owner, Verdict};
 pub use context::{Prepared, SnapContext, SnapStroke};
 pub use objective::{build_problem, fit_rms, fit_terms, FitTerms, Frame, Profile};
+pub use point::{guesses, snap_at, snap_at_with, PointSnap, CENTRE_REACH, DISC_LENGTH, RUNGS};
 pub(crate) use spread::spread as spread_of;
 pub use spread::{Dimension, Spread};
 
@@ -846,8 +849,7 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
     for (curve, strokes) in shape.curves.iter().zip(&assignment.curves) {
         // Each piece of stroke counts by how close it runs: fully on the curve, nothing
         // at the gate.
-        let closeness =
-            |p: glam::DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
+        let closeness = |p: DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
         let points = resampled(&curve.curve.points(96), gate / 2.0);
         let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
         // A line drawn over several times (a sketchy hand's 2–3 strokes) is drawn once:
@@ -887,16 +889,16 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
 /// between two samples of a stroke covers the points between the curve points nearest
 /// to its ends (the shorter way round a `closed` curve), by its `closeness` to the curve.
 fn overdrawn(
-    points: &[glam::DVec2],
+    points: &[DVec2],
     strokes: &[AssignedStroke],
-    closeness: &dyn Fn(glam::DVec2) -> f64,
+    closeness: &dyn Fn(DVec2) -> f64,
     closed: bool,
 ) -> f64 {
     let n = points.len();
     if n == 0 || strokes.len() < 2 {
         return 0.0;
     }
-    let nearest = |p: glam::DVec2| crate::geom::nearest_index(points, p);
+    let nearest = |p: DVec2| crate::geom::nearest_index(points, p);
     let (mut sum, mut best) = (vec![0.0_f64; n], vec![0.0_f64; n]);
     for s in strokes {
         let mut own = vec![0.0_f64; n];
@@ -922,7 +924,7 @@ fn overdrawn(
 
 /// Points along a polyline no farther apart than `step` (each segment split evenly; the
 /// coverage count of [`explanation`] needs no uniform arc length).
-fn resampled(points: &[glam::DVec2], step: f64) -> Vec<glam::DVec2> {
+fn resampled(points: &[DVec2], step: f64) -> Vec<DVec2> {
     let mut out = Vec::with_capacity(points.len());
     for w in points.windows(2) {
         // At most 64 points a segment: a degenerate fit (a curve huge against its
@@ -1027,6 +1029,9 @@ pub struct SnapSession {
     context: SnapContext,
     settings: SnapSettings,
     last: Option<LastFrame>,
+    /// The direction the last point drop gave (see [`SnapSession::update_at`]); `None`
+    /// when the last frame was not a point drop's.
+    point_axis: Option<Aim>,
 }
 
 /// Whether two primitives are the same up to rounding (a BGC moved by an offset and
@@ -1038,6 +1043,10 @@ fn same_shape(a: &Primitive, b: &Primitive) -> bool {
         && x.len() == y.len()
         && x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= tolerance)
 }
+
+/// The direction a point drop gave, `None` for one the drawing turns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Aim(Option<DVec2>);
 
 /// What a drag frame leaves for the next one.
 #[derive(Clone, Debug)]
@@ -1057,6 +1066,7 @@ impl SnapSession {
             context,
             settings,
             last: None,
+            point_axis: None,
         }
     }
 
@@ -1107,12 +1117,77 @@ impl SnapSession {
             near,
             result: result.clone(),
         });
+        self.point_axis = None;
         Ok(result)
+    }
+
+    /// The snapped preview of a drop of `kind` at sketch point `at` that gives no size
+    /// (and no direction when `axis` is `None`): the palette's drag before the wheel
+    /// sized or turned it (see [`snap_at`]). While the cursor moves over the same strokes
+    /// the last frame's guess, moved to the cursor, is refined warm as
+    /// [`SnapSession::update`] refines a drag; over other strokes the drawing is read
+    /// afresh, every guess snapped cold.
+    ///
+    /// # Errors
+    ///
+    /// As [`snap_at`].
+    pub fn update_at(
+        &mut self,
+        kind: PrimitiveKind,
+        at: DVec2,
+        axis: Option<DVec2>,
+        mut solve: SolveContext<'_>,
+    ) -> Result<PointSnap, SnapError> {
+        if !at.is_finite() {
+            return Err(SnapError::NonFinite(kind.name()));
+        }
+        let moved = self.last.as_ref().and_then(|last| {
+            let guess = &last.dragged;
+            let point = crate::geom::projection::view_from_sketch(at);
+            let offset = DVec3::new(point.x, point.y, guess.center().z) - guess.center();
+            let moved = guess.transformed(offset, 1.0);
+            let same_drop = guess.kind() == kind && self.point_axis == Some(Aim(axis));
+            let wide = self.settings.wide_gate * moved.size();
+            let near = assign(&self.context, &moved.current_shape().curves, wide);
+            (same_drop && near.same_strokes(&last.near)).then_some(moved)
+        });
+        if let Some(moved) = moved {
+            let result = self.update(&moved, solve)?;
+            self.point_axis = Some(Aim(axis));
+            return Ok(PointSnap {
+                result,
+                guess: moved,
+            });
+        }
+        let snapped = snap_at_with(
+            &self.context,
+            kind,
+            at,
+            axis,
+            &self.settings,
+            solve.reborrow(),
+        );
+        let snapped = match snapped {
+            Ok(s) => s,
+            Err(e) => {
+                self.reset();
+                return Err(e);
+            }
+        };
+        let wide = self.settings.wide_gate * snapped.guess.size();
+        self.last = Some(LastFrame {
+            dragged: snapped.guess.clone(),
+            near: assign(&self.context, &snapped.guess.current_shape().curves, wide),
+            result: snapped.result.clone(),
+        });
+        self.point_axis = Some(Aim(axis));
+        Ok(snapped)
     }
 
     /// Forgets the previous frame (the next update starts cold).
     pub fn reset(&mut self) {
         self.last = None;
+        self.point_axis = None;
     }
 
     /// The strokes of the session.

@@ -1,0 +1,399 @@
+//! Drops that say where and what, not how big or which way.
+//!
+//! A primitive dragged off the palette and let go over a drawing, or a script step that
+//! gives nothing but a kind and a point, tells the snap which part is meant by where it
+//! lands, and nothing of the part's size or direction. The snap itself is built for a
+//! drop a hand has sized and turned roughly (within a quarter and some degrees): its
+//! gates and the starts it reads off the drawing are measured from the drop. A point
+//! drop sized by some default meets a part a tenth or ten times as big, and a rod lying
+//! across the page under an upright drop; measured on the generated drawings, fewer than
+//! one point drop in six landed on its part.
+//!
+//! So the drawing sizes and turns the drop. The guesses are the drop at a ladder of
+//! sizes, from the drawing's extent down by halves ([`RUNGS`]; a size whose reach holds
+//! no stroke is left out), each turned along the two principal directions of the
+//! strokes within its reach (a rod's outlines spread along its axis, a disc's ellipses
+//! across it) unless the drop gives its direction. A cylinder or cone is also guessed
+//! as a disc ([`DISC_LENGTH`] of its diameter long) along the direction across the
+//! spread: a rod-shaped guess on a thin disc reads one of its ellipses as an outline. Each guess is snapped as a hand's drop
+//! is, and the readings compete as the starts of one drop do (see `better`): a good fit
+//! first, then what explains more of the drawing, then what swallows less. A point drop
+//! says where the part's middle is, so readings centred near the point
+//! ([`CENTRE_REACH`]) are chosen among first: a post read from a drop on the cap that
+//! stands on it explains more of the drawing, but is not what was pointed at. The
+//! winning guess stands for the drop in the snap's confidence.
+
+use glam::DVec2;
+
+use super::{choose, snap_from, Scored, SnapContext, SnapError, SnapResult, SnapSettings};
+use crate::geom::projection::{sketch_from_view, view_from_sketch};
+use crate::primitive::{Placement, Primitive, PrimitiveKind};
+use crate::solve::SolveContext;
+
+/// How many sizes the ladder tries: the drawing's extent and its halves down to 1/32.
+pub const RUNGS: i32 = 6;
+
+/// A guess reads the strokes within this share of its size of the drop point: the
+/// strokes of a part of that size centred there.
+const REACH: f64 = 0.6;
+
+/// A reading is centred on the drop when its image centre lies within this share of
+/// its size of the point: two and a half times the 10 % by which a hand's drop misses a
+/// part's middle.
+pub const CENTRE_REACH: f64 = 0.25;
+
+/// A disc's guess is this share of its diameter long (projected).
+pub const DISC_LENGTH: f64 = 0.25;
+
+/// Two directions closer than this (radians, 10°, either way along) are one guess.
+const SAME_DIRECTION: f64 = 0.175;
+
+/// A snap of a point drop: the snapped reading and the guess (the drop sized and
+/// turned by the drawing) it came from, which stands for the drop in its confidence.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointSnap {
+    /// The snap.
+    pub result: SnapResult,
+    /// The guess it came from.
+    pub guess: Primitive,
+}
+
+/// The guesses a drop of `kind` at `at` is snapped from (module docs): the drop at each
+/// rung of sizes whose reach holds strokes, along `axis` when given, else along the
+/// principal directions of the strokes within reach (and up the page when they are too
+/// few to say). Largest first.
+pub fn guesses(
+    context: &SnapContext,
+    kind: PrimitiveKind,
+    at: DVec2,
+    axis: Option<DVec2>,
+) -> Vec<Primitive> {
+    let Some(extent) = extent(context) else {
+        return Vec::new();
+    };
+    // The strokes are held in view space (y up).
+    let point = view_from_sketch(at);
+    let mut out = Vec::new();
+    for k in 0..RUNGS {
+        let size = extent * 0.5f64.powi(k);
+        let near: Vec<DVec2> = context
+            .strokes
+            .iter()
+            .filter(|s| box_distance(s.bounds, point) <= REACH * size)
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|p| p.distance(point) <= REACH * size)
+            .collect();
+        if near.is_empty() {
+            continue;
+        }
+        let directions = match (axis, kind) {
+            (Some(a), _) => vec![a],
+            // A sphere looks the same whichever way it is turned.
+            (None, PrimitiveKind::Sphere) => vec![DVec2::new(0.0, -1.0)],
+            (None, _) => principal_directions(&near)
+                .into_iter()
+                .map(sketch_from_view)
+                .collect(),
+        };
+        for direction in &directions {
+            let placement = Placement {
+                axis: *direction,
+                ..Placement::at(at)
+            };
+            out.push(Primitive::from_placement(kind, &placement, size));
+        }
+        // A round part may be a disc as well as a rod: a disc's guess along the direction
+        // across the strokes' spread (a disc's ellipses spread across its axis).
+        if matches!(kind, PrimitiveKind::Cylinder | PrimitiveKind::Cone) {
+            if let Some(direction) = directions.last() {
+                let placement = Placement {
+                    axis: *direction,
+                    length: Some(DISC_LENGTH * size),
+                    radius: Some(0.5 * size),
+                    radius_bottom: Some(0.5 * size),
+                    radius_top: Some(0.3 * size),
+                    ..Placement::at(at)
+                };
+                out.push(Primitive::from_placement(kind, &placement, size));
+            }
+        }
+    }
+    out
+}
+
+/// Snaps a drop of `kind` at sketch point `at` that gives no size (and no direction when
+/// `axis` is `None`) to the strokes of `context`: every guess of [`guesses`] is snapped
+/// and the best reading kept, the others its alternatives.
+///
+/// # Errors
+///
+/// [`SnapError::NotEnoughStrokes`] when no stroke lies near `at` or no guess snaps (the
+/// largest guess's error), [`SnapError::NonFinite`] for a non-finite point or axis,
+/// [`SnapError::Cancelled`].
+///
+/// # Examples
+///
+/// ```
+/// use glam::DVec2;
+/// use geosnap_core::primitive::{Primitive, PrimitiveKind};
+/// use geosnap_core::sketch::{StrokeClass, StrokeId};
+/// use geosnap_core::snap::{snap_at, SnapContext, SnapSettings};
+///
+/// // A cylinder lying across the page: two lines 20 apart and 120 long, and the arc
+/// // of each end.
+/// let line = |y: f64| (0..=24).map(|i| DVec2::new(100.0 + 5.0 * f64::from(i), y)).collect::<Vec<_>>();
+/// let end = |x: f64| {
+///     (0..=16)
+///         .map(|i| {
+///             let t = std::f64::consts::PI * f64::from(i) / 16.0 - std::f64::consts::FRAC_PI_2;
+///             DVec2::new(x + 6.0 * t.cos(), 110.0 + 10.0 * t.sin())
+///         })
+///         .collect::<Vec<_>>()
+/// };
+/// let strokes = [line(100.0), line(120.0), end(100.0), end(220.0)];
+/// let classes = [StrokeClass::Silhouette, StrokeClass::Silhouette, StrokeClass::Feature, StrokeClass::Feature];
+/// let context = SnapContext::new(
+///     strokes.iter().zip(classes).enumerate().map(|(i, (s, c))| (StrokeId(i as u32), s.as_slice(), c)),
+/// );
+/// // Dropped in its middle, with no size and no direction.
+/// let snapped = snap_at(&context, PrimitiveKind::Cylinder, DVec2::new(158.0, 112.0), None, &SnapSettings::default())?;
+/// let Primitive::Cylinder(c) = &snapped.result.primitive else { unreachable!() };
+/// let image_axis = c.axis.truncate().normalize();
+/// assert!(image_axis.x.abs() > 0.99, "it lies across the page: {image_axis:?}");
+/// let projected = c.length * c.axis.truncate().length();
+/// assert!((c.radius - 10.0).abs() < 1.0 && (projected - 120.0).abs() < 12.0);
+/// # Ok::<(), geosnap_core::snap::SnapError>(())
+/// ```
+pub fn snap_at(
+    context: &SnapContext,
+    kind: PrimitiveKind,
+    at: DVec2,
+    axis: Option<DVec2>,
+    settings: &SnapSettings,
+) -> Result<PointSnap, SnapError> {
+    snap_at_with(context, kind, at, axis, settings, SolveContext::default())
+}
+
+/// [`snap_at`] with the solves' context (cancel flag, clock).
+///
+/// # Errors
+///
+/// As [`snap_at`].
+pub fn snap_at_with(
+    context: &SnapContext,
+    kind: PrimitiveKind,
+    at: DVec2,
+    axis: Option<DVec2>,
+    settings: &SnapSettings,
+    mut solve: SolveContext<'_>,
+) -> Result<PointSnap, SnapError> {
+    if !at.is_finite() || axis.is_some_and(|a| !a.is_finite() || a.length() == 0.0) {
+        return Err(SnapError::NonFinite(kind.name()));
+    }
+    let mut candidates: Vec<(Scored, Primitive)> = Vec::new();
+    let mut first_error = None;
+    for guess in guesses(context, kind, at, axis) {
+        match snap_from(context, &guess, settings, None, solve.reborrow()) {
+            Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+            Ok(r) => candidates.push((Scored::of(context, r, guess.size(), settings), guess)),
+        }
+    }
+    // The drop points at the part's middle: readings centred near it are the ones meant
+    // (a post read from a drop on the cap standing on it explains more, and is not
+    // pointed at); the others compete only when no reading is.
+    let centred = |s: &Scored| {
+        let c = s.result.primitive.center().truncate();
+        c.distance(view_from_sketch(at)) <= CENTRE_REACH * s.result.primitive.size()
+    };
+    if candidates.iter().any(|(s, _)| centred(s)) {
+        candidates.retain(|(s, _)| centred(s));
+    }
+    let guesses: Vec<(Primitive, Primitive)> = candidates
+        .iter()
+        .map(|(s, g)| (s.result.primitive.clone(), g.clone()))
+        .collect();
+    let Some(result) = choose(candidates.into_iter().map(|(s, _)| s).collect()) else {
+        return Err(first_error.unwrap_or(SnapError::NotEnoughStrokes {
+            kind: kind.name(),
+            found: "no strokes near the drop".to_owned(),
+        }));
+    };
+    let guess = guesses
+        .into_iter()
+        .find(|(p, _)| *p == result.primitive)
+        .map_or_else(|| result.primitive.clone(), |(_, g)| g);
+    Ok(PointSnap { result, guess })
+}
+
+/// The larger extent of the drawing's strokes, `None` without strokes.
+fn extent(context: &SnapContext) -> Option<f64> {
+    let (lo, hi) = context.strokes.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), s| (lo.min(s.bounds.0), hi.max(s.bounds.1)),
+    );
+    let extent = (hi - lo).max_element();
+    (extent.is_finite() && extent > 0.0).then_some(extent)
+}
+
+/// The distance from `p` to the box `bounds` (0 inside).
+fn box_distance(bounds: (DVec2, DVec2), p: DVec2) -> f64 {
+    (bounds.0 - p).max(p - bounds.1).max(DVec2::ZERO).length()
+}
+
+/// The two principal directions (major, then minor) of `points`' spread (view space, y
+/// up), each pointing up; up alone when fewer than three points or no spread say it.
+fn principal_directions(points: &[DVec2]) -> Vec<DVec2> {
+    let up = DVec2::Y;
+    if points.len() < 3 {
+        return vec![up];
+    }
+    let mean = points.iter().sum::<DVec2>() / points.len() as f64;
+    let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let d = *p - mean;
+        xx += d.x * d.x;
+        xy += d.x * d.y;
+        yy += d.y * d.y;
+    }
+    if xx + yy <= 0.0 {
+        return vec![up];
+    }
+    let major = DVec2::from_angle(0.5 * (2.0 * xy).atan2(xx - yy));
+    let upward = |d: DVec2| if d.dot(up) < 0.0 { -d } else { d };
+    let mut out: Vec<DVec2> = Vec::with_capacity(2);
+    for d in [major, major.perp()] {
+        let d = upward(d);
+        if out.iter().all(|o| o.dot(d).abs() < SAME_DIRECTION.cos()) {
+            out.push(d);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sketch::{StrokeClass, StrokeId};
+
+    fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
+        SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        )
+    }
+
+    fn circle(c: DVec2, r: f64) -> Vec<DVec2> {
+        (0..=48)
+            .map(|i| c + DVec2::from_angle(std::f64::consts::TAU * f64::from(i) / 48.0) * r)
+            .collect()
+    }
+
+    #[test]
+    fn a_ball_far_bigger_than_any_default_is_found_from_its_middle() {
+        // A ball 600 across alone on the page; a point drop in its middle has no
+        // stroke within a palette-sized reach.
+        let ctx = context(&[circle(DVec2::new(500.0, 500.0), 300.0)]);
+        let snapped = snap_at(
+            &ctx,
+            PrimitiveKind::Sphere,
+            DVec2::new(520.0, 470.0),
+            None,
+            &SnapSettings::default(),
+        )
+        .expect("the ball snaps");
+        let Primitive::Sphere(s) = &snapped.result.primitive else {
+            panic!("a sphere");
+        };
+        assert!((s.radius - 300.0).abs() < 6.0, "radius {}", s.radius);
+        assert!(s.center.truncate().distance(DVec2::new(500.0, -500.0)) < 6.0);
+    }
+
+    #[test]
+    fn a_small_ball_beside_a_big_one_is_found_where_it_is_dropped() {
+        let ctx = context(&[
+            circle(DVec2::new(500.0, 500.0), 300.0),
+            circle(DVec2::new(900.0, 500.0), 30.0),
+        ]);
+        let snapped = snap_at(
+            &ctx,
+            PrimitiveKind::Sphere,
+            DVec2::new(905.0, 495.0),
+            None,
+            &SnapSettings::default(),
+        )
+        .expect("the small ball snaps");
+        let Primitive::Sphere(s) = &snapped.result.primitive else {
+            panic!("a sphere");
+        };
+        assert!((s.radius - 30.0).abs() < 2.0, "radius {}", s.radius);
+    }
+
+    #[test]
+    fn guesses_follow_the_strokes_direction_unless_the_drop_gives_one() {
+        // Two long lines across the page.
+        let line = |y: f64| -> Vec<DVec2> {
+            (0..=40)
+                .map(|i| DVec2::new(10.0 * f64::from(i), y))
+                .collect()
+        };
+        let ctx = context(&[line(100.0), line(140.0)]);
+        let at = DVec2::new(200.0, 120.0);
+        let free = guesses(&ctx, PrimitiveKind::Cylinder, at, None);
+        assert!(free.iter().any(|g| match g {
+            Primitive::Cylinder(c) => c.axis.truncate().normalize().x.abs() > 0.99,
+            _ => false,
+        }));
+        let aimed = guesses(
+            &ctx,
+            PrimitiveKind::Cylinder,
+            at,
+            Some(DVec2::new(0.0, -1.0)),
+        );
+        assert!(!aimed.is_empty());
+        assert!(aimed.iter().all(|g| match g {
+            Primitive::Cylinder(c) => c.axis.truncate().normalize().y > 0.99,
+            _ => false,
+        }));
+    }
+
+    #[test]
+    fn no_strokes_near_is_a_clear_error_and_bad_points_are_refused() {
+        let ctx = context(&[circle(DVec2::new(500.0, 500.0), 30.0)]);
+        let settings = SnapSettings::default();
+        // Far beyond the drawing: every rung's reach is empty.
+        let far = snap_at(
+            &ctx,
+            PrimitiveKind::Cone,
+            DVec2::new(9000.0, 9000.0),
+            None,
+            &settings,
+        );
+        assert!(
+            matches!(far, Err(SnapError::NotEnoughStrokes { .. })),
+            "{far:?}"
+        );
+        let nan = snap_at(
+            &ctx,
+            PrimitiveKind::Cone,
+            DVec2::new(f64::NAN, 0.0),
+            None,
+            &settings,
+        );
+        assert!(matches!(nan, Err(SnapError::NonFinite(_))));
+        let zero = snap_at(
+            &ctx,
+            PrimitiveKind::Cone,
+            DVec2::new(500.0, 500.0),
+            Some(DVec2::ZERO),
+            &settings,
+        );
+        assert!(matches!(zero, Err(SnapError::NonFinite(_))));
+        let empty = context(&[]);
+        assert!(snap_at(&empty, PrimitiveKind::Sphere, DVec2::ZERO, None, &settings).is_err());
+    }
+}
