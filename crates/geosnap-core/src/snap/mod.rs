@@ -1085,13 +1085,28 @@ impl SnapSession {
     pub fn update(
         &mut self,
         dragged: &Primitive,
-        mut solve: SolveContext<'_>,
+        solve: SolveContext<'_>,
     ) -> Result<SnapResult, SnapError> {
         if !dragged.is_finite() {
             return Err(SnapError::NonFinite(dragged.kind().name()));
         }
+        let near = self.near(dragged);
+        self.update_near(dragged, near, solve)
+    }
+
+    /// The strokes the wide gate takes around `dragged`.
+    fn near(&self, dragged: &Primitive) -> Assignment {
         let wide = self.settings.wide_gate * dragged.size();
-        let near = assign(&self.context, &dragged.current_shape().curves, wide);
+        assign(&self.context, &dragged.current_shape().curves, wide)
+    }
+
+    /// [`SnapSession::update`] of `dragged` (finite) with the strokes `near` it.
+    fn update_near(
+        &mut self,
+        dragged: &Primitive,
+        near: Assignment,
+        mut solve: SolveContext<'_>,
+    ) -> Result<SnapResult, SnapError> {
         let warm = self.last.as_ref().filter(|last| {
             let offset = dragged.center() - last.dragged.center();
             same_shape(&last.dragged.transformed(offset, 1.0), dragged)
@@ -1147,12 +1162,11 @@ impl SnapSession {
             let offset = DVec3::new(point.x, point.y, guess.center().z) - guess.center();
             let moved = guess.transformed(offset, 1.0);
             let same_drop = guess.kind() == kind && self.point_axis == Some(Aim(axis));
-            let wide = self.settings.wide_gate * moved.size();
-            let near = assign(&self.context, &moved.current_shape().curves, wide);
-            (same_drop && near.same_strokes(&last.near)).then_some(moved)
+            let near = self.near(&moved);
+            (same_drop && near.same_strokes(&last.near)).then_some((moved, near))
         });
-        if let Some(moved) = moved {
-            let result = self.update(&moved, solve)?;
+        if let Some((moved, near)) = moved {
+            let result = self.update_near(&moved, near, solve)?;
             self.point_axis = Some(Aim(axis));
             return Ok(PointSnap {
                 result,
@@ -1174,10 +1188,9 @@ impl SnapSession {
                 return Err(e);
             }
         };
-        let wide = self.settings.wide_gate * snapped.guess.size();
         self.last = Some(LastFrame {
             dragged: snapped.guess.clone(),
-            near: assign(&self.context, &snapped.guess.current_shape().curves, wide),
+            near: self.near(&snapped.guess),
             result: snapped.result.clone(),
         });
         self.point_axis = Some(Aim(axis));
