@@ -1362,7 +1362,9 @@ fn meet_the_issue_targets(drops: Drops, title: &str) {
             81.5 % (cylinder 81.2, cone 85.8, sphere 99.2, box 91.0, SGC 83.2, BGC 48.2), \
             conditions from 60.4 (near-axial) to 92.1 (plain); assembly parts 66.7 % \
             (stack 80.3, table 50.3, ball+tubes 96.2, brick+studs 68.8, box+pipes 89.2, \
-            handle 74.9, tee 64.0, plug 57.3, valves 51.9, menorah 56.7)"]
+            handle 74.9, tee 64.0, plug 57.3, valves 51.9, menorah 56.7) before the \
+            region's guesses; with them, at 10 cases and 2 assemblies: single 83.5 %, \
+            assembly parts 73.2 % (table 63.9, plug 58.6, valves 70.0)"]
 fn point_drops_meet_the_issue_targets() {
     meet_the_issue_targets(Drops::Point, "point drops (acceptance)");
 }
@@ -1384,11 +1386,29 @@ const POINT_KIND_FLOOR: [(PrimitiveKind, f64); 6] = [
     (PrimitiveKind::Bgc, 0.45),
 ];
 
+/// The assembly kinds of the point drops' floor test, one per condition: those whose
+/// thin parts (legs, prongs, planks) a guess in the palette's proportions misses.
+const POINT_FLOOR_ASSEMBLIES: [AssemblyKind; 3] = [
+    AssemblyKind::Table,
+    AssemblyKind::Plug,
+    AssemblyKind::Valves,
+];
+
+/// Today's floor of the point drops' floor test's assembly parts, a few points under
+/// the rate measured (table 68.1 %, plug 62.9 %, valves 75.0 %). Guessed in the
+/// palette's proportions alone, without the region round the point, they were 51.1,
+/// 57.1 and 60.0 %.
+const POINT_ASSEMBLY_FLOOR: [(AssemblyKind, f64); 3] = [
+    (AssemblyKind::Table, 0.63),
+    (AssemblyKind::Plug, 0.6),
+    (AssemblyKind::Valves, 0.7),
+];
+
 /// A part dropped at a point, with no size and no direction (as the palette drops it
 /// unless the wheel sized it), lands on its part: the drawing sizes and turns the drop.
 #[test]
 fn point_drops_stay_above_todays_floor() {
-    let mut run = Run::from_env(POINT_FLOOR_CASES, 0, &[]);
+    let mut run = Run::from_env(POINT_FLOOR_CASES, 1, &POINT_FLOOR_ASSEMBLIES);
     run.drops = Drops::Point;
     let start = Instant::now();
     let (outcomes, failures) = run_all(&run);
@@ -1402,7 +1422,7 @@ fn point_drops_stay_above_todays_floor() {
     if run.show.is_some() {
         return;
     }
-    let missed = below(
+    let mut missed = below(
         &rates.kinds,
         |k| {
             POINT_KIND_FLOOR
@@ -1412,6 +1432,16 @@ fn point_drops_stay_above_todays_floor() {
         },
         |k| k.name().to_owned(),
     );
+    missed.extend(below(
+        &rates.assemblies,
+        |k| {
+            POINT_ASSEMBLY_FLOOR
+                .iter()
+                .find(|(x, _)| *x == k)
+                .map_or(0.0, |(_, f)| *f)
+        },
+        |k| k.name().to_owned(),
+    ));
     assert!(
         missed.is_empty(),
         "point drops below today's floor (a regression): {} (table above)",

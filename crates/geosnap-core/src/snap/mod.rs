@@ -18,6 +18,7 @@ pub(crate) mod initial;
 mod objective;
 mod pieces;
 mod point;
+mod region;
 mod slant;
 mod spread;
 mod swallowed;

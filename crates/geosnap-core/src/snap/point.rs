@@ -22,9 +22,30 @@
 //! ([`CENTRE_REACH`]) are chosen among first: a post read from a drop on the cap that
 //! stands on it explains more of the drawing, but is not what was pointed at. The
 //! winning guess stands for the drop in the snap's confidence.
+//!
+//! The ladder's guesses have the palette's proportions (a rod a third as wide as it is
+//! long). On a table leg ten times as long as it is wide, a guess as long as the leg
+//! reads its neighbours' outlines, and one as wide as the leg is far too short; on a
+//! plug's prong, a plank, the same. So the drawing is also read where the point lies:
+//! the region its strokes enclose round the point ([`super::region`]) has the part's
+//! proportions, and gives guesses of its own, first: a round part along the region (a
+//! rod) and across it (a disc), a box as a bar along it and as a slab across it, a ball
+//! as wide as it. They compete with the ladder's readings as any guess does. Measured on
+//! the conditions suite's point drops (10 single cases per kind and condition, 2
+//! assemblies per kind and condition), the region's guesses took assembly parts from
+//! 67.7 to 73.2 % (tables 48.5 → 63.9, plugs 50.0 → 58.6, valve rows
+//! 60.0 → 70.0) and left single parts where they were (83.8 → 83.5 %).
+//!
+//! What the region did not give: a reading of a row of legs as one fat post still
+//! explains more of the drawing than the leg pointed at, and wins. Asking the reading
+//! to draw the strokes round the point (the region's boundary) turned that away, and
+//! turned away as many right readings where another part's outline crosses the region
+//! (a rim behind the cone that stands on it, a stack seen along its axis): it was
+//! measured and left out.
 
 use glam::DVec2;
 
+use super::region::region_at;
 use super::{choose, snap_from, Scored, SnapContext, SnapError, SnapResult, SnapSettings};
 use crate::geom::projection::{sketch_from_view, view_from_sketch};
 use crate::primitive::{Placement, Primitive, PrimitiveKind};
@@ -58,10 +79,11 @@ pub struct PointSnap {
     pub guess: Primitive,
 }
 
-/// The guesses a drop of `kind` at `at` is snapped from (module docs): the drop at each
-/// rung of sizes whose reach holds strokes, along `axis` when given, else along the
-/// principal directions of the strokes within reach (and up the page when they are too
-/// few to say). Largest first.
+/// The guesses a drop of `kind` at `at` is snapped from (module docs): first those of
+/// the region the strokes enclose round the point, when they enclose it; then the drop
+/// at each rung of sizes whose reach holds strokes, largest first, along `axis` when
+/// given, else along the principal directions of the strokes within reach (and up the
+/// page when they are too few to say).
 pub fn guesses(
     context: &SnapContext,
     kind: PrimitiveKind,
@@ -73,7 +95,7 @@ pub fn guesses(
     };
     // The strokes are held in view space (y up).
     let point = view_from_sketch(at);
-    let mut out = Vec::new();
+    let mut out = region_guesses(context, kind, point, axis, extent);
     for k in 0..RUNGS {
         let size = extent * 0.5f64.powi(k);
         let near: Vec<DVec2> = context
@@ -119,6 +141,84 @@ pub fn guesses(
         }
     }
     out
+}
+
+/// The guesses the region around the drop (see [`super::region`]) gives a drop of
+/// `kind` at view point `point`: the part in the region's proportions, a round part
+/// along the region (a rod) and across it (a disc seen edge-on, or a disc's top ellipse
+/// seen from above) unless the drop gives its axis. None where the point is not
+/// enclosed by strokes.
+fn region_guesses(
+    context: &SnapContext,
+    kind: PrimitiveKind,
+    point: DVec2,
+    axis: Option<DVec2>,
+    extent: f64,
+) -> Vec<Primitive> {
+    let Some(region) = region_at(context, point, extent) else {
+        return Vec::new();
+    };
+    let (a, b) = (region.half_major, region.half_minor);
+    if !(a > 0.0 && b > 0.0) {
+        return Vec::new();
+    }
+    let at = sketch_from_view(region.centre);
+    // Each guess: its image axis (view space), its projected length and its radius.
+    let mut shapes = vec![(region.major, 2.0 * a, b), (region.minor(), 2.0 * b, a)];
+    if let Some(given) = axis {
+        let given = view_from_sketch(given).normalize_or(DVec2::Y);
+        let along = given.dot(region.major).abs();
+        let across = given.dot(region.minor()).abs();
+        shapes = vec![(
+            given,
+            2.0 * (a * along + b * across),
+            a * across + b * along,
+        )];
+    }
+    let placement = |direction: DVec2, length: f64, radius: f64| Placement {
+        axis: sketch_from_view(direction),
+        length: Some(length),
+        radius: Some(radius),
+        radius_bottom: Some(radius),
+        radius_top: Some(0.5 * radius),
+        ..Placement::at(at)
+    };
+    match kind {
+        PrimitiveKind::Sphere => {
+            let placement = Placement {
+                radius: Some(a),
+                ..Placement::at(at)
+            };
+            vec![Primitive::from_placement(kind, &placement, 2.0 * a)]
+        }
+        // A bar along the region (a prong, a plank: its up along the region) and a slab
+        // across it (a table top whose top face the drop lands on: its up across).
+        PrimitiveKind::Cuboid => [
+            (region.major, [2.0 * b, 2.0 * a, 2.0 * b]),
+            (region.minor(), [2.0 * a, b, 2.0 * a]),
+        ]
+        .into_iter()
+        .take(if axis.is_some() { 1 } else { 2 })
+        .map(|(up, size)| {
+            let up = axis.map_or(up, |g| view_from_sketch(g).normalize_or(DVec2::Y));
+            let placement = Placement {
+                axis: sketch_from_view(up),
+                size: Some(size),
+                ..Placement::at(at)
+            };
+            Primitive::from_placement(kind, &placement, 2.0 * a)
+        })
+        .collect(),
+        PrimitiveKind::Sgc | PrimitiveKind::Bgc => shapes
+            .into_iter()
+            .take(1)
+            .map(|(d, l, r)| Primitive::from_placement(kind, &placement(d, l, r), l.max(2.0 * r)))
+            .collect(),
+        PrimitiveKind::Cylinder | PrimitiveKind::Cone => shapes
+            .into_iter()
+            .map(|(d, l, r)| Primitive::from_placement(kind, &placement(d, l, r), l.max(2.0 * r)))
+            .collect(),
+    }
 }
 
 /// Snaps a drop of `kind` at sketch point `at` that gives no size (and no direction when
@@ -331,6 +431,60 @@ mod tests {
             panic!("a sphere");
         };
         assert!((s.radius - 30.0).abs() < 2.0, "radius {}", s.radius);
+    }
+
+    /// The visible curves of `truth` as strokes (sketch space).
+    fn drawn(truth: &Primitive) -> Vec<Vec<DVec2>> {
+        truth
+            .current_shape()
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| {
+                c.curve
+                    .points(48)
+                    .into_iter()
+                    .map(sketch_from_view)
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn thin_parts_are_found_in_their_own_proportions() {
+        let at = DVec2::new(400.0, 300.0);
+        let plank = Placement {
+            axis: DVec2::new(1.0, -0.4),
+            size: Some([30.0, 300.0, 12.0]),
+            ..Placement::at(at)
+        };
+        let rod = Placement {
+            axis: DVec2::new(1.0, -0.4),
+            length: Some(320.0),
+            radius: Some(10.0),
+            ..Placement::at(at)
+        };
+        for (kind, placement) in [
+            (PrimitiveKind::Cuboid, plank),
+            (PrimitiveKind::Cylinder, rod),
+        ] {
+            let truth = Primitive::from_placement(kind, &placement, 100.0);
+            let ctx = context(&drawn(&truth));
+            let snapped = snap_at(
+                &ctx,
+                kind,
+                at + DVec2::new(3.0, 2.0),
+                None,
+                &SnapSettings::default(),
+            )
+            .expect("it snaps");
+            let got = &snapped.result.primitive;
+            assert!(
+                got.center().distance(truth.center()) < 0.03 * truth.size()
+                    && (got.size() / truth.size() - 1.0).abs() < 0.07,
+                "{kind:?}: {got:?} for {truth:?}"
+            );
+        }
     }
 
     #[test]
