@@ -1404,6 +1404,14 @@ const POINT_ASSEMBLY_FLOOR: [(AssemblyKind, f64); 3] = [
     (AssemblyKind::Valves, 0.7),
 ];
 
+/// The floor `floors` sets for `key`, 0 where it sets none.
+fn floor_in<K: PartialEq + Copy>(floors: &[(K, f64)], key: K) -> f64 {
+    floors
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or(0.0, |(_, f)| *f)
+}
+
 /// A part dropped at a point, with no size and no direction (as the palette drops it
 /// unless the wheel sized it), lands on its part: the drawing sizes and turns the drop.
 #[test]
@@ -1424,22 +1432,12 @@ fn point_drops_stay_above_todays_floor() {
     }
     let mut missed = below(
         &rates.kinds,
-        |k| {
-            POINT_KIND_FLOOR
-                .iter()
-                .find(|(x, _)| *x == k)
-                .map_or(0.0, |(_, f)| *f)
-        },
+        |k| floor_in(&POINT_KIND_FLOOR, k),
         |k| k.name().to_owned(),
     );
     missed.extend(below(
         &rates.assemblies,
-        |k| {
-            POINT_ASSEMBLY_FLOOR
-                .iter()
-                .find(|(x, _)| *x == k)
-                .map_or(0.0, |(_, f)| *f)
-        },
+        |k| floor_in(&POINT_ASSEMBLY_FLOOR, k),
         |k| k.name().to_owned(),
     ));
     assert!(

@@ -374,11 +374,12 @@ fn principal_directions(points: &[DVec2]) -> Vec<DVec2> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::sketch::{StrokeClass, StrokeId};
 
-    fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
+    /// A context of `strokes` (sketch space), every one an outline.
+    pub(in crate::snap) fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
         SnapContext::new(
             strokes
                 .iter()

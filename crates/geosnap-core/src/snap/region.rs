@@ -165,16 +165,7 @@ fn moments(reached: &[Option<DVec2>]) -> Option<(DVec2, f64, f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sketch::{StrokeClass, StrokeId};
-
-    fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
-        SnapContext::new(
-            strokes
-                .iter()
-                .enumerate()
-                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
-        )
-    }
+    use crate::snap::point::tests::context;
 
     fn segment(a: DVec2, b: DVec2) -> Vec<DVec2> {
         (0..=20).map(|i| a.lerp(b, f64::from(i) / 20.0)).collect()
