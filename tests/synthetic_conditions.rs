@@ -56,7 +56,10 @@
 //! `GEOSNAP_SYNTH_CONDITION_ASSEMBLIES` (assemblies per kind and condition of the
 //! acceptance run, default [`ACCEPTANCE_ASSEMBLIES`]); `GEOSNAP_SYNTH_CONDITION_PNG` (a
 //! folder: an overlay PNG of every failed case, strokes grey, truth green, dropped blue,
-//! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case, with its snap's verdict, the reason when it is not good, the evidence, and its first three other readings, each with its RMS, what it explains beside what the snap explains, and whether it is the truth);
+//! snapped red); `GEOSNAP_SYNTH_CONDITION_LIST` (set: prints one line per failed case,
+//! with its snap's verdict, the reason when it is not good, the evidence, and its first
+//! three other readings, each with its RMS, what it explains beside what the snap
+//! explains, and whether it is the truth);
 //! `GEOSNAP_SYNTH_CONDITION_ALL` (set, with `GEOSNAP_SYNTH_CONDITION_LIST`: lists every
 //! case, recovered or not, each with its confidence and evidence, to weigh the
 //! evidence against the outcomes); `GEOSNAP_SYNTH_CONDITION_PROGRESS` (set: prints each drawing to stderr as it starts

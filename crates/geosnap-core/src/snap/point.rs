@@ -40,9 +40,10 @@
 //! the strokes within a gate of its curves, and the gate grows with the size it is
 //! weighed at (a hand's drop is weighed at the smaller of its own size and the
 //! reading's). Each guess's reading was weighed at the smaller of its guess's size and
-//! its own, so a large reading counted strokes in a wider band than a small one: a cylinder spanning two of a brick's studs, its ends on their ellipses and
-//! its sides on the brick's edge, explained more than the stud pointed at. At the
-//! smallest reading's scale every reading is held to the same band. On the point drops
+//! its own, so a large reading counted strokes in a wider band than a small one: a
+//! cylinder spanning two of a brick's studs, its ends on their ellipses and its sides on
+//! the brick's edge, explained more than the stud pointed at. At the smallest reading's
+//! scale every reading is held to the same band. On the point drops
 //! (10 single cases, 2 assemblies per kind and condition) assembly parts went
 //! 73.2 → 77.6 % (bricks with studs 72.8 → 89.3, plugs 58.6 → 68.6, stacks
 //! 84.6 → 90.4), single parts 83.5 → 83.2 %, and the good assembly parts that call
