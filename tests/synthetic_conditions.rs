@@ -1397,7 +1397,9 @@ fn meet_the_issue_targets(drops: Drops, title: &str) {
             handle 74.9, tee 64.0, plug 57.3, valves 51.9, menorah 56.7) before the \
             region's guesses; with them and one scale for a drop's readings, at 10 cases \
             and 2 assemblies: single 83.2 %, assembly parts 77.6 % (table 62.9, \
-            brick+studs 89.3, plug 68.6, valves 73.8, menorah 65.3)"]
+            brick+studs 89.3, plug 68.6, valves 73.8, menorah 65.3); with readings cut \
+            at the lines they hold inside: single 83.2 %, assembly parts 79.4 % (table \
+            71.1, brick+studs 90.3, plug 70.0, valves 76.2, menorah 67.6)"]
 fn point_drops_meet_the_issue_targets() {
     meet_the_issue_targets(Drops::Point, "point drops (acceptance)");
 }
@@ -1431,13 +1433,14 @@ const POINT_FLOOR_ASSEMBLIES: [AssemblyKind; 4] = [
 ];
 
 /// Today's floor of the point drops' floor test's assembly parts, a few points under
-/// the rate measured (table 66.0 %, brick+studs 90.6 %, plug 74.3 %, valves 77.5 %).
-/// With each reading of a drop weighed at its own guess's scale instead of one, they
-/// were 68.1, 75.5, 62.9 and 75.0 %; guessed in the palette's proportions alone,
-/// without the region round the point, table, plug and valves were 51.1, 57.1 and
-/// 60.0 %.
+/// the rate measured (table 72.3 %, brick+studs 92.5 %, plug 74.3 %, valves 80.0 %).
+/// Without a reading cut at the lines it holds inside (`snap/cut.rs`) they were 66.0,
+/// 90.6, 74.3 and 77.5 %; with each reading of a drop weighed at its own guess's scale
+/// instead of one, 68.1, 75.5, 62.9 and 75.0 %; guessed in the palette's proportions
+/// alone, without the region round the point, table, plug and valves were 51.1, 57.1
+/// and 60.0 %.
 const POINT_ASSEMBLY_FLOOR: [(AssemblyKind, f64); 4] = [
-    (AssemblyKind::Table, 0.63),
+    (AssemblyKind::Table, 0.68),
     (AssemblyKind::BrickStuds, 0.85),
     (AssemblyKind::Plug, 0.7),
     (AssemblyKind::Valves, 0.7),
@@ -1634,6 +1637,28 @@ fn boxes_beside_twins_start_on_their_own_edges_and_land_on_their_part() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// Parts read as one part round themselves and a neighbour drawn alike (a plug's blades,
+/// a table's legs, a menorah's candles), or round a line of their own drawing, where
+/// the reading cut at the straight line it holds inside (`snap/cut.rs`) lands on the
+/// part: from a hand's drop, then from a point. A yardstick of that mechanism, not a
+/// target: every one of these failed before it.
+const CUT_CASES: [(&str, usize); 4] = [
+    ("cylinder:side-on:7", 0),
+    ("plug:sketchy:0", 1),
+    ("plug:slanted:0", 1),
+    ("menorah:sketchy:0", 0),
+];
+
+/// As [`CUT_CASES`], dropped at a point (see `point_drops_meet_the_issue_targets`).
+const CUT_POINT_CASES: [(&str, usize); 2] = [("table:plain:1", 4), ("table:fragments:1", 2)];
+
+#[test]
+fn readings_round_two_parts_are_cut_at_the_line_between_them() {
+    let mut failures = cases_that_miss(&CUT_CASES);
+    failures.extend(cases_that_miss_from(&CUT_POINT_CASES, Drops::Point));
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
 #[test]
 fn snaps_read_again_from_where_they_ended_land_on_their_part() {
     let failures = cases_that_miss(&REREAD_CASES);
@@ -1667,6 +1692,11 @@ fn lines_gone_over_several_times_snap_to_the_middle_of_their_copies() {
 /// The cases (`subject:condition:index`, part) whose part is not recovered, each with
 /// its report.
 fn cases_that_miss(cases: &[(&str, usize)]) -> Vec<String> {
+    cases_that_miss_from(cases, Drops::Rough)
+}
+
+/// [`cases_that_miss`] with the parts dropped as `drops` says.
+fn cases_that_miss_from(cases: &[(&str, usize)], drops: Drops) -> Vec<String> {
     let mut failures = Vec::new();
     for (name, part) in cases {
         let mut fields = name.split(':');
@@ -1678,7 +1708,7 @@ fn cases_that_miss(cases: &[(&str, usize)]) -> Vec<String> {
             })
         })()
         .expect("a case name");
-        let (outcomes, report) = run_job(job, Drops::Rough, 1.0, false, None);
+        let (outcomes, report) = run_job(job, drops, 1.0, false, None);
         let outcome = outcomes
             .iter()
             .find(|o| o.part.unwrap_or(0) == *part)

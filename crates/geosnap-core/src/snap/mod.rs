@@ -14,6 +14,7 @@ mod bgc_start;
 mod confidence;
 mod context;
 mod copies;
+mod cut;
 pub(crate) mod initial;
 mod objective;
 mod pieces;
@@ -347,6 +348,67 @@ fn leader_index(candidates: &[Scored]) -> Option<usize> {
     })
 }
 
+/// The leader of a cold snap's `candidates` read again ([`reread_leader`]), then cut where
+/// it holds lines drawn inside it ([`cut_candidates`]); a cut that leads is read again in
+/// turn.
+fn settle_leader(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    candidates: &mut Vec<Scored>,
+    mut solve: SolveContext<'_>,
+) -> Result<(), SnapError> {
+    reread_leader(context, primitive, settings, candidates, solve.reborrow())?;
+    if cut_candidates(context, primitive, settings, candidates, solve.reborrow())? {
+        reread_leader(context, primitive, settings, candidates, solve)?;
+    }
+    Ok(())
+}
+
+/// Snaps the cuts of the leading candidate of a cold snap of `primitive` where it
+/// swallows straight lines along its own outline (see [`cut`]: two alike parts read as
+/// one) into `candidates`, each from its cut as a pose read off the drawing is (the tight
+/// gate), scored as the others are. A cut that then leads is cut again, up to
+/// [`cut::CUT_ROUNDS`] in all. Returns whether a cut leads.
+fn cut_candidates(
+    context: &SnapContext,
+    primitive: &Primitive,
+    settings: &SnapSettings,
+    candidates: &mut Vec<Scored>,
+    mut solve: SolveContext<'_>,
+) -> Result<bool, SnapError> {
+    let read = SnapSettings {
+        wide_gate: settings.tight_gate,
+        ..settings.clone()
+    };
+    // A cut that leads may still hold a line (a blade drawn twice over): it is cut again.
+    let (first, mut from) = (candidates.len(), 0);
+    for _ in 0..cut::CUT_ROUNDS {
+        let Some(lead) = leader_index(candidates).filter(|i| *i >= from) else {
+            break;
+        };
+        let leader = &candidates[lead];
+        let r = &leader.result;
+        let band = (SWALLOW_BAND_RMS * r.rms).max(SWALLOW_BAND_SIZE * r.primitive.size());
+        let starts = cut::cut_starts(
+            context,
+            &r.primitive,
+            &r.assignment,
+            primitive,
+            (band, leader.gate, leader.gate),
+        );
+        from = candidates.len();
+        for start in starts {
+            match snap_rounds(context, &start, &read, None, solve.reborrow()) {
+                Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
+                Ok(r) => candidates.push(Scored::of(context, r, primitive.size(), settings)),
+                Err(_) => {}
+            }
+        }
+    }
+    Ok(leader_index(candidates).is_some_and(|i| i >= first))
+}
+
 /// Reads the leading candidate of a cold snap of `primitive` again from where it ended
 /// (see [`rereads`]). A reread takes the leader's place where the strokes clearly prefer
 /// it ([`clearly_better`]): it is the leader's reading read better, not a rival to it
@@ -586,7 +648,7 @@ fn snap_from(
             }
         }
     }
-    reread_leader(
+    settle_leader(
         context,
         primitive,
         settings,

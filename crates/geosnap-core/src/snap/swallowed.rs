@@ -43,9 +43,27 @@ pub(crate) fn swallowed(
     band: f64,
     hidden_band: f64,
 ) -> f64 {
+    swallowed_runs(context, primitive, assignment, (band, hidden_band), false)
+        .iter()
+        .flat_map(|run| run.windows(2))
+        .map(|w| w[0].distance(w[1]))
+        .sum()
+}
+
+/// The drawn stroke pieces `primitive` swallows, as [`swallowed`] counts them: each run
+/// of consecutive swallowed pieces of a stroke as its samples (view space). With
+/// `crossing`, also the pieces within the outline of strokes that leave it, and of
+/// strokes such a stroke ends on: every line drawn inside, whoever's it is.
+pub(crate) fn swallowed_runs(
+    context: &SnapContext,
+    primitive: &Primitive,
+    assignment: &Assignment,
+    (band, hidden_band): (f64, f64),
+    crossing: bool,
+) -> Vec<Vec<DVec2>> {
     let outline = Outline::of(primitive);
     let Some((lo, hi)) = outline.bounds else {
-        return 0.0;
+        return Vec::new();
     };
     let curves = primitive.current_shape().curves;
     let near = |p: DVec2| {
@@ -74,36 +92,47 @@ pub(crate) fn swallowed(
             .iter()
             .zip(&taken)
             .all(|(p, t)| *t || outline.contains(*p) || near(*p));
-        if stays {
+        if !stays {
+            if let (Some(first), Some(last)) = (samples.first(), samples.last()) {
+                // A stroke that leaves the outline is another part's, drawn across this
+                // one (a stem in front of its base); where it ends is where that part
+                // meets whatever it ends on.
+                ends_outside.extend([*first, *last]);
+            }
+        }
+        if stays || crossing {
             within.push((samples, taken));
-        } else if let (Some(first), Some(last)) = (samples.first(), samples.last()) {
-            // A stroke that leaves the outline is another part's, drawn across this one
-            // (a stem in front of its base); where it ends is where that part meets
-            // whatever it ends on.
-            ends_outside.extend([*first, *last]);
         }
     }
-    let mut total = 0.0;
+    let mut runs: Vec<Vec<DVec2>> = Vec::new();
     for (samples, taken) in &within {
         // A stroke inside that another part's outline ends on is that part's end (an arm
         // set on the side of its stem, drawn inside the stem's outline).
-        let attached = samples
-            .iter()
-            .any(|p| ends_outside.iter().any(|e| e.distance(*p) <= reach));
+        let attached = !crossing
+            && samples
+                .iter()
+                .any(|p| ends_outside.iter().any(|e| e.distance(*p) <= reach));
         if attached {
             continue;
         }
+        let mut run: Vec<DVec2> = Vec::new();
         for (i, w) in samples.windows(2).enumerate() {
-            if taken[i] || taken[i + 1] {
-                continue;
-            }
             let m = w[0].midpoint(w[1]);
-            if outline.contains(m) && !near(m) {
-                total += w[0].distance(w[1]);
+            if !taken[i] && !taken[i + 1] && outline.contains(m) && !near(m) {
+                if run.last() != Some(&w[0]) {
+                    if run.len() > 1 {
+                        runs.push(std::mem::take(&mut run));
+                    }
+                    run = vec![w[0]];
+                }
+                run.push(w[1]);
             }
         }
+        if run.len() > 1 {
+            runs.push(run);
+        }
     }
-    total
+    runs
 }
 
 /// An end of a stroke that leaves the outline within this many bands of a stroke inside
@@ -253,6 +282,22 @@ mod tests {
         let outside = line(DVec2::new(0.0, 40.0), DVec2::new(0.0, 80.0));
         let ctx = context(&[through, outside]);
         assert!(swallowed(&ctx, &part, &nothing(&part), 5.0, 5.0) < 1e-9);
+    }
+
+    #[test]
+    fn crossing_runs_hold_the_inside_of_lines_that_leave_the_outline() {
+        let part = lying();
+        // A line along the part through its middle, overshooting both ends by 30.
+        let through = line(DVec2::new(-130.0, 2.0), DVec2::new(130.0, 2.0));
+        let ctx = context(&[through]);
+        let bands = (5.0, 5.0);
+        assert!(swallowed(&ctx, &part, &nothing(&part), 5.0, 5.0) < 1e-9);
+        assert!(swallowed_runs(&ctx, &part, &nothing(&part), bands, false).is_empty());
+        let runs = swallowed_runs(&ctx, &part, &nothing(&part), bands, true);
+        assert_eq!(runs.len(), 1, "{runs:?}");
+        let length = runs[0].first().unwrap().distance(*runs[0].last().unwrap());
+        // The 200 inside, less what lies within a band of the end arcs.
+        assert!((length - 200.0).abs() < 25.0, "{length}");
     }
 
     #[test]
