@@ -1,10 +1,10 @@
-//! A reading cut where it swallows a line along its own outline.
+//! A reading cut at a straight line drawn inside it.
 //!
 //! Two alike parts drawn side by side (a plug's blades, a row of table legs, two studs)
 //! draw four outlines where one part draws two. A reading of both as one part takes the
 //! two outer outlines and leaves the inner ones inside it (see [`super::swallowed`]): a
 //! designer does not draw a line along a part's outline through the middle of its face.
-//! Where the snap's leading reading swallows such a line, the reading cut there is one
+//! Where the snap's leading reading holds such a line, the reading cut there is one
 //! more start: the part shrunk across that line, on the drop's side of it, the line
 //! becoming its outline. The cut is snapped as a pose read off the drawing is and
 //! competes with the other starts as any start does (see `better` in the parent module):
@@ -12,8 +12,9 @@
 //!
 //! The cut is found by trying, for each way of shrinking the part ([`cuts`]: a box's
 //! three sizes, a cylinder's or cone's radius and length), each side and a ladder of
-//! fractions, and keeping the one whose visible curves run closest along the swallowed
-//! line. Only straight lines at least [`MIN_LINE`] of the reading's size count: an end
+//! fractions, and keeping, among those whose visible curves run along the line (within
+//! the gate on average), the one whose centre lies nearest the drop; of all the lines'
+//! cuts, the [`MAX_CUTS`] nearest the drop are snapped. Only straight lines at least [`MIN_LINE`] of the reading's size count: an end
 //! drawn through a part (an arm on its stem) is short or round, and is not cut at.
 //! Every such line inside counts, also one that runs on out of the outline (a hand's
 //! overshoot, a neighbour's outline drawn through), which `swallowed` leaves out.

@@ -365,10 +365,10 @@ fn settle_leader(
     Ok(())
 }
 
-/// Snaps the cuts of the leading candidate of a cold snap of `primitive` where it
-/// swallows straight lines along its own outline (see [`cut`]: two alike parts read as
-/// one) into `candidates`, each from its cut as a pose read off the drawing is (the tight
-/// gate), scored as the others are. A cut that then leads is cut again, up to
+/// Snaps the cuts of the leading candidate of a cold snap of `primitive` at the straight
+/// lines drawn inside it, away from its curves (see [`cut`]: two alike parts read as
+/// one), into `candidates`, each from its cut as a pose read off the drawing is (the
+/// tight gate), scored as the others are. A cut that then leads is cut again, up to
 /// [`cut::CUT_ROUNDS`] in all. Returns whether a cut leads.
 fn cut_candidates(
     context: &SnapContext,
