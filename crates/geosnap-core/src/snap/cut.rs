@@ -30,7 +30,7 @@ use glam::{DVec2, DVec3};
 use super::assign::curve_distance;
 use super::swallowed::swallowed_runs;
 use super::SnapContext;
-use crate::primitive::{Primitive, PrimitiveKind};
+use crate::primitive::{Curve2, Primitive, PrimitiveKind};
 use crate::snap::assign::Assignment;
 
 /// A swallowed line counts when at least this share of the reading's size long.
@@ -82,17 +82,33 @@ pub(crate) fn cut_starts(
             .into_iter()
             .filter(|run| straight(run).is_some_and(|l| l >= MIN_LINE * size))
             .collect();
+    if lines.is_empty() {
+        return Vec::new();
+    }
     let drop_centre = dropped.center().truncate();
     let near = |c: &Primitive| c.center().truncate().distance(drop_centre);
-    let all = cuts(reading);
+    // Every cut with its visible curves, shaped once for all the lines.
+    let all: Vec<(Primitive, Vec<Curve2<f64>>)> = cuts(reading)
+        .into_iter()
+        .filter(Primitive::is_finite)
+        .map(|cut| {
+            let visible = cut
+                .current_shape()
+                .curves
+                .into_iter()
+                .filter(|c| c.visible)
+                .map(|c| c.curve)
+                .collect();
+            (cut, visible)
+        })
+        .collect();
     // The best cut at each line: the side nearer the drop, then the closest run along it.
     let mut found: Vec<Primitive> = lines
         .iter()
         .filter_map(|run| {
             let points = spread_along(run, LINE_POINTS);
             all.iter()
-                .filter(|cut| cut.is_finite())
-                .map(|cut| (along(cut, &points), cut))
+                .map(|(cut, curves)| (along(curves, &points), cut))
                 .filter(|(d, _)| *d <= gate)
                 .min_by(|a, b| near(a.1).total_cmp(&near(b.1)).then(a.0.total_cmp(&b.0)))
                 .map(|(_, cut)| cut.clone())
@@ -137,16 +153,14 @@ fn spread_along(run: &[DVec2], n: usize) -> Vec<DVec2> {
         .collect()
 }
 
-/// The mean distance of `points` to the nearest visible curve of `cut`.
-fn along(cut: &Primitive, points: &[DVec2]) -> f64 {
-    let curves = cut.current_shape().curves;
+/// The mean distance of `points` to the nearest of a cut's visible `curves`.
+fn along(curves: &[Curve2<f64>], points: &[DVec2]) -> f64 {
     let total: f64 = points
         .iter()
         .map(|p| {
             curves
                 .iter()
-                .filter(|c| c.visible)
-                .map(|c| curve_distance(&c.curve, *p))
+                .map(|c| curve_distance(c, *p))
                 .fold(f64::INFINITY, f64::min)
         })
         .sum();
@@ -231,15 +245,75 @@ mod tests {
     use glam::{DVec2, DVec3};
 
     use super::{across_in_view, cut_starts, straight};
+    use crate::geom::projection::sketch_from_view;
     use crate::primitive::{Cylinder, Primitive};
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::snap::assign::assign;
-    use crate::snap::SnapContext;
+    use crate::snap::{snap, SnapContext, SnapSettings};
 
     fn line(from: DVec2, to: DVec2) -> Vec<DVec2> {
         (0..=40)
             .map(|i| from.lerp(to, f64::from(i) / 40.0))
             .collect()
+    }
+
+    /// A drawing the cut could break: one post drawn with its centre line (as designers
+    /// draw axes). The cut at that line is tried, and the whole post still wins: it
+    /// explains both outlines and both ends where the half explains one of each.
+    #[test]
+    fn a_post_drawn_with_its_centre_line_is_not_cut_in_half() {
+        let truth = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(300.0, -300.0, 0.0),
+            axis: DVec3::new(0.2, 1.0, 0.45).normalize(),
+            length: 240.0,
+            radius: 40.0,
+        });
+        let shape = truth.current_shape();
+        let mut strokes: Vec<(Vec<DVec2>, StrokeClass)> = shape
+            .curves
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| {
+                let class = match c.curve {
+                    crate::primitive::Curve2::Ellipse { .. } => StrokeClass::Feature,
+                    crate::primitive::Curve2::Polyline(_) => StrokeClass::Silhouette,
+                };
+                let points = c
+                    .curve
+                    .points(48)
+                    .into_iter()
+                    .map(sketch_from_view)
+                    .collect();
+                (points, class)
+            })
+            .collect();
+        let Primitive::Cylinder(c) = &truth else {
+            unreachable!()
+        };
+        let half = c.axis * (0.5 * c.length);
+        let ends = [c.center - half, c.center + half].map(|p| sketch_from_view(p.truncate()));
+        strokes.push((line(ends[0], ends[1]), StrokeClass::Silhouette));
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, (s, class))| (StrokeId(i as u32), s.as_slice(), *class)),
+        );
+        let dropped = Primitive::Cylinder(Cylinder {
+            center: DVec3::new(310.0, -290.0, 0.0),
+            radius: 48.0,
+            length: 200.0,
+            ..*c
+        });
+        let snapped = snap(&context, &dropped, &SnapSettings::default()).expect("a snap");
+        let Primitive::Cylinder(s) = &snapped.primitive else {
+            unreachable!()
+        };
+        assert!(
+            (s.radius - 40.0).abs() < 0.07 * 40.0
+                && s.center.truncate().distance(c.center.truncate()) < 0.03 * 240.0,
+            "{s:?}"
+        );
     }
 
     #[test]

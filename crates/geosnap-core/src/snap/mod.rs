@@ -273,7 +273,7 @@ impl Scored {
         let gate = settings.tight_gate * result.primitive.size().min(dropped);
         let explained = explanation(&result.primitive, &result.assignment, gate);
         result.explained = Some(explained);
-        let band = (SWALLOW_BAND_RMS * result.rms).max(SWALLOW_BAND_SIZE * result.primitive.size());
+        let band = swallow_band(&result);
         let swallowed =
             swallowed::swallowed(context, &result.primitive, &result.assignment, band, gate);
         Self {
@@ -389,13 +389,12 @@ fn cut_candidates(
         };
         let leader = &candidates[lead];
         let r = &leader.result;
-        let band = (SWALLOW_BAND_RMS * r.rms).max(SWALLOW_BAND_SIZE * r.primitive.size());
         let starts = cut::cut_starts(
             context,
             &r.primitive,
             &r.assignment,
             primitive,
-            (band, leader.gate, leader.gate),
+            (swallow_band(r), leader.gate, leader.gate),
         );
         from = candidates.len();
         for start in starts {
@@ -855,6 +854,12 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
             ra.rms < closer * rb.rms
         }
     }
+}
+
+/// The band round a reading's curves that what it swallows leaves to the hand's noise
+/// ([`SWALLOW_BAND_RMS`], [`SWALLOW_BAND_SIZE`]).
+fn swallow_band(result: &SnapResult) -> f64 {
+    (SWALLOW_BAND_RMS * result.rms).max(SWALLOW_BAND_SIZE * result.primitive.size())
 }
 
 /// A reading's curves keep a band of this many times its fit's RMS (the hand's noise
