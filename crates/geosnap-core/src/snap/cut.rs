@@ -49,10 +49,10 @@ const FRACTIONS: [f64; 15] = [
 pub(crate) const MAX_CUTS: usize = 2;
 
 /// A cut that leads is cut again, up to this many rounds in all.
-pub(crate) const CUT_ROUNDS: usize = 2;
+pub(crate) const CUT_ROUNDS: usize = 3;
 
 /// Points of a swallowed line its cut is measured at.
-const LINE_POINTS: usize = 8;
+pub(crate) const LINE_POINTS: usize = 8;
 
 /// The cuts of `reading` (snapped with `assignment`) at the straight lines drawn inside
 /// it away from its curves (module docs; [`swallowed_runs`] with lines that run on out of
@@ -130,7 +130,7 @@ pub(crate) fn cut_starts(
 }
 
 /// The length of `run` when it is straight (module docs), else `None`.
-fn straight(run: &[DVec2]) -> Option<f64> {
+pub(crate) fn straight(run: &[DVec2]) -> Option<f64> {
     let (first, last) = (*run.first()?, *run.last()?);
     let chord = last - first;
     let length = chord.length();
@@ -146,7 +146,7 @@ fn straight(run: &[DVec2]) -> Option<f64> {
 }
 
 /// `n` points spread evenly along the chord of `run` (its first and last samples).
-fn spread_along(run: &[DVec2], n: usize) -> Vec<DVec2> {
+pub(crate) fn spread_along(run: &[DVec2], n: usize) -> Vec<DVec2> {
     let (first, last) = (run[0], run[run.len() - 1]);
     (0..n)
         .map(|i| first.lerp(last, (i as f64 + 0.5) / n as f64))
@@ -154,7 +154,7 @@ fn spread_along(run: &[DVec2], n: usize) -> Vec<DVec2> {
 }
 
 /// The mean distance of `points` to the nearest of a cut's visible `curves`.
-fn along(curves: &[Curve2<f64>], points: &[DVec2]) -> f64 {
+pub(crate) fn along(curves: &[Curve2<f64>], points: &[DVec2]) -> f64 {
     let total: f64 = points
         .iter()
         .map(|p| {
@@ -313,6 +313,84 @@ mod tests {
             (s.radius - 40.0).abs() < 0.07 * 40.0
                 && s.center.truncate().distance(c.center.truncate()) < 0.03 * 240.0,
             "{s:?}"
+        );
+    }
+
+    /// Two equal boxes side by side as a designer draws them: the outline of the pair
+    /// and the line between them where it crosses the faces that face the viewer. The
+    /// pair read as one box explains more of the drawing than either box; the line
+    /// across it says it is two, and a drop on one box lands on that box.
+    #[test]
+    fn a_box_dropped_on_one_of_a_pair_is_not_read_as_the_pair() {
+        use crate::primitive::Cuboid;
+        use glam::DQuat;
+        // Turned so that the first box's face toward the second faces away from the
+        // viewer: that box's own visible edges are exactly what the drawing shows of it.
+        let rotation = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(2.5);
+        let (w, h, d) = (90.0, 200.0, 150.0);
+        let x = rotation * DVec3::X;
+        let centre = DVec3::new(500.0, -500.0, 0.0);
+        let pair = Primitive::Cuboid(Cuboid {
+            center: centre,
+            rotation,
+            size: DVec3::new(2.0 * w, h, d),
+        });
+        let first_centre = centre - x * (0.5 * w);
+        let (first, second) = [first_centre, centre + x * (0.5 * w)]
+            .map(|c| {
+                Primitive::Cuboid(Cuboid {
+                    center: c,
+                    rotation,
+                    size: DVec3::new(w, h, d),
+                })
+            })
+            .into();
+        let toward_second = x.z
+            * if (second.center() - first.center()).dot(x) > 0.0 {
+                1.0
+            } else {
+                -1.0
+            };
+        assert!(
+            toward_second < 0.0,
+            "the view must hide the first box's inner face"
+        );
+        let strokes: Vec<Vec<DVec2>> = [&pair, &first]
+            .iter()
+            .flat_map(|p| p.current_shape().curves)
+            .filter(|c| c.visible)
+            .map(|c| {
+                c.curve
+                    .points(40)
+                    .into_iter()
+                    .map(sketch_from_view)
+                    .collect()
+            })
+            .collect();
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (StrokeId(i as u32), s.as_slice(), StrokeClass::Silhouette)),
+        );
+        let Primitive::Cuboid(truth) = &first else {
+            unreachable!()
+        };
+        let dropped = Primitive::Cuboid(Cuboid {
+            center: truth.center + DVec3::new(6.0, -5.0, 0.0),
+            size: truth.size * 1.1,
+            ..truth.clone()
+        });
+        let snapped = snap(&context, &dropped, &SnapSettings::default()).expect("a snap");
+        let centre_off = snapped
+            .primitive
+            .center()
+            .truncate()
+            .distance(truth.center.truncate());
+        assert!(
+            centre_off < 0.03 * first.size() && snapped.primitive.size() < 1.1 * first.size(),
+            "snapped {:?}, centre {centre_off:.1} off",
+            snapped.primitive
         );
     }
 

@@ -38,7 +38,7 @@ pub use point::{guesses, snap_at, snap_at_with, PointSnap, CENTRE_REACH, DISC_LE
 pub(crate) use spread::spread as spread_of;
 pub use spread::{Dimension, Spread};
 
-use crate::primitive::{CurveClass, Primitive, PrimitiveKind};
+use crate::primitive::{Curve2, CurveClass, Primitive, PrimitiveKind};
 use crate::solve::{
     AugLagSettings, Multipliers, SettingsError, SolveContext, SolveError, SolveReport, Solver,
     Start, Termination,
@@ -255,6 +255,9 @@ struct Scored {
     explained: f64,
     /// The drawn length the reading swallows (see [`swallowed`]).
     swallowed: f64,
+    /// The lines it swallows that run across it from outline to outline
+    /// ([`swallowed::divisions`]): where two parts read as one meet.
+    divisions: Vec<Vec<DVec2>>,
     /// The gate the explanation was weighed with: a length of stroke that tells readings
     /// apart.
     gate: f64,
@@ -276,10 +279,24 @@ impl Scored {
         let band = swallow_band(&result);
         let swallowed =
             swallowed::swallowed(context, &result.primitive, &result.assignment, band, gate);
+        // Only a reading that swallows something is searched for lines across it, the
+        // cheaper test first: searching every reading found the same parts on the
+        // conditions suite, give or take one.
+        let divisions = if swallowed > 0.0 {
+            swallowed::divisions(
+                context,
+                &result.primitive,
+                &result.assignment,
+                (band, gate, band + gate),
+            )
+        } else {
+            Vec::new()
+        };
         Self {
             result,
             explained,
             swallowed,
+            divisions,
             gate,
         }
     }
@@ -304,7 +321,11 @@ fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
             }
         }
     }
-    let mut best = best?.result;
+    let best = best?;
+    // A reading the winner divides is contradicted by the drawing (a line runs across
+    // it), not a rival reading of it.
+    rest.retain(|c| !divides(&best, c));
+    let mut best = best.result;
     rest.sort_by(|a, b| {
         good(&b.result)
             .cmp(&good(&a.result))
@@ -799,9 +820,10 @@ pub const MAX_SIZE_CHANGE: f64 = 4.0;
 const GOOD_FIT: f64 = 0.05;
 
 /// Whether snap `a` is better than snap `b` of the same drop: a good fit (RMS within
-/// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, the one
-/// that explains more of the drawing wins (see [`explanation`]). Two that explain about
-/// as much (within a quarter of the size) tie: one fitting at under [`SWALLOW_TIE_RMS`]
+/// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, a
+/// reading divided by a line drawn across it loses to its piece on one side of the line
+/// ([`divides`]), and otherwise the one that explains more of the drawing wins (see
+/// [`explanation`]). Two that explain about as much (within a quarter of the size) tie: one fitting at under [`SWALLOW_TIE_RMS`]
 /// of the other's RMS wins, then the one that swallows clearly less of the drawing (by
 /// more than the explanation's gate, see [`swallowed`]), then the closer one. A fit that
 /// takes more strokes by bending itself out of shape loses to one that explains fewer
@@ -829,6 +851,8 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
     match (good(ra), good(rb)) {
         (true, false) => true,
         (false, true) => false,
+        _ if divides(a, b) => true,
+        _ if divides(b, a) => false,
         _ => {
             // Explanations within a quarter of the size apart are a tie.
             let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
@@ -855,6 +879,87 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
         }
     }
 }
+
+/// Whether `a` is `b` divided where the drawing divides it: `b` holds a line across it
+/// from outline to outline ([`swallowed::divisions`]); `a` is smaller, takes that line as
+/// its outline (its visible curves run along it within its gate on average), runs along
+/// `b`'s outline elsewhere ([`WITHIN_DIVIDED`]), fits about as closely ([`DIVIDED_RMS`])
+/// and holds fewer such lines (a row of four drawers read as two is nearer the drawer
+/// meant than four). A designer draws no edge across a part's face: two drawers of a
+/// chest, read as one box, explain more of the drawing than either drawer (the other's
+/// outline too), yet the line between them says they are two. Such a division decides
+/// before the explanations are weighed ([`better`]).
+fn divides(a: &Scored, b: &Scored) -> bool {
+    if a.divisions.len() >= b.divisions.len()
+        || a.result.primitive.size() >= b.result.primitive.size()
+        || a.result.rms > DIVIDED_RMS * b.result.rms.max(STEADY * b.result.primitive.size())
+    {
+        return false;
+    }
+    let curves: Vec<Curve2<f64>> = a
+        .result
+        .primitive
+        .current_shape()
+        .curves
+        .into_iter()
+        .filter(|c| c.visible)
+        .map(|c| c.curve)
+        .collect();
+    let takes = b.divisions.iter().any(|line| {
+        let points = cut::spread_along(line, cut::LINE_POINTS);
+        cut::along(&curves, &points) <= a.gate
+    });
+    takes && within(&curves, b, a.gate) >= WITHIN_DIVIDED
+}
+
+/// The share of the length of `curves` (a reading's visible curves) that runs within
+/// `gate` of `b`'s curves or of the lines across it: 1 for a piece of `b` cut off at
+/// those lines, little for another part's reading that happens to take one of them.
+fn within(curves: &[Curve2<f64>], b: &Scored, gate: f64) -> f64 {
+    let outline: Vec<Curve2<f64>> = b
+        .result
+        .primitive
+        .current_shape()
+        .curves
+        .into_iter()
+        .map(|c| c.curve)
+        .collect();
+    let (mut near, mut all) = (0usize, 0usize);
+    for curve in curves {
+        for p in curve.points(WITHIN_POINTS) {
+            all += 1;
+            let on_b = outline.iter().any(|c| assign::curve_distance(c, p) <= gate);
+            let on_line = || {
+                b.divisions.iter().any(|line| {
+                    line.windows(2)
+                        .any(|w| crate::geom::segment_distance(w[0], w[1], p) <= gate)
+                })
+            };
+            if on_b || on_line() {
+                near += 1;
+            }
+        }
+    }
+    near as f64 / all.max(1) as f64
+}
+
+/// A reading divides another ([`divides`]) only when it fits its strokes about as
+/// closely: at most this many times the other's RMS (a hand's noise moves a refit by a
+/// few percent; another part's reading that takes a line across, a handle's rod cut at
+/// the body's outline drawn through it, fits two to six times worse).
+const DIVIDED_RMS: f64 = 1.5;
+
+/// The RMS, as a share of the size, below which two fits are alike however their RMS
+/// compare: a steady hand's noise (a ruler-drawn line fits at nearly nothing).
+const STEADY: f64 = 0.005;
+
+/// A reading divides another ([`divides`]) only when at least this share of its outline
+/// runs along the other's outline or the lines across it: a drawer cut off its chest
+/// keeps the chest's outline but where the chest's neighbours hide it.
+const WITHIN_DIVIDED: f64 = 0.7;
+
+/// Points per curve at which [`within`] measures.
+const WITHIN_POINTS: usize = 24;
 
 /// The band round a reading's curves that what it swallows leaves to the hand's noise
 /// ([`SWALLOW_BAND_RMS`], [`SWALLOW_BAND_SIZE`]).
@@ -922,7 +1027,7 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
         let step = assign::curve_length(&curve.curve) / points.len().max(1) as f64;
         // A line drawn over several times (a sketchy hand's 2–3 strokes) is drawn once:
         // where strokes overlap along the curve, only the closest counts.
-        let closed = matches!(curve.curve, crate::primitive::Curve2::Ellipse { .. });
+        let closed = matches!(curve.curve, Curve2::Ellipse { .. });
         taken += strokes
             .iter()
             .map(|s| {
@@ -1310,6 +1415,7 @@ mod tests {
             },
             explained,
             swallowed,
+            divisions: Vec::new(),
             gate: 10.0,
         }
     }

@@ -50,6 +50,42 @@ pub(crate) fn swallowed(
         .sum()
 }
 
+/// The lines drawn across `primitive` from one side of its outline to another that it
+/// swallows: the runs [`swallowed`] counts that are straight, at least
+/// [`super::cut::MIN_LINE`] of its size long, and whose two ends each come within
+/// `reach` of one of its visible curves. A designer draws no edge across a part's face
+/// from outline to outline: such a line is where two parts meet (drawers in a chest,
+/// books on a shelf), and the reading that holds it is two parts read as one.
+pub(crate) fn divisions(
+    context: &SnapContext,
+    primitive: &Primitive,
+    assignment: &Assignment,
+    (band, hidden_band, reach): (f64, f64, f64),
+) -> Vec<Vec<DVec2>> {
+    // A line across may run on out of the outline (a hand's overshoot): every line
+    // inside counts, as for a cut.
+    let runs = swallowed_runs(context, primitive, assignment, (band, hidden_band), true);
+    if runs.is_empty() {
+        return runs;
+    }
+    let size = primitive.size();
+    let visible: Vec<_> = primitive
+        .current_shape()
+        .curves
+        .into_iter()
+        .filter(|c| c.visible)
+        .map(|c| c.curve)
+        .collect();
+    let on_outline = |p: DVec2| visible.iter().any(|c| curve_distance(c, p) <= reach);
+    runs.into_iter()
+        .filter(|run| {
+            super::cut::straight(run).is_some_and(|l| l >= super::cut::MIN_LINE * size)
+                && on_outline(run[0])
+                && on_outline(run[run.len() - 1])
+        })
+        .collect()
+}
+
 /// The drawn stroke pieces `primitive` swallows, as [`swallowed`] counts them: each run
 /// of consecutive swallowed pieces of a stroke as its samples (view space). With
 /// `crossing`, also the pieces within the outline of strokes that leave it, and of
