@@ -92,13 +92,7 @@ pub(crate) fn cut_starts(
         .into_iter()
         .filter(Primitive::is_finite)
         .map(|cut| {
-            let visible = cut
-                .current_shape()
-                .curves
-                .into_iter()
-                .filter(|c| c.visible)
-                .map(|c| c.curve)
-                .collect();
+            let visible = visible_curves(&cut);
             (cut, visible)
         })
         .collect();
@@ -127,6 +121,16 @@ pub(crate) fn cut_starts(
         }
     }
     out
+}
+
+/// The curves of `p` a viewer sees, as drawn.
+pub(crate) fn visible_curves(p: &Primitive) -> Vec<Curve2<f64>> {
+    p.current_shape()
+        .curves
+        .into_iter()
+        .filter(|c| c.visible)
+        .map(|c| c.curve)
+        .collect()
 }
 
 /// The length of `run` when it is straight (module docs), else `None`.

@@ -881,7 +881,8 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
 }
 
 /// Whether `a` is `b` divided where the drawing divides it: `b` holds a line across it
-/// from outline to outline ([`swallowed::divisions`]); `a` is smaller, takes that line as
+/// from outline to outline ([`swallowed::divisions`]); `a` is smaller as drawn (its
+/// visible curves are shorter in all), takes that line as
 /// its outline (its visible curves run along it within its gate on average), runs along
 /// `b`'s outline elsewhere ([`WITHIN_DIVIDED`]), fits about as closely ([`DIVIDED_RMS`])
 /// and holds fewer such lines (a row of four drawers read as two is nearer the drawer
@@ -891,20 +892,16 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
 /// before the explanations are weighed ([`better`]).
 fn divides(a: &Scored, b: &Scored) -> bool {
     if a.divisions.len() >= b.divisions.len()
-        || a.result.primitive.size() >= b.result.primitive.size()
         || a.result.rms > DIVIDED_RMS * b.result.rms.max(STEADY * b.result.primitive.size())
     {
         return false;
     }
-    let curves: Vec<Curve2<f64>> = a
-        .result
-        .primitive
-        .current_shape()
-        .curves
-        .into_iter()
-        .filter(|c| c.visible)
-        .map(|c| c.curve)
-        .collect();
+    let curves = cut::visible_curves(&a.result.primitive);
+    // Smaller as drawn: a drawer cut off a chest keeps the chest's width (its size).
+    let drawn = |curves: &[Curve2<f64>]| curves.iter().map(assign::curve_length).sum::<f64>();
+    if drawn(&curves) >= drawn(&cut::visible_curves(&b.result.primitive)) {
+        return false;
+    }
     let takes = b.divisions.iter().any(|line| {
         let points = cut::spread_along(line, cut::LINE_POINTS);
         cut::along(&curves, &points) <= a.gate

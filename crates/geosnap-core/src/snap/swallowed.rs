@@ -69,13 +69,7 @@ pub(crate) fn divisions(
         return runs;
     }
     let size = primitive.size();
-    let visible: Vec<_> = primitive
-        .current_shape()
-        .curves
-        .into_iter()
-        .filter(|c| c.visible)
-        .map(|c| c.curve)
-        .collect();
+    let visible = super::cut::visible_curves(primitive);
     let on_outline = |p: DVec2| visible.iter().any(|c| curve_distance(c, p) <= reach);
     runs.into_iter()
         .filter(|run| {
