@@ -75,7 +75,8 @@
 //! Environment (optional): `GEOSNAP_SYNTH_ASSEMBLIES` (cases per kind, default
 //! [`DEFAULT_CASES`]), `GEOSNAP_SYNTH_ASSEMBLY_KINDS` (comma-separated kind names of
 //! [`AssemblyKind::name`]: `stack`, `table`, `ball+tubes`, `brick+studs`, `box+pipes`,
-//! `handle`, `tee`, `plug`, `valves`, `menorah`, `scene`, `drawers`; e.g. `handle,tee`), `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
+//! `handle`, `tee`, `plug`, `valves`, `menorah`, `scene`, `drawers`; e.g. `handle,tee`),
+//! `GEOSNAP_SYNTH_ASSEMBLY_SHOW`
 //! (`name:case`, e.g. `table:3`: prints that case in detail: each part's truth, own snap
 //! and final parameters and errors, the relations inferred on each release, the
 //! conflicts), `GEOSNAP_SYNTH_ASSEMBLY_PNG` (a folder: the shown case's truth, own snaps

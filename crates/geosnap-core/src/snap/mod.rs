@@ -823,9 +823,10 @@ const GOOD_FIT: f64 = 0.05;
 /// [`GOOD_FIT`] of the size) beats a bad one; between two good or two bad fits, a
 /// reading divided by a line drawn across it loses to its piece on one side of the line
 /// ([`divides`]), and otherwise the one that explains more of the drawing wins (see
-/// [`explanation`]). Two that explain about as much (within a quarter of the size) tie: one fitting at under [`SWALLOW_TIE_RMS`]
-/// of the other's RMS wins, then the one that swallows clearly less of the drawing (by
-/// more than the explanation's gate, see [`swallowed`]), then the closer one. A fit that
+/// [`explanation`]). Two that explain about as much (within a quarter of the size) tie:
+/// one fitting at under [`SWALLOW_TIE_RMS`] of the other's RMS wins, then the one that
+/// swallows clearly less of the drawing (by more than the explanation's gate, see
+/// [`swallowed`]), then the closer one. A fit that
 /// takes more strokes by bending itself out of shape loses to one that explains fewer
 /// strokes well.
 ///
@@ -882,14 +883,14 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
 
 /// Whether `a` is `b` divided where the drawing divides it: `b` holds a line across it
 /// from outline to outline ([`swallowed::divisions`]); `a` is smaller as drawn (its
-/// visible curves are shorter in all), takes that line as
-/// its outline (its visible curves run along it within its gate on average), runs along
-/// `b`'s outline elsewhere ([`WITHIN_DIVIDED`]), fits about as closely ([`DIVIDED_RMS`])
-/// and holds fewer such lines (a row of four drawers read as two is nearer the drawer
-/// meant than four). A designer draws no edge across a part's face: two drawers of a
-/// chest, read as one box, explain more of the drawing than either drawer (the other's
-/// outline too), yet the line between them says they are two. Such a division decides
-/// before the explanations are weighed ([`better`]).
+/// visible curves are shorter in all), takes that line as its outline (its visible curves
+/// run along it within its gate on average), runs along `b`'s outline elsewhere
+/// ([`WITHIN_DIVIDED`]), fits about as closely ([`DIVIDED_RMS`]) and holds fewer such
+/// lines (a row of four drawers read as two is nearer the drawer meant than four). A
+/// designer draws no edge across a part's face: two drawers of a chest, read as one box,
+/// explain more of the drawing than either drawer (the other's outline too), yet the
+/// line between them says they are two. Such a division decides before the explanations
+/// are weighed ([`better`]).
 fn divides(a: &Scored, b: &Scored) -> bool {
     if a.divisions.len() >= b.divisions.len()
         || a.result.rms > DIVIDED_RMS * b.result.rms.max(STEADY * b.result.primitive.size())
