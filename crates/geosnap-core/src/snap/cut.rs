@@ -57,15 +57,15 @@ pub(crate) const LINE_POINTS: usize = 8;
 /// The cuts of `reading` (snapped with `assignment`) at the straight lines drawn inside
 /// it away from its curves (module docs; [`swallowed_runs`] with lines that run on out of
 /// the outline too), on the side of each line nearer `dropped`'s image centre: each one
-/// whose visible curves run along its line within `gate` on average. `band` and
-/// `hidden_band` are those [`swallowed_runs`] leaves to the hand's noise. None for a
+/// whose visible curves run along its line within `gate` on average. `band` is what
+/// [`swallowed_runs`] leaves to the hand's noise round the reading's curves. None for a
 /// sphere or a generalized cylinder.
 pub(crate) fn cut_starts(
     context: &SnapContext,
     reading: &Primitive,
     assignment: &Assignment,
     dropped: &Primitive,
-    (band, hidden_band, gate): (f64, f64, f64),
+    (band, gate): (f64, f64),
 ) -> Vec<Primitive> {
     if !matches!(
         reading.kind(),
@@ -77,11 +77,10 @@ pub(crate) fn cut_starts(
     // Every line inside counts, also one that runs on out of the outline: a hand's
     // overshoot, or a neighbour's outline drawn through (`swallowed` leaves those to the
     // part in front; a cut of them competes like any start).
-    let lines: Vec<Vec<DVec2>> =
-        swallowed_runs(context, reading, assignment, (band, hidden_band), true)
-            .into_iter()
-            .filter(|run| straight(run).is_some_and(|l| l >= MIN_LINE * size))
-            .collect();
+    let lines: Vec<Vec<DVec2>> = swallowed_runs(context, reading, assignment, band, true)
+        .into_iter()
+        .filter(|run| straight(run).is_some_and(|l| l >= MIN_LINE * size))
+        .collect();
     if lines.is_empty() {
         return Vec::new();
     }
@@ -444,7 +443,7 @@ mod tests {
             length: 180.0,
             radius: 12.0,
         });
-        let cuts = cut_starts(&context, &fused, &assignment, &dropped, (3.0, 3.0, 4.0));
+        let cuts = cut_starts(&context, &fused, &assignment, &dropped, (3.0, 4.0));
         let Some(Primitive::Cylinder(cut)) = cuts.first() else {
             panic!("no cut: {cuts:?}")
         };
@@ -460,6 +459,6 @@ mod tests {
             radius: 10.0,
         });
         let taken = assign(&context, &right.current_shape().curves, 3.0);
-        assert!(cut_starts(&context, &right, &taken, &dropped, (3.0, 3.0, 4.0)).is_empty());
+        assert!(cut_starts(&context, &right, &taken, &dropped, (3.0, 4.0)).is_empty());
     }
 }

@@ -277,8 +277,7 @@ impl Scored {
         let explained = explanation(&result.primitive, &result.assignment, gate);
         result.explained = Some(explained);
         let band = swallow_band(&result);
-        let swallowed =
-            swallowed::swallowed(context, &result.primitive, &result.assignment, band, gate);
+        let swallowed = swallowed::swallowed(context, &result.primitive, &result.assignment, band);
         // Only a reading that swallows something is searched for lines across it, the
         // cheaper test first: searching every reading found the same parts on the
         // conditions suite, give or take one.
@@ -287,7 +286,7 @@ impl Scored {
                 context,
                 &result.primitive,
                 &result.assignment,
-                (band, gate, band + gate),
+                (band, band + gate),
             )
         } else {
             Vec::new()
@@ -415,7 +414,7 @@ fn cut_candidates(
             &r.primitive,
             &r.assignment,
             primitive,
-            (swallow_band(r), leader.gate, leader.gate),
+            (swallow_band(r), leader.gate),
         );
         from = candidates.len();
         for start in starts {
