@@ -98,7 +98,9 @@ use std::time::{Duration, Instant};
 use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
-use geosnap::core::snap::{nobody, snap, snap_at, SnapContext, SnapResult, SnapSettings, Verdict};
+use geosnap::core::snap::{
+    nobody, snap, snap_at, Owner, SnapContext, SnapResult, SnapSettings, Verdict,
+};
 use glam::DVec2;
 use support::assemblies::{assembly_with_hand, perturbed_placement, AssemblyKind, Perturbation};
 use support::judge::{describe, distance_to, evaluate, picture_difference, Errors, SAME_PICTURE};
@@ -454,8 +456,9 @@ fn judged_confidence(
     result: Option<&SnapResult>,
     dropped: &Primitive,
     errors: Option<&Errors>,
+    placed: &dyn Owner,
 ) -> (bool, String) {
-    let confidence = result.map(|r| r.confidence(dropped, &nobody, &SnapSettings::default()));
+    let confidence = result.map(|r| r.confidence(dropped, placed, &SnapSettings::default()));
     let flagged = confidence
         .as_ref()
         .is_none_or(|c| c.verdict != Verdict::Good);
@@ -608,6 +611,7 @@ fn judge_part(
     context: &SnapContext,
     strokes: &[SynthStroke],
     own: &[usize],
+    placed: &dyn Owner,
     shown: bool,
     png: Option<&Path>,
     report: &mut String,
@@ -633,8 +637,8 @@ fn judge_part(
     });
     let from_truth = from_truth.filter(|_| !failed.is_empty());
     let at_truth = from_truth.as_ref().map(|(fails, _)| *fails);
-    let (flagged, evidence) =
-        judged_confidence(truth, result.as_ref().ok(), &dropped, errors.as_ref());
+    let snapped = result.as_ref().ok();
+    let (flagged, evidence) = judged_confidence(truth, snapped, &dropped, errors.as_ref(), placed);
     let picture = (!failed.is_empty())
         .then(|| result.as_ref().ok())
         .flatten()
@@ -708,6 +712,29 @@ fn judge_part(
         }
     }
     outcome
+}
+
+/// The parts of an assembly placed before part `before`, as a designer who drops its
+/// parts in order has them when that part is dropped: each where it truly lies (a part
+/// that snapped wrong was put right before the next was dropped), owning the strokes
+/// drawn for it.
+struct Placed<'a> {
+    parts: &'a [Primitive],
+    /// The part each stroke (by id) was drawn for.
+    part_of: &'a [usize],
+    before: usize,
+}
+
+impl Owner for Placed<'_> {
+    fn owner(&self, stroke: StrokeId, _: DVec2) -> Option<u32> {
+        let part = *self.part_of.get(stroke.0 as usize)?;
+        (part < self.before).then_some(part as u32)
+    }
+
+    fn pose(&self, part: u32) -> Option<Primitive> {
+        let part = part as usize;
+        (part < self.before).then(|| self.parts[part].clone())
+    }
 }
 
 /// How many of the strokes a snap took are other parts' (not in `own`), in words.
@@ -793,6 +820,7 @@ fn run_job(
                 &context,
                 &scene.strokes,
                 &all,
+                &nobody,
                 shown,
                 png,
                 &mut report,
@@ -822,6 +850,11 @@ fn run_job(
                         &context,
                         &assembly.strokes,
                         &own,
+                        &Placed {
+                            parts: &assembly.parts,
+                            part_of: &assembly.part_of,
+                            before: i,
+                        },
                         shown,
                         png,
                         &mut report,

@@ -269,12 +269,25 @@ impl Scored {
     /// is judged, see [`SnapResult::confidence`]).
     fn of(
         context: &SnapContext,
+        result: SnapResult,
+        dropped: f64,
+        settings: &SnapSettings,
+    ) -> Self {
+        Self::behind(context, result, &[], dropped, settings)
+    }
+
+    /// [`Scored::of`] for a reading whose curves marked in `hidden` (by index in its
+    /// shape) run behind another part: a curve hidden there is not missed where nothing
+    /// is drawn along it.
+    fn behind(
+        context: &SnapContext,
         mut result: SnapResult,
+        hidden: &[bool],
         dropped: f64,
         settings: &SnapSettings,
     ) -> Self {
         let gate = settings.tight_gate * result.primitive.size().min(dropped);
-        let explained = explanation(&result.primitive, &result.assignment, gate);
+        let explained = explanation(&result.primitive, &result.assignment, gate, hidden);
         result.explained = Some(explained);
         let band = swallow_band(&result);
         let swallowed = swallowed::swallowed(context, &result.primitive, &result.assignment, band);
@@ -416,7 +429,21 @@ fn cut_candidates(
             primitive,
             (swallow_band(r), leader.gate),
         );
+        // The pieces a neighbour in front hides in part are read as cut too (below).
+        let behind = cut::pieces_behind(
+            context,
+            &r.primitive,
+            &r.assignment,
+            primitive,
+            (swallow_band(r), leader.gate),
+        );
         from = candidates.len();
+        for (piece, hidden) in behind {
+            if let Some(result) = as_cut(context, &piece, &hidden, settings) {
+                let scored = Scored::behind(context, result, &hidden, primitive.size(), settings);
+                candidates.push(scored);
+            }
+        }
         for start in starts {
             match snap_rounds(context, &start, &read, None, solve.reborrow()) {
                 Err(SnapError::Cancelled) => return Err(SnapError::Cancelled),
@@ -426,6 +453,56 @@ fn cut_candidates(
         }
     }
     Ok(leader_index(candidates).is_some_and(|i| i >= first))
+}
+
+/// A piece of a reading cut at a line drawn across it, as cut: unfitted, its strokes taken
+/// at the tight gate by its curves but those marked `hidden` (by the rest of the reading
+/// in front of it, see [`cut::pieces_behind`]). Fitted, such a piece is pulled out of
+/// shape: the edges the rest hides, where nothing of its own is drawn, take the rest's
+/// strokes. As cut, it lies where the divided reading's fit and the line put it. `None`
+/// when its curves take too few strokes to make a part.
+fn as_cut(
+    context: &SnapContext,
+    piece: &Primitive,
+    hidden: &[bool],
+    settings: &SnapSettings,
+) -> Option<SnapResult> {
+    let tight = settings.tight_gate * piece.size();
+    let curves = piece.current_shape().curves;
+    let seen: Vec<_> = curves
+        .iter()
+        .zip(hidden)
+        .filter(|(_, h)| !**h)
+        .map(|(c, _)| c.clone())
+        .collect();
+    let mut taken = assign::assign_within(context, &seen, tight, true)
+        .curves
+        .into_iter();
+    let assignment = Assignment {
+        curves: hidden
+            .iter()
+            .map(|h| {
+                if *h {
+                    Vec::new()
+                } else {
+                    taken.next().unwrap_or_default()
+                }
+            })
+            .collect(),
+    };
+    check_enough(piece, &assignment).ok()?;
+    let rms = fit_rms(piece, &assignment);
+    Some(SnapResult {
+        primitive: piece.clone(),
+        assignment,
+        rms,
+        termination: Termination::Converged,
+        evaluations: 0,
+        explained: None,
+        alternatives: Vec::new(),
+        profile: settings.profile,
+        multipliers: None,
+    })
 }
 
 /// Reads the leading candidate of a cold snap of `primitive` again from where it ended
@@ -1011,12 +1088,12 @@ fn good(r: &SnapResult) -> bool {
 /// inner edges then run where nothing is drawn. A designer draws every visible edge, so
 /// a visible curve without strokes is evidence against the pose, as much as a stroke it
 /// takes is evidence for it.
-fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64 {
+fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64, hidden: &[bool]) -> f64 {
     let gate = gate.max(f64::MIN_POSITIVE);
     let shape = primitive.current_shape();
     let mut taken = 0.0;
     let mut missing = 0.0;
-    for (curve, strokes) in shape.curves.iter().zip(&assignment.curves) {
+    for (k, (curve, strokes)) in shape.curves.iter().zip(&assignment.curves).enumerate() {
         // Each piece of stroke counts by how close it runs: fully on the curve, nothing
         // at the gate.
         let closeness = |p: DVec2| (1.0 - assign::curve_distance(&curve.curve, p) / gate).max(0.0);
@@ -1035,7 +1112,7 @@ fn explanation(primitive: &Primitive, assignment: &Assignment, gate: f64) -> f64
             })
             .sum::<f64>()
             - step * overdrawn(&points, strokes, &closeness, closed);
-        if !curve.visible {
+        if !curve.visible || hidden.get(k).is_some_and(|h| *h) {
             continue;
         }
         let unsupported: f64 = points
@@ -1655,7 +1732,7 @@ mod tests {
             let p = Primitive::Cuboid(p.clone());
             let gate = 0.1 * p.size();
             let a = assign(&context, &p.current_shape().curves, gate);
-            (a.stroke_ids().len(), explanation(&p, &a, gate))
+            (a.stroke_ids().len(), explanation(&p, &a, gate, &[]))
         };
         // Stretched along its first axis, away from the drawn far end: its near edges
         // still take strokes, but its far end stands where nothing is drawn.
@@ -1712,7 +1789,7 @@ mod tests {
                 context.strokes.len(),
                 "every copy is taken: {a:?}"
             );
-            explanation(&truth, &a, gate)
+            explanation(&truth, &a, gate, &[])
         };
         let (once, thrice) = (explained(1), explained(3));
         assert!(
@@ -1744,7 +1821,7 @@ mod tests {
             });
             let a = assign(&context, &part.current_shape().curves, 2.0 * gate);
             assert_eq!(a.stroke_ids().len(), context.strokes.len(), "{a:?}");
-            explanation(&part, &a, gate)
+            explanation(&part, &a, gate, &[])
         };
         let outlines: f64 = part
             .current_shape()

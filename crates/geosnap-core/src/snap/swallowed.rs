@@ -189,13 +189,14 @@ fn taken_samples(assignment: &Assignment, stroke: StrokeId, count: usize) -> Vec
 }
 
 /// A primitive's projected outline as the triangles of its mesh seen from the viewer.
-struct Outline {
+pub(crate) struct Outline {
     triangles: Vec<[DVec2; 3]>,
     bounds: Option<(DVec2, DVec2)>,
 }
 
 impl Outline {
-    fn of(primitive: &Primitive) -> Self {
+    /// The outline of `primitive` as seen.
+    pub(crate) fn of(primitive: &Primitive) -> Self {
         let mesh = primitive.mesh(SEGMENTS);
         let at = |i: u32| mesh.positions[i as usize].truncate();
         let triangles: Vec<[DVec2; 3]> = mesh
@@ -211,7 +212,8 @@ impl Outline {
         Self { triangles, bounds }
     }
 
-    fn contains(&self, p: DVec2) -> bool {
+    /// Whether view-plane point `p` lies inside the outline (on its edge included).
+    pub(crate) fn contains(&self, p: DVec2) -> bool {
         self.triangles.iter().any(|t| in_triangle(t, p))
     }
 }
