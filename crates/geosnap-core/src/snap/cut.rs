@@ -59,7 +59,9 @@ pub(crate) const LINE_POINTS: usize = 8;
 /// the outline too), on the side of each line nearer `dropped`'s image centre: each one
 /// whose visible curves run along its line within `gate` on average. `band` is what
 /// [`swallowed_runs`] leaves to the hand's noise round the reading's curves. None for a
-/// sphere or a generalized cylinder.
+/// sphere or a generalized cylinder. (The snap finds the lines once for these and for
+/// the pieces behind the rest, [`cuts_and_pieces`].)
+#[cfg(test)]
 pub(crate) fn cut_starts(
     context: &SnapContext,
     reading: &Primitive,
@@ -74,6 +76,38 @@ pub(crate) fn cut_starts(
         return Vec::new();
     }
     let lines = lines_inside(context, reading, assignment, band);
+    starts_at(reading, &lines, dropped, gate)
+}
+
+/// The cuts and the pieces behind the rest ([`cut_starts`], [`pieces_behind`]) of
+/// `reading` at the lines drawn inside it, those lines found once for both.
+pub(crate) fn cuts_and_pieces(
+    context: &SnapContext,
+    reading: &Primitive,
+    assignment: &Assignment,
+    dropped: &Primitive,
+    (band, gate): (f64, f64),
+) -> (Vec<Primitive>, Vec<(Primitive, Vec<bool>)>) {
+    if !matches!(
+        reading.kind(),
+        PrimitiveKind::Cuboid | PrimitiveKind::Cylinder | PrimitiveKind::Cone
+    ) {
+        return (Vec::new(), Vec::new());
+    }
+    let lines = lines_inside(context, reading, assignment, band);
+    (
+        starts_at(reading, &lines, dropped, gate),
+        pieces_behind(reading, &lines, dropped, (band, gate)),
+    )
+}
+
+/// The cuts of `reading` at `lines` ([`cut_starts`]).
+fn starts_at(
+    reading: &Primitive,
+    lines: &[Vec<DVec2>],
+    dropped: &Primitive,
+    gate: f64,
+) -> Vec<Primitive> {
     if lines.is_empty() {
         return Vec::new();
     }
@@ -202,17 +236,16 @@ fn lines_inside(
         .collect()
 }
 
-/// The pieces of box `reading` cut exactly at the lines drawn inside it ([`on_line`])
+/// The pieces of box `reading` cut exactly at the `lines` drawn inside it ([`on_line`])
 /// that the rest of the reading stands in front of, each with which of its curves the
 /// rest hides ([`hidden_by_rest`]); the piece on the side of each line nearer
 /// `dropped`, the [`MAX_CUTS`] nearest the drop. A drawer between two others, cut off
 /// the row read as one box, has the far edges of the face it shares with the drawer in
 /// front of it behind that drawer: nothing is drawn there, and fitted, those edges take
 /// the other drawer's strokes. Empty for every other kind, and where no piece is hidden.
-pub(crate) fn pieces_behind(
-    context: &SnapContext,
+fn pieces_behind(
     reading: &Primitive,
-    assignment: &Assignment,
+    lines: &[Vec<DVec2>],
     dropped: &Primitive,
     (band, gate): (f64, f64),
 ) -> Vec<(Primitive, Vec<bool>)> {
@@ -221,7 +254,7 @@ pub(crate) fn pieces_behind(
     }
     let drop_centre = dropped.center().truncate();
     let near = |c: &Primitive| c.center().truncate().distance(drop_centre);
-    let mut found: Vec<Primitive> = lines_inside(context, reading, assignment, band)
+    let mut found: Vec<Primitive> = lines
         .iter()
         .filter_map(|run| {
             let points = spread_along(run, LINE_POINTS);

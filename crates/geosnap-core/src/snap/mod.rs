@@ -422,15 +422,8 @@ fn cut_candidates(
         };
         let leader = &candidates[lead];
         let r = &leader.result;
-        let starts = cut::cut_starts(
-            context,
-            &r.primitive,
-            &r.assignment,
-            primitive,
-            (swallow_band(r), leader.gate),
-        );
         // The pieces a neighbour in front hides in part are read as cut too (below).
-        let behind = cut::pieces_behind(
+        let (starts, behind) = cut::cuts_and_pieces(
             context,
             &r.primitive,
             &r.assignment,
