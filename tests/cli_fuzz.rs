@@ -554,11 +554,36 @@ fn encode_with_raw(value: &Value, edits: &[(Vec<usize>, JsonEdit)]) -> Vec<u8> {
 fn json_mutated(base: Value, grow: std::ops::Range<usize>) -> impl Strategy<Value = Vec<u8>> {
     let edit = (prop::collection::vec(any::<usize>(), 0..6), json_edit(grow));
     prop::collection::vec(edit, 1..4).prop_map(move |edits| {
-        let mut value = base.clone();
-        for (choices, edit) in &edits {
-            apply_json_edit(&mut value, choices, edit);
-        }
-        encode_with_raw(&value, &edits)
+        on_a_deep_stack(|| {
+            let mut value = base.clone();
+            for (choices, edit) in &edits {
+                apply_json_edit(&mut value, choices, edit);
+            }
+            encode_with_raw(&value, &edits)
+        })
+    })
+}
+
+/// The stack [`on_a_deep_stack`] gives: room for values nested [`JsonEdit::Nest`]'s
+/// 3,000 levels deep at any optimization level, with a wide margin.
+const DEEP_STACK_BYTES: usize = 256 << 20;
+
+/// Runs `work` on a thread of its own with [`DEEP_STACK_BYTES`] of stack. A nesting edit
+/// makes a value thousands of levels deep, and encoding, measuring and dropping it
+/// recurse once per level (serde_json); how many levels a test thread's 2 MiB hold
+/// depends on how the dependencies were optimized (they overflowed it with serde_json at
+/// `opt-level = 1`). The programs under test read such files with serde_json's recursion
+/// limit, so only the test's own making of them needs the room.
+fn on_a_deep_stack<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    std::thread::scope(|scope| {
+        let worker = std::thread::Builder::new()
+            .name("deep-json".to_owned())
+            .stack_size(DEEP_STACK_BYTES)
+            .spawn_scoped(scope, work)
+            .expect("a thread for the deep values");
+        worker
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
     })
 }
 
