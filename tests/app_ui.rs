@@ -122,6 +122,13 @@ fn drag_over(harness: &mut Harness<'static, GeosnapApp>, label: &str, at: DVec2)
         let t = k as f32 / 12.0;
         harness.hover_at(from + (to - from) * t);
         harness.step();
+        // Each move is snapped before the next, as under a hand slower than the snap:
+        // which moves a faster hand's preview skips depends on the machine's speed, and
+        // with them which cold snap's poses the drag holds at the end.
+        step_until(harness, "the move's preview", |app| {
+            app.drag()
+                .is_none_or(|d| d.preview_generation() == d.generation())
+        });
     }
     assert!(harness.state().drag().is_some(), "the palette drag started");
     step_until(harness, "the snapped preview", |app| {

@@ -152,6 +152,7 @@ impl Drag {
             dropped,
             poses,
             shown: self.shown,
+            by_hand: self.shown != 0,
         })
     }
 

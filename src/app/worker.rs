@@ -352,6 +352,10 @@ pub struct Readings {
     pub poses: Vec<SnapResult>,
     /// The pose shown (an index into `poses`).
     pub shown: usize,
+    /// Whether the pose shown was chosen by hand (Tab), rather than taken as the snap
+    /// chose it: the snap's own choice too, when Tab on a placed part came back round
+    /// to it.
+    pub by_hand: bool,
 }
 
 impl Readings {
@@ -363,6 +367,7 @@ impl Readings {
             dropped,
             poses,
             shown: 0,
+            by_hand: false,
         }
     }
 
@@ -381,6 +386,7 @@ impl Readings {
     pub fn next(&self) -> Self {
         Self {
             shown: (self.shown + 1) % self.poses.len().max(1),
+            by_hand: true,
             ..self.clone()
         }
     }
@@ -608,9 +614,10 @@ pub(crate) fn place(
 }
 
 /// The confidence of `snapped`, a snap of `dropped` into `document`. A pose the user
-/// chose with Tab (not the snap's own choice) settles the question of which reading is
-/// meant: it is judged without its rivals, and never refused (at worst doubtful, saying
-/// why).
+/// chose with Tab settles the question of which reading is meant: it is judged without
+/// its rivals, and never refused (at worst doubtful, saying why). That holds for the
+/// snap's own choice too when Tab came back round to it: refused, it would be placed
+/// unsnapped and its readings lost, and Tab could not go on to the next.
 fn judge(
     snapped: &SnapResult,
     dropped: &Primitive,
@@ -618,7 +625,7 @@ fn judge(
     readings: &Readings,
     settings: &SessionSettings,
 ) -> crate::core::snap::Confidence {
-    if readings.shown == 0 {
+    if !readings.by_hand {
         return snapped.confidence(dropped, &document.owner(), &settings.snap);
     }
     let mut chosen = snapped.clone();
