@@ -11,10 +11,10 @@
 //! - on failure, say the input file's name in its message, keep that message bounded,
 //!   leave every pre-existing output byte for byte as it was, and leave no file behind.
 //!
-//! The number of cases per kind is `GEOSNAP_FUZZ_CASES` (default: 2,000 in the build
-//! without the `gui` feature, which CI tests with `cargo test --no-default-features`;
-//! 100 in the default build, which CI tests too, so that the two runs together stay
-//! within budget). Each test asserts that this many cases ran. A longer run:
+//! The number of cases per kind is `GEOSNAP_FUZZ_CASES` (default: 1,000 in the build
+//! without the `gui` feature, which CI tests with `cargo test --no-default-features`,
+//! about half a minute on a 2-core machine; 100 in the default build, which CI tests
+//! too, so that the two runs together stay within budget). Each test asserts that this many cases ran. A longer run:
 //! `GEOSNAP_FUZZ_CASES=50000 cargo test --release --no-default-features --test cli_fuzz`.
 
 use std::cell::Cell;
@@ -28,7 +28,7 @@ use proptest::test_runner::{Config, TestRunner};
 use serde_json::{json, Value};
 
 /// Cases per input kind when `GEOSNAP_FUZZ_CASES` is not set.
-const DEFAULT_CASES: u32 = if cfg!(feature = "gui") { 100 } else { 2000 };
+const DEFAULT_CASES: u32 = if cfg!(feature = "gui") { 100 } else { 1000 };
 
 /// The longest failure message accepted (messages are bounded; a 100k-element array is
 /// never echoed whole).

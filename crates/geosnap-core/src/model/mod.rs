@@ -315,7 +315,7 @@ impl Document {
     /// first, that took that sample of that stroke (its snap's assignment; a part read from
     /// a file without one owns its strokes whole), and `pose(part)` where it lies. What a
     /// new snap is judged against.
-    pub fn owner(&self) -> impl Owner {
+    pub fn owner(&self) -> impl Owner + use<> {
         // Per stroke, each owner with the samples it took (`None`: the whole stroke).
         let mut owners: BTreeMap<StrokeId, Vec<Taken>> = BTreeMap::new();
         for (id, placed) in &self.primitives {

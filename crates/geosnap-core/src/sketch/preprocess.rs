@@ -253,13 +253,12 @@ fn clean_points(stroke: &Stroke, tolerance: f64, notes: &mut Vec<String>) -> (Ve
     }
     let mut closed = stroke.closed;
     let mut points = dedup(&finite, tolerance);
-    if points.len() > 2 {
-        if let (Some(first), Some(last)) = (points.first(), points.last()) {
-            if first.distance(*last) <= tolerance {
-                points.pop();
-                closed = true;
-            }
-        }
+    if points.len() > 2
+        && let (Some(first), Some(last)) = (points.first(), points.last())
+        && first.distance(*last) <= tolerance
+    {
+        points.pop();
+        closed = true;
     }
     (points, closed)
 }

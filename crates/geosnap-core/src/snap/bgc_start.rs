@@ -312,10 +312,10 @@ fn medial_axis(context: &SnapContext, drop: [DVec2; 2], reach: f64, r: f64) -> V
             continue;
         }
         let stroke = &mut clipped.strokes[*index];
-        if let Some(points) = medial::clipped(&stroke.points, &mine) {
-            if let Some(s) = prepare(stroke.id, points, stroke.class) {
-                *stroke = s;
-            }
+        if let Some(points) = medial::clipped(&stroke.points, &mine)
+            && let Some(s) = prepare(stroke.id, points, stroke.class)
+        {
+            *stroke = s;
         }
     }
     // Other strokes drawn on across the part the tube meets (an outline drawn in two
@@ -838,15 +838,15 @@ const CONSTRAINT_TOL: f64 = 1e-4;
 /// tighter than [`GRADIENT_TOL`].
 pub(crate) fn settings(settings: &SnapSettings) -> SnapSettings {
     let mut s = settings.clone();
-    if s.solver.gradient_tol() < GRADIENT_TOL {
-        if let Ok(solver) = s.solver.clone().with_gradient_tol(GRADIENT_TOL) {
-            s.solver = solver;
-        }
+    if s.solver.gradient_tol() < GRADIENT_TOL
+        && let Ok(solver) = s.solver.clone().with_gradient_tol(GRADIENT_TOL)
+    {
+        s.solver = solver;
     }
-    if s.solver.constraint_tol() < CONSTRAINT_TOL {
-        if let Ok(solver) = s.solver.clone().with_constraint_tol(CONSTRAINT_TOL) {
-            s.solver = solver;
-        }
+    if s.solver.constraint_tol() < CONSTRAINT_TOL
+        && let Ok(solver) = s.solver.clone().with_constraint_tol(CONSTRAINT_TOL)
+    {
+        s.solver = solver;
     }
     s
 }

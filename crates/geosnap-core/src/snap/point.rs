@@ -140,18 +140,18 @@ pub fn guesses(
         }
         // A round part may be a disc as well as a rod: a disc's guess along the direction
         // across the strokes' spread (a disc's ellipses spread across its axis).
-        if matches!(kind, PrimitiveKind::Cylinder | PrimitiveKind::Cone) {
-            if let Some(direction) = directions.last() {
-                let placement = Placement {
-                    axis: *direction,
-                    length: Some(DISC_LENGTH * size),
-                    radius: Some(0.5 * size),
-                    radius_bottom: Some(0.5 * size),
-                    radius_top: Some(0.3 * size),
-                    ..Placement::at(at)
-                };
-                out.push(Primitive::from_placement(kind, &placement, size));
-            }
+        if matches!(kind, PrimitiveKind::Cylinder | PrimitiveKind::Cone)
+            && let Some(direction) = directions.last()
+        {
+            let placement = Placement {
+                axis: *direction,
+                length: Some(DISC_LENGTH * size),
+                radius: Some(0.5 * size),
+                radius_bottom: Some(0.5 * size),
+                radius_top: Some(0.3 * size),
+                ..Placement::at(at)
+            };
+            out.push(Primitive::from_placement(kind, &placement, size));
         }
     }
     out

@@ -73,10 +73,10 @@ pub(super) fn region_at(context: &SnapContext, point: DVec2, reach: f64) -> Opti
         }
         for pair in stroke.points.windows(2) {
             for (ray, d) in hits.iter_mut().zip(&directions) {
-                if let Some(t) = ray_hit(point, *d, pair[0], pair[1]) {
-                    if t <= reach {
-                        ray.push(t);
-                    }
+                if let Some(t) = ray_hit(point, *d, pair[0], pair[1])
+                    && t <= reach
+                {
+                    ray.push(t);
                 }
             }
         }

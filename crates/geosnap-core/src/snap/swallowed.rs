@@ -120,13 +120,11 @@ pub(crate) fn swallowed_runs(
             .iter()
             .zip(&taken)
             .all(|(p, t)| *t || outline.contains(*p) || near(*p));
-        if !stays {
-            if let (Some(first), Some(last)) = (samples.first(), samples.last()) {
-                // A stroke that leaves the outline is another part's, drawn across this
-                // one (a stem in front of its base); where it ends is where that part
-                // meets whatever it ends on.
-                ends_outside.extend([*first, *last]);
-            }
+        if !stays && let (Some(first), Some(last)) = (samples.first(), samples.last()) {
+            // A stroke that leaves the outline is another part's, drawn across this
+            // one (a stem in front of its base); where it ends is where that part
+            // meets whatever it ends on.
+            ends_outside.extend([*first, *last]);
         }
         if stays || crossing {
             within.push((samples, taken));

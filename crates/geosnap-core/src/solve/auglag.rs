@@ -84,10 +84,10 @@ impl Budget<'_> {
         if self.cancel.is_some_and(CancelFlag::is_cancelled) {
             return Err(Abort::Cancelled);
         }
-        if let (Some(clock), Some(limit)) = (self.clock, self.time_limit) {
-            if clock.elapsed() >= limit {
-                return Err(Abort::TimeLimit);
-            }
+        if let (Some(clock), Some(limit)) = (self.clock, self.time_limit)
+            && clock.elapsed() >= limit
+        {
+            return Err(Abort::TimeLimit);
         }
         if self.evaluations >= self.max_evaluations {
             return Err(Abort::EvaluationLimit);

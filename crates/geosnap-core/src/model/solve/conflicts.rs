@@ -90,17 +90,17 @@ fn unholdable(
         .iter()
         .map(|(index, range)| (*index, residual(range)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((index, value)) = worst {
-        if value > settings.violation_tol() {
-            let r = relation(index)?;
-            return Some(Conflict {
+    if let Some((index, value)) = worst
+        && value > settings.violation_tol()
+    {
+        let r = relation(index)?;
+        return Some(Conflict {
                 relation: index,
                 message: format!(
                     "{} switched off: the hard relations cannot all hold (its residual stays at {value:.2e})",
                     describe(r.position, r.relation)
                 ),
             });
-        }
     }
     let stuck = matches!(
         report.termination,
