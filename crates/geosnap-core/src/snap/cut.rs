@@ -69,14 +69,7 @@ pub(crate) fn cut_starts(
     dropped: &Primitive,
     (band, gate): (f64, f64),
 ) -> Vec<Primitive> {
-    if !matches!(
-        reading.kind(),
-        PrimitiveKind::Cuboid | PrimitiveKind::Cylinder | PrimitiveKind::Cone
-    ) {
-        return Vec::new();
-    }
-    let lines = lines_inside(context, reading, assignment, band);
-    starts_at(reading, &lines, dropped, gate)
+    cuts_and_pieces(context, reading, assignment, dropped, (band, gate)).0
 }
 
 /// The cuts and the pieces behind the rest ([`cut_starts`], [`pieces_behind`]) of
