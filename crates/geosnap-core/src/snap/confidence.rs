@@ -3,7 +3,7 @@
 //!
 //! A snap can fit its strokes closely and still be wrong: a tube laid on the wrong pair of
 //! strokes fits them at 1 % RMS. What tells a wrong part from a right one is what the
-//! rest of the drawing says about it. [`judge`] weighs seven pieces of evidence (nine for a bent tube), each
+//! rest of the drawing says about it. [`judge`] weighs eight pieces of evidence (ten for a bent tube), each
 //! turned into a factor in [0, 1] (1: no doubt):
 //!
 //! - **fit**: the RMS distance of its strokes to its curves, relative to its size;
@@ -11,6 +11,9 @@
 //!   what is visible; a pose whose outline runs where nothing is drawn is doubtful);
 //! - **ownership**: how much of the stroke length it takes already belongs to parts placed
 //!   before it (a part dropped on a modelled part, or one that reaches across it);
+//! - **a placed part held**: whether a placed part whose strokes it takes lies inside
+//!   its outline and spans it, its outline on the snap's on opposite sides (a chest read
+//!   whole round a drawer placed before; see the `holds` module);
 //! - **the drop**: how far the snap moved from where it was dropped, and how much it
 //!   changed size (a rough drop lands near its part: a hand misses a part's centre by a
 //!   tenth of its size, so a snap that moved more than a third of it is doubted);
@@ -116,6 +119,9 @@ pub struct Evidence {
     /// How tightly the drawing pins its dimensions ([`Spread`]); `None` when the fit's
     /// curvature could not be read.
     pub spread: Option<Spread>,
+    /// A placed part whose strokes it takes and which lies inside its outline, spanning
+    /// it (`holds` module): the snap reads that part and its neighbours as one.
+    pub holds: Option<u32>,
 }
 
 /// A snap's confidence: the verdict, its value in [0, 1] and, when not good, why.
@@ -185,9 +191,9 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
 }
 
 /// The fraction of the stroke length `result` takes that `owner` gives to another part,
-/// and the part that owns most of it. A piece between two samples is owned when both
+/// and the parts that own some of it, the one that owns most first. A piece between two samples is owned when both
 /// its ends are, by the owner of the first.
-fn owned(result: &SnapResult, owner: &dyn Owner) -> (f64, Option<u32>) {
+fn owned(result: &SnapResult, owner: &dyn Owner) -> (f64, Vec<u32>) {
     let mut total = 0.0;
     let mut by_owner: Vec<(u32, f64)> = Vec::new();
     for stroke in result.assignment.curves.iter().flatten() {
@@ -208,14 +214,14 @@ fn owned(result: &SnapResult, owner: &dyn Owner) -> (f64, Option<u32>) {
         }
     }
     if total <= 0.0 {
-        return (0.0, None);
+        return (0.0, Vec::new());
     }
     let owned: f64 = by_owner.iter().map(|(_, l)| l).sum();
-    let main = by_owner
-        .iter()
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(p, _)| *p);
-    (owned / total, main)
+    by_owner.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    (
+        owned / total,
+        by_owner.into_iter().map(|(p, _)| p).collect(),
+    )
 }
 
 /// The mean distance from the visible curves of `a` to those of `b` (each sampled),
@@ -402,7 +408,14 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &dyn Owner, gate: 
     let size = primitive.size().max(f64::MIN_POSITIVE);
     let rms = result.rms / size;
     let (support, visible_length) = support(primitive, result, gate);
-    let (owned, owner_id) = owned(result, owner);
+    let (owned, owners) = owned(result, owner);
+    let owner_id = owners.first().copied();
+    let band = super::swallow_band(result);
+    let holds = owners.iter().copied().find(|&part| {
+        owner
+            .pose(part)
+            .is_some_and(|pose| super::holds::holds(primitive, &pose, band))
+    });
     let apart_from_owner = owner_id
         .and_then(|id| owner.pose(id))
         .map(|pose| outline_distance(primitive, &pose));
@@ -429,6 +442,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &dyn Owner, gate: 
         margin,
         depth,
         spread,
+        holds,
     };
     let mut factors = weigh(&evidence, factor, rival).to_vec();
     factors.extend(tube_factors(primitive, dropped));
@@ -462,7 +476,7 @@ pub fn judge(result: &SnapResult, dropped: &Primitive, owner: &dyn Owner, gate: 
 
 /// The evidence as factors in [0, 1], each with what it says against the snap in words;
 /// `factor` is the image's size over the drop's, `rival` the best other reading.
-fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64, String); 6] {
+fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64, String); 7] {
     let Evidence {
         rms,
         support,
@@ -474,6 +488,7 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
         margin,
         depth,
         spread,
+        holds,
     } = *evidence;
     [
         (
@@ -491,6 +506,15 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
             ),
         ),
         ownership(owned, owner_id, apart_from_owner),
+        holds.map_or((1.0, String::new()), |p| {
+            (
+                HOLDS,
+                format!(
+                    "part #{p} lies inside it with its outline on it: it reads that part and \
+                     its neighbours as one"
+                ),
+            )
+        }),
         (
             ramp(moved, 0.35, 1.0) * ramp(resized, 2.5, 4.5),
             format!(
@@ -523,6 +547,11 @@ fn weigh(evidence: &Evidence, factor: f64, rival: Option<&Alternative>) -> [(f64
         ),
     ]
 }
+
+/// The factor of a snap that holds a placed part (`holds` module): doubtful on its own,
+/// refused with any other doubt beside it. A reading of several parts as one fits and
+/// explains its strokes as well as the part meant, so nothing else speaks against it.
+const HOLDS: f64 = 0.25;
 
 /// A part whose strokes belong to placed parts at least this much has nothing drawn of
 /// its own: a hand's stray fragment aside, every stroke it takes is already explained.
@@ -819,5 +848,112 @@ mod tests {
         assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");
         let reason = confidence.reason.unwrap_or_default();
         assert!(reason.contains("far from the drop"), "{reason}");
+    }
+
+    /// A chest of two drawers, 90 wide, 30 high and 60 deep each, turned so that three
+    /// faces face the viewer: the whole chest and its drawers (upper, lower), with the
+    /// chest's visible edges drawn once each, a stroke per edge, and the line between
+    /// the drawers across its two visible sides.
+    fn drawn_chest() -> (SnapContext, Primitive, [Primitive; 2]) {
+        let turn = glam::DQuat::from_rotation_x(0.5) * glam::DQuat::from_rotation_y(0.6);
+        let up = turn * DVec3::Y;
+        let cuboid = |center: DVec3, size: DVec3| {
+            Primitive::Cuboid(Cuboid {
+                center,
+                rotation: turn,
+                size,
+            })
+        };
+        let size = DVec3::new(90.0, 30.0, 60.0);
+        let whole = cuboid(DVec3::new(200.0, -200.0, 0.0), DVec3::new(90.0, 60.0, 60.0));
+        let drawers = [
+            cuboid(whole.center() + up * 15.0, size),
+            cuboid(whole.center() - up * 15.0, size),
+        ];
+        // Each visible edge of the chest, and each visible edge of a drawer that no
+        // edge of the chest covers (the line between them).
+        let mut strokes: Vec<Vec<DVec2>> = Vec::new();
+        let edges = |p: &Primitive| -> Vec<Vec<DVec2>> {
+            p.current_shape()
+                .curves
+                .iter()
+                .filter(|c| c.visible)
+                .map(|c| c.curve.points(20))
+                .collect()
+        };
+        let chest_edges = edges(&whole);
+        strokes.extend(chest_edges.iter().cloned());
+        let on_chest = |e: &[DVec2]| {
+            e.iter().all(|p| {
+                chest_edges
+                    .iter()
+                    .flat_map(|c| c.windows(2))
+                    .any(|w| crate::geom::segment_distance(w[0], w[1], *p) < 0.5)
+            })
+        };
+        for drawer in &drawers {
+            for e in edges(drawer) {
+                let seen = strokes
+                    .iter()
+                    .any(|s| e.iter().all(|p| s.iter().any(|q| q.distance(*p) < 0.5)));
+                if !on_chest(&e) && !seen {
+                    strokes.push(e);
+                }
+            }
+        }
+        let sketch: Vec<Vec<DVec2>> = strokes
+            .iter()
+            .map(|s| {
+                s.iter()
+                    .map(|p| crate::geom::projection::sketch_from_view(*p))
+                    .collect()
+            })
+            .collect();
+        let context = SnapContext::new(
+            sketch
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Silhouette)),
+        );
+        (context, whole, drawers)
+    }
+
+    #[test]
+    fn a_snap_that_holds_a_placed_drawer_with_its_neighbour_is_doubted() {
+        let (context, whole, [upper, lower]) = drawn_chest();
+        let settings = SnapSettings::default();
+        let placed = snap(&context, &upper, &settings).expect("the upper drawer snaps");
+        let mut document = Document::new();
+        let id = document.add_snapped(&placed);
+        // The lower drawer dropped, read as the whole chest: it takes the upper drawer's
+        // strokes and holds it.
+        let mut read_whole = snap(&context, &lower, &settings).expect("the lower drawer snaps");
+        read_whole.primitive = whole.clone();
+        read_whole.assignment = crate::snap::assign(
+            &context,
+            &whole.current_shape().curves,
+            settings.tight_gate * whole.size(),
+        );
+        read_whole.rms = crate::snap::fit_rms(&whole, &read_whole.assignment);
+        read_whole.alternatives.clear();
+        let blind = read_whole.confidence(&lower, &nobody, &settings);
+        assert_eq!(
+            blind.verdict,
+            Verdict::Good,
+            "with no part placed: {blind:?}"
+        );
+        let confidence = read_whole.confidence(&lower, &document.owner(), &settings);
+        assert_eq!(confidence.evidence.holds, Some(id.0), "{confidence:?}");
+        assert_ne!(confidence.verdict, Verdict::Good, "{confidence:?}");
+        let reason = confidence.reason.unwrap_or_default();
+        assert!(
+            reason.contains(&format!("part #{} lies inside it", id.0)),
+            "{reason}"
+        );
+        // The lower drawer read as itself shares an edge with the placed one and holds
+        // nothing.
+        let own = snap(&context, &lower, &settings).expect("the lower drawer snaps");
+        let own = own.confidence(&lower, &document.owner(), &settings);
+        assert_eq!(own.evidence.holds, None, "{own:?}");
     }
 }

@@ -15,6 +15,7 @@ mod confidence;
 mod context;
 mod copies;
 mod cut;
+mod holds;
 pub(crate) mod initial;
 mod objective;
 mod pieces;
