@@ -157,13 +157,7 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
             continue;
         }
         let length = curve_length(&curve.curve);
-        let points = curve.curve.points(64);
-        let points = match curve.curve {
-            // An ellipse's point list closes on itself: count each point once.
-            Curve2::Ellipse { .. } => &points[..points.len() - 1],
-            Curve2::Polyline(_) => &points[..],
-        };
-        let points = super::resampled(points, gate / 2.0);
+        let points = super::holds::curve_samples(&curve.curve, gate / 2.0);
         let near = points
             .iter()
             .filter(|p| {
@@ -191,8 +185,8 @@ pub(crate) fn support(primitive: &Primitive, result: &SnapResult, gate: f64) -> 
 }
 
 /// The fraction of the stroke length `result` takes that `owner` gives to another part,
-/// and the parts that own some of it, the one that owns most first. A piece between two samples is owned when both
-/// its ends are, by the owner of the first.
+/// and the parts that own some of it, the one that owns most first. A piece between two
+/// samples is owned when both its ends are, by the owner of the first.
 fn owned(result: &SnapResult, owner: &dyn Owner) -> (f64, Vec<u32>) {
     let mut total = 0.0;
     let mut by_owner: Vec<(u32, f64)> = Vec::new();

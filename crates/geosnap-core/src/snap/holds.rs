@@ -120,17 +120,20 @@ fn visible_samples(primitive: &Primitive, step: f64) -> Vec<DVec2> {
         .curves
         .iter()
         .filter(|c| c.visible)
-        .flat_map(|c| {
-            let points = c.curve.points(64);
-            let points = match c.curve {
-                // An ellipse's point list closes on itself: each point once.
-                Curve2::Ellipse { .. } => points[..points.len().saturating_sub(1)].to_vec(),
-                Curve2::Polyline(_) => points,
-            };
-            super::resampled(&points, step)
-        })
+        .flat_map(|c| curve_samples(&c.curve, step))
         .filter(|p| p.is_finite())
         .collect()
+}
+
+/// The samples of `curve`, about `step` apart, each point once (an ellipse's point list
+/// closes on itself).
+pub(crate) fn curve_samples(curve: &Curve2<f64>, step: f64) -> Vec<DVec2> {
+    let points = curve.points(64);
+    let points = match curve {
+        Curve2::Ellipse { .. } => &points[..points.len().saturating_sub(1)],
+        Curve2::Polyline(_) => &points[..],
+    };
+    super::resampled(points, step)
 }
 
 /// The box round `primitive`'s projected curves (`None` when it has none finite).
