@@ -15,9 +15,17 @@
 //! drawn. A squat part's ellipses are what says its axis, so they keep their common
 //! slant; but a rigid part draws its two ends parallel, and a turn between them is the
 //! hand's alone: each end is turned by its own angle less the two ends' mean, which
-//! leaves the axis they agree on and takes out what they disagree on. Nothing else is
-//! turned: a bent tube's end ellipses say where its spine leaves them, and the result's
-//! RMS, explanation and confidence are measured on the strokes as drawn.
+//! leaves the axis they agree on and takes out what they disagree on.
+//!
+//! A bent tube's end ellipses are turned too, each by its whole slant: its outlines say
+//! where its spine leaves each end, as a straight part's say its axis, and its two ends
+//! are not parallel, so they share no slant to keep. Fitted as drawn, a slanted end made
+//! the fit round the end ellipse off to cover the turned stroke, which tilts the tube's
+//! plane in depth (on the conditions suite at 10 cases, bent tubes 47 → 49 of 100, no
+//! part lost; the shared sketches' parts as before). An end that faces away is drawn as
+//! its near half, which says little of a slant: it is left as drawn. Nothing else is
+//! turned, and the result's RMS, explanation and confidence are measured on the strokes
+//! as drawn.
 
 use glam::DVec2;
 
@@ -29,17 +37,15 @@ use crate::primitive::{Curve2, Primitive};
 /// studs lie within it; turned further, a stroke is more likely another curve's.
 const MAX_SLANT: f64 = 8.0 * std::f64::consts::PI / 180.0;
 
-/// `assignment` with the strokes of each end ellipse of a straight solid of revolution
-/// (cylinder, cone, SGC) turned about the ellipse's centre by the angle, within
+/// `assignment` with the strokes of each end ellipse of a solid of revolution (cylinder,
+/// cone, SGC, bent tube) turned about the ellipse's centre by the angle, within
 /// ±[`MAX_SLANT`], that lays them closest on it at the pose `primitive`; for a squat
-/// part, by that angle less the two ends' mean (module docs).
+/// straight part, by that angle less the two ends' mean (module docs).
 pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assignment {
-    if !matches!(
-        primitive,
-        Primitive::Cylinder(_) | Primitive::Cone(_) | Primitive::Sgc(_)
-    ) {
+    if matches!(primitive, Primitive::Sphere(_) | Primitive::Cuboid(_)) {
         return assignment.clone();
     }
+    let bent = matches!(primitive, Primitive::Bgc(_));
     let shape = primitive.current_shape();
     let ends: Vec<(usize, DVec2, f64)> = shape
         .curves
@@ -65,7 +71,7 @@ pub(crate) fn deslanted(primitive: &Primitive, assignment: &Assignment) -> Assig
     // they say the axis and each end's whole slant is the hand's. A squat part's ellipses
     // are what says its axis, so only the turn between its two ends, which no rigid part
     // draws, is taken out.
-    let turns = if c0.distance(c1) >= 2.0 * a0.max(a1) {
+    let turns = if bent || c0.distance(c1) >= 2.0 * a0.max(a1) {
         slants
     } else if let [Some(t0), Some(t1)] = slants {
         let mean = 0.5 * (t0 + t1);
@@ -187,6 +193,59 @@ mod tests {
                 (left + 1.0).abs() < 0.3,
                 "end {k} still turned {left:.2}° off"
             );
+        }
+    }
+
+    /// A C-shaped bent tube, its plane tilted so that both ends face the viewer, whose
+    /// end ellipses a hand turned 6° and −4°: each end loses its own slant (a tube's two
+    /// ends are not parallel, so there is no shared slant to keep), and its outlines say
+    /// where the spine leaves it.
+    #[test]
+    fn a_bent_tubes_ends_each_lose_their_slant() {
+        use crate::primitive::Bgc;
+        use crate::snap::assign::assign_within;
+        let tilt = (-25f64).to_radians();
+        let spine = (0..8)
+            .map(|i| {
+                let a = (-70.0 + 140.0 * f64::from(i) / 7.0).to_radians();
+                let (x, y) = (200.0 * a.cos(), 200.0 * a.sin());
+                DVec3::new(x * tilt.cos(), y, x * tilt.sin())
+            })
+            .collect();
+        let tube = Primitive::Bgc(Bgc::through(spine, 30.0));
+        let shape = tube.current_shape();
+        let ends: Vec<usize> = (0..shape.curves.len())
+            .filter(|k| matches!(shape.curves[*k].curve, Curve2::Ellipse { .. }))
+            .collect();
+        assert_eq!(ends.len(), 2, "a tube has two ends");
+        let turned = |k: usize, degrees: f64| -> Vec<DVec2> {
+            let Curve2::Ellipse { center, .. } = &shape.curves[k].curve else {
+                unreachable!("an end is an ellipse");
+            };
+            let (m, turn) = (center.to_dvec2(), DVec2::from_angle(degrees.to_radians()));
+            let points = shape.curves[k].curve.points(48).into_iter();
+            points
+                .map(|q| m + turn.rotate(q - m))
+                .map(|q| DVec2::new(q.x, -q.y))
+                .collect()
+        };
+        let strokes = [turned(ends[0], 6.0), turned(ends[1], -4.0)];
+        let context = SnapContext::new(
+            strokes
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Feature)),
+        );
+        let assignment = assign_within(&context, &shape.curves, 0.1 * tube.size(), true);
+        let slant_of = |a: &crate::snap::Assignment, k: usize| {
+            super::slant(&shape.curves[k].curve, &a.curves[k]).map_or(0.0, f64::to_degrees)
+        };
+        assert!((slant_of(&assignment, ends[0]) + 6.0).abs() < 0.3);
+        assert!((slant_of(&assignment, ends[1]) - 4.0).abs() < 0.3);
+        let out = super::deslanted(&tube, &assignment);
+        for k in ends {
+            let left = slant_of(&out, k);
+            assert!(left.abs() < 0.3, "end {k} still turned {left:.2}° off");
         }
     }
 
