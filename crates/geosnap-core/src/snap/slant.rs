@@ -144,23 +144,18 @@ mod tests {
     use crate::sketch::{StrokeClass, StrokeId};
     use crate::snap::{snap, SnapContext, SnapSettings};
 
-    /// A squat cylinder (its outlines shorter than its ends are wide) whose two end
-    /// ellipses a hand turned 5° and −3°: the ends keep the slant they share (1°, which
-    /// may be the axis's) and lose the 4° either way between them, which no rigid part
-    /// draws.
-    #[test]
-    fn a_squat_parts_ends_lose_the_turn_between_them() {
+    /// The slants [`super::slant`] reads on `part`'s two end ellipses (degrees) when a
+    /// hand draws them exactly but turned by `turns` (degrees) about their centres, and
+    /// what is left of them after [`super::deslanted`].
+    fn ends_turned(part: &Primitive, turns: [f64; 2]) -> ([f64; 2], [f64; 2]) {
         use crate::snap::assign::assign_within;
-        let disc = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::new(0.2, 0.8, 0.55).normalize(),
-            length: 30.0,
-            radius: 50.0,
-        });
-        let shape = disc.current_shape();
+        let shape = part.current_shape();
         let ends: Vec<usize> = (0..shape.curves.len())
             .filter(|k| matches!(shape.curves[*k].curve, Curve2::Ellipse { .. }))
             .collect();
+        let [e0, e1] = ends[..] else {
+            panic!("{} ends drawn as ellipses, not two", ends.len());
+        };
         let turned = |k: usize, degrees: f64| -> Vec<DVec2> {
             let Curve2::Ellipse { center, .. } = &shape.curves[k].curve else {
                 unreachable!("an end is an ellipse");
@@ -173,25 +168,45 @@ mod tests {
                 .map(|q| DVec2::new(q.x, -q.y))
                 .collect()
         };
-        let strokes = [turned(ends[0], 5.0), turned(ends[1], -3.0)];
+        let strokes = [turned(e0, turns[0]), turned(e1, turns[1])];
         let context = SnapContext::new(
             strokes
                 .iter()
                 .enumerate()
                 .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Feature)),
         );
-        let assignment = assign_within(&context, &shape.curves, 0.1 * disc.size(), true);
+        let assignment = assign_within(&context, &shape.curves, 0.1 * part.size(), true);
         let slant_of = |a: &crate::snap::Assignment, k: usize| {
             super::slant(&shape.curves[k].curve, &a.curves[k]).map_or(0.0, f64::to_degrees)
         };
-        assert!((slant_of(&assignment, ends[0]) + 5.0).abs() < 0.3);
-        assert!((slant_of(&assignment, ends[1]) - 3.0).abs() < 0.3);
-        let out = super::deslanted(&disc, &assignment);
-        for k in ends {
-            let left = slant_of(&out, k);
+        let out = super::deslanted(part, &assignment);
+        (
+            [slant_of(&assignment, e0), slant_of(&assignment, e1)],
+            [slant_of(&out, e0), slant_of(&out, e1)],
+        )
+    }
+
+    /// A squat cylinder (its outlines shorter than its ends are wide) whose two end
+    /// ellipses a hand turned 5° and −3°: the ends keep the slant they share (1°, which
+    /// may be the axis's) and lose the 4° either way between them, which no rigid part
+    /// draws.
+    #[test]
+    fn a_squat_parts_ends_lose_the_turn_between_them() {
+        let disc = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::new(0.2, 0.8, 0.55).normalize(),
+            length: 30.0,
+            radius: 50.0,
+        });
+        let (read, left) = ends_turned(&disc, [5.0, -3.0]);
+        assert!(
+            (read[0] + 5.0).abs() < 0.3 && (read[1] - 3.0).abs() < 0.3,
+            "{read:?}"
+        );
+        for (end, left) in left.iter().enumerate() {
             assert!(
                 (left + 1.0).abs() < 0.3,
-                "end {k} still turned {left:.2}° off"
+                "end {end} still turned {left:.2}° off"
             );
         }
     }
@@ -202,8 +217,6 @@ mod tests {
     /// where the spine leaves it.
     #[test]
     fn a_bent_tubes_ends_each_lose_their_slant() {
-        use crate::primitive::Bgc;
-        use crate::snap::assign::assign_within;
         let tilt = (-25f64).to_radians();
         let spine = (0..8)
             .map(|i| {
@@ -212,40 +225,14 @@ mod tests {
                 DVec3::new(x * tilt.cos(), y, x * tilt.sin())
             })
             .collect();
-        let tube = Primitive::Bgc(Bgc::through(spine, 30.0));
-        let shape = tube.current_shape();
-        let ends: Vec<usize> = (0..shape.curves.len())
-            .filter(|k| matches!(shape.curves[*k].curve, Curve2::Ellipse { .. }))
-            .collect();
-        assert_eq!(ends.len(), 2, "a tube has two ends");
-        let turned = |k: usize, degrees: f64| -> Vec<DVec2> {
-            let Curve2::Ellipse { center, .. } = &shape.curves[k].curve else {
-                unreachable!("an end is an ellipse");
-            };
-            let (m, turn) = (center.to_dvec2(), DVec2::from_angle(degrees.to_radians()));
-            let points = shape.curves[k].curve.points(48).into_iter();
-            points
-                .map(|q| m + turn.rotate(q - m))
-                .map(|q| DVec2::new(q.x, -q.y))
-                .collect()
-        };
-        let strokes = [turned(ends[0], 6.0), turned(ends[1], -4.0)];
-        let context = SnapContext::new(
-            strokes
-                .iter()
-                .enumerate()
-                .map(|(i, p)| (StrokeId(i as u32), p.as_slice(), StrokeClass::Feature)),
+        let tube = Primitive::Bgc(crate::primitive::Bgc::through(spine, 30.0));
+        let (read, left) = ends_turned(&tube, [6.0, -4.0]);
+        assert!(
+            (read[0] + 6.0).abs() < 0.3 && (read[1] - 4.0).abs() < 0.3,
+            "{read:?}"
         );
-        let assignment = assign_within(&context, &shape.curves, 0.1 * tube.size(), true);
-        let slant_of = |a: &crate::snap::Assignment, k: usize| {
-            super::slant(&shape.curves[k].curve, &a.curves[k]).map_or(0.0, f64::to_degrees)
-        };
-        assert!((slant_of(&assignment, ends[0]) + 6.0).abs() < 0.3);
-        assert!((slant_of(&assignment, ends[1]) - 4.0).abs() < 0.3);
-        let out = super::deslanted(&tube, &assignment);
-        for k in ends {
-            let left = slant_of(&out, k);
-            assert!(left.abs() < 0.3, "end {k} still turned {left:.2}° off");
+        for (end, left) in left.iter().enumerate() {
+            assert!(left.abs() < 0.3, "end {end} still turned {left:.2}° off");
         }
     }
 
