@@ -40,16 +40,52 @@ const SEGMENTS: usize = 24;
 
 /// The length of drawn stroke pieces `primitive` swallows (module docs) with its
 /// `assignment`, pieces within `band` of one of its curves left out.
+#[cfg(test)]
 pub(crate) fn swallowed(
     context: &SnapContext,
     primitive: &Primitive,
     assignment: &Assignment,
     band: f64,
 ) -> f64 {
+    beyond(
+        &swallowed_pieces(context, primitive, assignment, band),
+        band,
+    )
+}
+
+/// The drawn stroke pieces `primitive` swallows (module docs) with its `assignment`,
+/// pieces within `band` of one of its curves left out: each piece's length and how far
+/// its middle lies from the nearest of the part's curves (beyond `band`). Two readings
+/// are weighed by what each swallows beyond one band ([`beyond`]): each reading's own
+/// band grows with its RMS, and a looser fit must not swallow less for fitting worse.
+pub(crate) fn swallowed_pieces(
+    context: &SnapContext,
+    primitive: &Primitive,
+    assignment: &Assignment,
+    band: f64,
+) -> Vec<(f64, f64)> {
+    let curves = primitive.current_shape().curves;
     swallowed_runs(context, primitive, assignment, band, false)
         .iter()
         .flat_map(|run| run.windows(2))
-        .map(|w| w[0].distance(w[1]))
+        .map(|w| {
+            let m = w[0].midpoint(w[1]);
+            let distance = curves
+                .iter()
+                .map(|c| curve_distance(&c.curve, m))
+                .fold(f64::INFINITY, f64::min);
+            (w[0].distance(w[1]), distance)
+        })
+        .collect()
+}
+
+/// The length of the `pieces` ([`swallowed_pieces`]) that lie farther than `band` from
+/// their reading's curves.
+pub(crate) fn beyond(pieces: &[(f64, f64)], band: f64) -> f64 {
+    pieces
+        .iter()
+        .filter(|(_, distance)| *distance > band)
+        .map(|(length, _)| length)
         .sum()
 }
 
@@ -373,6 +409,18 @@ mod tests {
         let length = runs[0].first().unwrap().distance(*runs[0].last().unwrap());
         // The 200 inside, less what lies within a band of the end arcs.
         assert!((length - 200.0).abs() < 25.0, "{length}");
+    }
+
+    #[test]
+    fn swallowed_pieces_say_how_far_they_lie_from_the_curves() {
+        // A line along the part 12 inside its upper outline (y = 8 against 20).
+        let part = lying();
+        let ctx = context(&[line(DVec2::new(-60.0, 8.0), DVec2::new(60.0, 8.0))]);
+        let pieces = swallowed_pieces(&ctx, &part, &nothing(&part), 2.0);
+        assert!((beyond(&pieces, 2.0) - 120.0).abs() < 1.0);
+        assert!(pieces.iter().all(|(_, d)| (d - 12.0).abs() < 0.5));
+        // Beyond a band wider than its distance it counts for nothing.
+        assert!(beyond(&pieces, 13.0) < 1e-9);
     }
 
     #[test]
