@@ -254,9 +254,9 @@ impl SnapResult {
 struct Scored {
     result: SnapResult,
     explained: f64,
-    /// The pieces the reading swallows (see [`swallowed`]), each with its distance to the reading's curves
-    /// ([`swallowed::swallowed_pieces`]), for weighing it against another reading beyond
-    /// one band.
+    /// The pieces the reading swallows (see [`swallowed`]), each with its distance to
+    /// the reading's curves ([`swallowed::swallowed_pieces`]), for weighing it against
+    /// another reading beyond one band.
     pieces: Vec<(f64, f64)>,
     /// The band round its curves that what it swallows keeps clear of ([`swallow_band`]).
     band: f64,
