@@ -114,11 +114,12 @@ const GOOD_FLOOR: usize = 47;
 /// Today's floor (6 of 7): bent tubes whose snap matches their reference. Raise it as
 /// snapping improves.
 const GOOD_BGC_FLOOR: usize = 6;
-/// Today's floor (42 of 62): parts stable under perturbed drops. Raise it as snapping
-/// improves. Measured 45 late on 2026-11-28 (release build, before and after one
-/// change), 42 and 44 in that day's earlier runs; until the difference is explained the
-/// floor stays at the lowest.
-const STABLE_FLOOR: usize = 42;
+/// Today's floor (47 of 62): parts stable under perturbed drops. Raise it as snapping
+/// improves. Measured 49 on 2026-12-03 in every run, release build and the test
+/// profile alike (47 in every run that day before two readings were weighed beyond one
+/// band). The runs of 2026-11-28 differed from one another (42 to 45) for a cause not
+/// found, so the floor stays two below.
+const STABLE_FLOOR: usize = 47;
 /// Today's ceiling (5 of the 47 good parts): good parts whose snap calls itself doubtful
 /// or refused. Three are called so for a length the drawing barely shows (the gramophone
 /// turntable's thickness and the square pipes' depth, which a 2D reference cannot
