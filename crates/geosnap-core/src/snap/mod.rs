@@ -258,8 +258,6 @@ struct Scored {
     /// the reading's curves ([`swallowed::swallowed_pieces`]), for weighing it against
     /// another reading beyond one band.
     pieces: Vec<(f64, f64)>,
-    /// The band round its curves that what it swallows keeps clear of ([`swallow_band`]).
-    band: f64,
     /// The lines it swallows that run across it from outline to outline
     /// ([`swallowed::divisions`]): where two parts read as one meet.
     divisions: Vec<Vec<DVec2>>,
@@ -315,7 +313,6 @@ impl Scored {
             result,
             explained,
             pieces,
-            band,
             divisions,
             gate,
         }
@@ -962,7 +959,7 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
             }
             // Weighed beyond one band: the looser fit's own band is the wider.
             let clear = a.gate.max(b.gate);
-            let band = a.band.max(b.band);
+            let band = swallow_band(ra).max(swallow_band(rb));
             let (sa, sb) = (
                 swallowed::beyond(&a.pieces, band),
                 swallowed::beyond(&b.pieces, band),
@@ -1507,7 +1504,6 @@ mod tests {
             },
             explained,
             pieces: vec![(swallowed, f64::INFINITY)],
-            band: 0.0,
             divisions: Vec::new(),
             gate: 10.0,
         }
@@ -1534,15 +1530,13 @@ mod tests {
 
     #[test]
     fn what_two_readings_swallow_is_weighed_beyond_one_band() {
-        // A close fit (band 3) leaves a piece 5 from its curves inside its outline; a
-        // looser fit of the same drop (band 6, RMS 1.8 against 1.0) has that piece
+        // A close fit (RMS 1.0, band 3) leaves a piece 5 from its curves inside its
+        // outline; a looser fit of the same drop (RMS 1.8, band 5.4) has that piece
         // within its own band and swallows 10 elsewhere.
         let mut close = scored(674.0, 0.0, 1.0);
         close.pieces = vec![(60.0, 5.0)];
-        close.band = 3.0;
         let mut loose = scored(674.0, 0.0, 1.8);
         loose.pieces = vec![(10.0, 8.0)];
-        loose.band = 6.0;
         // Beyond the looser band the close fit swallows nothing, the loose one 10 (not
         // clearly more than the gate of 10): the closer fit wins the tie.
         assert!(super::better(&close, &loose));
