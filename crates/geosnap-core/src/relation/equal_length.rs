@@ -49,6 +49,22 @@ pub(super) fn within_spread(m: &[Member<'_, f64>], spread: [f64; 2]) -> bool {
     (l1 - l2).abs() <= super::evidence::NOISE_ERRORS * deviation
 }
 
+/// Whether [`within_spread`] can tell the members' lengths apart at all: its window
+/// ([`super::evidence::NOISE_ERRORS`] combined deviations) is narrower than
+/// [`UNINFORMATIVE`] of the longer length. A window wider than that takes any two
+/// lengths of one order as one: it says nothing of a designer meaning them equal.
+pub(super) fn informative(m: &[Member<'_, f64>], spread: [f64; 2]) -> bool {
+    let (Ok(l1), Ok(l2)) = (length(m, 0), length(m, 1)) else {
+        return false;
+    };
+    let deviation = (spread[0] * l1).hypot(spread[1] * l2);
+    super::evidence::NOISE_ERRORS * deviation < UNINFORMATIVE * l1.max(l2)
+}
+
+/// The widest window, relative to the longer length, within which lengths the strokes
+/// leave open are still told apart ([`informative`]).
+const UNINFORMATIVE: f64 = 0.5;
+
 #[cfg(test)]
 mod tests {
     use glam::DVec3;
@@ -83,6 +99,10 @@ mod tests {
         assert!(!super::within_spread(&m, [0.02, 0.02]));
         assert!(super::within_spread(&m, [f64::INFINITY, 0.02]));
         assert!(!super::within_spread(&m, [0.0, 0.5]));
+        // ±10 % each tells lengths a quarter apart; a length not pinned tells none.
+        assert!(super::informative(&m, [0.1, 0.1]));
+        assert!(!super::informative(&m, [f64::INFINITY, 0.02]));
+        assert!(!super::informative(&m, [0.2, 0.2]));
     }
 
     #[test]

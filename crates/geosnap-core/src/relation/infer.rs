@@ -755,15 +755,24 @@ impl Inference<'_, '_> {
 
     /// Whether `p` (equal length) holds within what its members' strokes pin of their
     /// lengths ([`Part::length_spread`]): a stud whose bottom is hidden behind the brick's
-    /// edge, cups whose rims are sketched loosely.
+    /// edge, cups whose rims are sketched loosely. Where the strokes leave a length so
+    /// open that the window takes any two lengths of one order
+    /// ([`equal_length::informative`]), only parts that repeat one another
+    /// ([`Self::repeated`]: studs, cups) are held equal by it: a menorah's arm seen nearly
+    /// along its axis is as long as any of its candles within that window, and meant as
+    /// long as none.
     fn within_spread(&self, p: &Proposal) -> bool {
-        p.kind == RelationKind::EqualLength
-            && p.members.len() == 2
-            && p.members[0] != p.members[1]
-            && equal_length::within_spread(
-                &self.members(p),
-                [0, 1].map(|i| self.parts[p.members[i]].length_spread),
-            )
+        if p.kind != RelationKind::EqualLength
+            || p.members.len() != 2
+            || p.members[0] == p.members[1]
+        {
+            return false;
+        }
+        let members = self.members(p);
+        let spread = [0, 1].map(|i| self.parts[p.members[i]].length_spread);
+        equal_length::within_spread(&members, spread)
+            && (equal_length::informative(&members, spread)
+                || self.repeated(p.members[0], p.members[1]))
     }
 
     /// How far inside the thresholds widened for a part standing on a face
@@ -1187,7 +1196,7 @@ mod tests {
     /// As [`place_all_found`], with each part's tilt slack (`bottom`, `top`).
     fn place_all_tilted(primitives: &[Primitive], tilts: &[[f64; 2]]) -> Vec<Found> {
         let drawn: Vec<Option<DVec2>> = primitives.iter().map(side_lines).collect();
-        place_all_drawn(primitives, tilts, &drawn)
+        place_all_drawn(primitives, tilts, &drawn, &vec![0.0; primitives.len()])
     }
 
     /// The direction a cylinder's or cone's side lines run on the paper when drawn as
@@ -1200,11 +1209,13 @@ mod tests {
         }
     }
 
-    /// As [`place_all_tilted`], with the direction each part's side lines are drawn in.
+    /// As [`place_all_tilted`], with the direction each part's side lines are drawn in
+    /// and how loosely its strokes pin its length ([`Part::length_spread`]).
     fn place_all_drawn(
         primitives: &[Primitive],
         tilts: &[[f64; 2]],
         drawn: &[Option<DVec2>],
+        spreads: &[f64],
     ) -> Vec<Found> {
         let features: Vec<Vec<FeatureCurve<f64>>> = primitives
             .iter()
@@ -1217,7 +1228,8 @@ mod tests {
             .zip(&outlines)
             .zip(tilts)
             .zip(drawn)
-            .map(|((((p, f), o), tilt), drawn_axis)| Part {
+            .zip(spreads)
+            .map(|(((((p, f), o), tilt), drawn_axis), spread)| Part {
                 kind: p.kind(),
                 features: f,
                 outline: o,
@@ -1225,7 +1237,7 @@ mod tests {
                 noise: 0.005,
                 tilt: *tilt,
                 drawn_axis: *drawn_axis,
-                length_spread: 0.0,
+                length_spread: *spread,
             })
             .collect();
         let mut found: Vec<Found> = Vec::new();
@@ -1333,6 +1345,25 @@ mod tests {
         assert_eq!(modes, [Mode::Hard, Mode::Suggested, Mode::Suggested]);
         // 40 % apart: meant different.
         assert_eq!(equal([60.0, 84.0, 60.0]), [Mode::Hard]);
+    }
+
+    #[test]
+    fn a_length_the_strokes_leave_open_is_still_held_equal_to_its_repeats() {
+        let equal = |lengths, spreads: [f64; 4]| {
+            let parts = table_with_legs(lengths);
+            let drawn: Vec<Option<DVec2>> = parts.iter().map(side_lines).collect();
+            place_all_drawn(&parts, &[[0.0; 2]; 4], &drawn, &spreads)
+                .into_iter()
+                .filter(|f| f.proposal.kind == RelationKind::EqualLength)
+                .map(|f| f.mode)
+                .collect::<Vec<_>>()
+        };
+        let open = f64::INFINITY;
+        // The middle leg's length is not pinned, so its window takes any length
+        // (`equal_length::informative`); 15 % longer, it still repeats its neighbours,
+        // and is suggested equal to each.
+        let modes = equal([60.0, 69.0, 60.0], [0.0, 0.0, open, 0.0]);
+        assert_eq!(modes.len(), 3, "{modes:?}");
     }
 
     #[test]
@@ -1694,7 +1725,7 @@ mod tests {
         } else {
             side_lines(&parts[1])
         };
-        place_all_drawn(&parts, &[[0.0; 2]; 2], &[None, sides])
+        place_all_drawn(&parts, &[[0.0; 2]; 2], &[None, sides], &[0.0; 2])
     }
 
     #[test]
