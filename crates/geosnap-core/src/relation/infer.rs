@@ -586,6 +586,29 @@ impl Inference<'_, '_> {
         tilt::holds(p.kind, &self.members(p), &self.settings_for(p), slack)
     }
 
+    /// How far inside its thresholds `p` holds with its members' tilts moved within their
+    /// slack ([`Self::within_tilt`]), where `p` is coaxial between repeated parts on
+    /// opposite sides of a part both join ([`Self::across_a_hub`]): a menorah's paired
+    /// arms, a valve's two stubs. Such a pair is built on one line, so where its depth
+    /// is the snap's guess from ends drawn small it is weighed as a pair that holds as
+    /// drawn, not as one at the edge of its thresholds (a suggestion at most). `None`
+    /// otherwise, or where it does not hold even so.
+    fn paired_across(&self, p: &Proposal) -> Option<f64> {
+        if p.kind != RelationKind::Coaxial
+            || p.members.len() != 2
+            || !self.repeated(p.members[0], p.members[1])
+        {
+            return None;
+        }
+        let other = p.members.iter().copied().find(|&m| m != self.new)?;
+        if !self.across_a_hub(other) {
+            return None;
+        }
+        let slack = [0, 1].map(|i| self.parts[p.members[i]].tilt_of(p.features[i]));
+        let members = self.members(p);
+        closeness_by(|s| tilt::holds(p.kind, &members, s, slack), self.settings)
+    }
+
     /// Whether `p` is a coplanar candidate between the same end (or face) of two
     /// repeated parts: the rims of a menorah's cups, the feet of a table's legs. Those
     /// are meant level even where neither is drawn inside the other's outline.
@@ -725,13 +748,19 @@ impl Inference<'_, '_> {
         if !self.settings.enabled(p.kind) {
             return false;
         }
+        if let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings) {
+            return self.keep(p, closeness, false);
+        }
+        // A pair built on one line across a hub, weighed with the depth its ends leave
+        // open ([`Self::paired_across`]).
+        if let Some(closeness) = self.paired_across(&p) {
+            return self.keep(p, closeness, false);
+        }
         // One that holds only within the drawing's noise, the axial slack or its
         // members' tilt slack, not within the thresholds, is at their edge: the drawing
         // does not show it exact, so it is at most a suggestion.
-        if let Some(closeness) = closeness_by(|s| self.test(&p, s), self.settings)
-            .or_else(|| (self.holds(&p) || self.within_tilt(&p)).then_some(1.0))
-        {
-            return self.keep(p, closeness, false);
+        if self.holds(&p) || self.within_tilt(&p) {
+            return self.keep(p, 1.0, false);
         }
         // Lengths the strokes leave open, or sizes of repeated parts that differ no more
         // than parts that repeat one another do: at most a suggestion.
@@ -1505,6 +1534,41 @@ mod tests {
             .iter()
             .filter(|f| f.proposal.members.contains(&0))
             .all(|f| !f.inferred.evidence.across));
+    }
+
+    #[test]
+    fn paired_arms_are_coaxial_across_their_stem_with_the_depth_their_ends_leave_open() {
+        // The second arm leans 20° in depth, beyond the angle threshold; its small drawn
+        // ends leave its tilt open by 0.5. Repeated on one line across the stem, the pair
+        // is coaxial; the same arm 40 % shorter is no repeat, and only suggested.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 100.0,
+            radius: 5.0,
+        });
+        let lean = 20f64.to_radians();
+        let right = DVec3::new(lean.cos(), 0.0, lean.sin());
+        let coaxial = |length: f64| {
+            let parts = [
+                stem.clone(),
+                rod(DVec3::new(-25.0, 10.0, 0.0), DVec3::NEG_X, 40.0),
+                rod(
+                    DVec3::new(5.0, 10.0, 0.0) + right * (length / 2.0),
+                    right,
+                    length,
+                ),
+            ];
+            place_all_tilted(&parts, &[[0.0; 2], [0.05; 2], [0.5; 2]])
+                .into_iter()
+                .find(|f| f.proposal.kind == RelationKind::Coaxial)
+        };
+        let paired = coaxial(40.0).expect("coaxial arms");
+        assert_eq!(paired.mode, Mode::Hard, "{paired:#?}");
+        assert!(paired.inferred.evidence.across, "{paired:#?}");
+        assert!(paired.inferred.evidence.closeness < 1.0, "{paired:#?}");
+        let lone = coaxial(24.0).expect("coaxial arms");
+        assert_eq!(lone.mode, Mode::Suggested, "{lone:#?}");
     }
 
     /// A menorah's stem with an arm out of each side at different heights, of different

@@ -16,7 +16,10 @@
 //! thin branch's small end ellipse leaves its depth open by tens of degrees, so a T
 //! drawn square comes out 10–20° off in 3D. A candidate that holds only this way is at
 //! the edge of its thresholds, so inference makes it a suggestion at most; accepted, the
-//! solve settles the depth the drawing left open.
+//! solve settles the depth the drawing left open. One exception: repeated parts on one
+//! line across a part both join (a menorah's paired arms) are built coaxial, and are
+//! weighed by how closely they hold with their tilts reconciled
+//! (`infer::Inference::paired_across`).
 
 use glam::{DVec2, DVec3};
 
