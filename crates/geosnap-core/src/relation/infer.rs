@@ -731,15 +731,58 @@ impl Inference<'_, '_> {
     /// Whether the new part and `other` lie on opposite sides of a part both join: on
     /// the paper, that part's centre projects between theirs onto the line through them.
     fn across_a_hub(&self, other: usize) -> bool {
+        self.hub_between(other).is_some()
+    }
+
+    /// The part the new part and `other` both join, lying between them
+    /// ([`Self::across_a_hub`]), if any.
+    fn hub_between(&self, other: usize) -> Option<usize> {
         let a = centre(&self.parts[self.new]);
         let d = centre(&self.parts[other]) - a;
         let span = d.length_squared();
-        span > 0.0
-            && self.graph.joints(self.new).any(|hub| {
-                hub != other
-                    && self.graph.joints(other).any(|j| j == hub)
-                    && (0.0..1.0).contains(&((centre(&self.parts[hub]) - a).dot(d) / span))
+        if span <= 0.0 {
+            return None;
+        }
+        self.graph.joints(self.new).find(|&hub| {
+            hub != other
+                && self.graph.joints(other).any(|j| j == hub)
+                && (0.0..1.0).contains(&((centre(&self.parts[hub]) - a).dot(d) / span))
+        })
+    }
+
+    /// Whether the new part's end `a` and `other`'s end `b` face each other across a
+    /// round part both join, on its two sides rather than at its axis: farther apart
+    /// (in 3D) than its radius. A menorah's arms built out of its stem's sides leave it a
+    /// stem's width apart and neither meet nor share a centre; arms built through it
+    /// (one U through the stem, their ends hidden inside it) meet at its axis. Where the
+    /// stem is thin the two differ by less than the depth a snap guesses, so such ends
+    /// are held one centre or one plane by a suggestion at most.
+    fn apart_across_a_hub(&self, other: usize, a: Feature, b: Feature) -> bool {
+        let Some(hub) = self.hub_between(other) else {
+            return false;
+        };
+        let radius = self.parts[hub]
+            .features
+            .iter()
+            .filter_map(|f| match &f.geometry {
+                FeatureGeometry::Circle { radius, .. } => Some(*radius),
+                FeatureGeometry::Rectangle { .. } => None,
             })
+            .fold(0.0, f64::max);
+        let end = |part: &Part<'_>, feature: Feature| {
+            part.features.iter().find_map(|f| match &f.geometry {
+                FeatureGeometry::Circle { center, normal, .. } if f.feature == feature => {
+                    Some((center.to_dvec3(), normal.to_dvec3()))
+                }
+                _ => None,
+            })
+        };
+        let (Some((ca, na)), Some((cb, nb))) =
+            (end(&self.parts[self.new], a), end(&self.parts[other], b))
+        else {
+            return false;
+        };
+        radius > 0.0 && na.dot(nb) < 0.0 && ca.distance(cb) > radius
     }
 
     /// Weighs `p` and keeps it, hard or as a suggestion, if it holds, is confident enough
@@ -765,6 +808,18 @@ impl Inference<'_, '_> {
         // Lengths the strokes leave open, or sizes of repeated parts that differ no more
         // than parts that repeat one another do: at most a suggestion.
         (self.within_spread(&p) || self.alike_sizes(&p)) && self.keep(p, 1.0, true)
+    }
+
+    /// [`Self::propose`] for a candidate the drawing cannot settle (ends that lie on
+    /// either side of a part between them or meet inside it, as a depth it leaves open
+    /// says): kept as a suggestion at most.
+    fn propose_at_most_suggested(&mut self, p: Proposal) -> bool {
+        if !self.settings.enabled(p.kind) {
+            return false;
+        }
+        let closeness = closeness_by(|s| self.test(&p, s), self.settings)
+            .or_else(|| self.holds(&p).then_some(1.0));
+        closeness.is_some_and(|c| self.keep(p, c, true))
     }
 
     /// Whether `p` (same radius or equal length) is between parts that repeat one
@@ -1021,10 +1076,14 @@ impl Inference<'_, '_> {
                 }
                 if alignment < 0.0 {
                     let p = self.pair(RelationKind::Concentric, other, a, b);
-                    if self.holds(&p) {
-                        centred.push((a, b));
+                    if self.apart_across_a_hub(other, a, b) {
+                        self.propose_at_most_suggested(p);
+                    } else {
+                        if self.holds(&p) {
+                            centred.push((a, b));
+                        }
+                        self.propose(p);
                     }
-                    self.propose(p);
                 }
                 if a != Feature::Outline && b != Feature::Outline {
                     self.propose(self.pair(RelationKind::SameRadius, other, a, b));
@@ -1043,7 +1102,20 @@ impl Inference<'_, '_> {
             &alike,
         );
         if let Some(p) = plane {
-            self.propose(p);
+            // Ends apart across a part both join meet in one plane only as far as their
+            // depth is the snap's guess: a suggestion at most.
+            let apart = match (p.features[0], p.features[1]) {
+                (Some(x), Some(y)) if p.members[0] == self.new => {
+                    self.apart_across_a_hub(other, x, y)
+                }
+                (Some(x), Some(y)) => self.apart_across_a_hub(other, y, x),
+                _ => false,
+            };
+            if apart {
+                self.propose_at_most_suggested(p);
+            } else {
+                self.propose(p);
+            }
         } else if self.stands_on(other) {
             // The end of one sitting on the other's face, drawn leaning: the two
             // facing each other (outward normals opposed), as sitting on it asks.
@@ -1569,6 +1641,49 @@ mod tests {
         assert!(paired.inferred.evidence.closeness < 1.0, "{paired:#?}");
         let lone = coaxial(24.0).expect("coaxial arms");
         assert_eq!(lone.mode, Mode::Suggested, "{lone:#?}");
+    }
+
+    #[test]
+    fn arms_out_of_a_stems_two_sides_do_not_share_a_centre_but_arms_through_it_do() {
+        // A thin stem (radius 0.1) with an arm of radius 2 out of each side: their inner
+        // ends lie on the stem's two sides, 0.2 apart, near enough for one centre at
+        // these radii, but the stem lies between them: at most a suggestion. Arms
+        // through the stem meet at its axis.
+        let stem = Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 100.0,
+            radius: 0.1,
+        });
+        let modes = |inner: f64| {
+            let parts = [
+                stem.clone(),
+                rod(DVec3::new(-inner - 20.0, 10.0, 0.0), DVec3::NEG_X, 40.0),
+                rod(DVec3::new(inner + 20.0, 10.0, 0.0), DVec3::X, 40.0),
+            ];
+            place_all_found(&parts)
+                .into_iter()
+                .filter(|f| {
+                    f.proposal.members.contains(&1)
+                        && f.proposal.members.contains(&2)
+                        && matches!(
+                            f.proposal.kind,
+                            RelationKind::Concentric | RelationKind::Coplanar
+                        )
+                })
+                .map(|f| (f.proposal.kind, f.mode))
+                .collect::<Vec<_>>()
+        };
+        let out_of_sides = modes(0.1);
+        assert!(
+            out_of_sides.iter().all(|(_, mode)| *mode != Mode::Hard),
+            "{out_of_sides:?}"
+        );
+        let through = modes(0.0);
+        assert!(
+            through.contains(&(RelationKind::Concentric, Mode::Hard)),
+            "{through:?}"
+        );
     }
 
     /// A menorah's stem with an arm out of each side at different heights, of different
