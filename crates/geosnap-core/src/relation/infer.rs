@@ -1571,18 +1571,23 @@ mod tests {
         }
     }
 
+    /// An upright stem 100 long of `radius`, centred at the origin.
+    fn upright_stem(radius: f64) -> Primitive {
+        Primitive::Cylinder(Cylinder {
+            center: DVec3::ZERO,
+            axis: DVec3::Y,
+            length: 100.0,
+            radius,
+        })
+    }
+
     #[test]
     fn arms_out_of_both_sides_of_a_stem_are_coaxial_across_it() {
         // Two arms leave the stem's sides on one line on the paper; the second leans
         // 3° in depth, within the angle threshold but beyond the drawing's noise. Two
         // contacts apart, that is a suggestion at most; on one line across the part
         // both join, it is as sure as a joint.
-        let stem = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::Y,
-            length: 100.0,
-            radius: 5.0,
-        });
+        let stem = upright_stem(5.0);
         let lean = 3f64.to_radians();
         let right = DVec3::new(lean.cos(), 0.0, lean.sin());
         let arms = [
@@ -1613,12 +1618,7 @@ mod tests {
         // The second arm leans 20° in depth, beyond the angle threshold; its small drawn
         // ends leave its tilt open by 0.5. Repeated on one line across the stem, the pair
         // is coaxial; the same arm 40 % shorter is no repeat, and only suggested.
-        let stem = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::Y,
-            length: 100.0,
-            radius: 5.0,
-        });
+        let stem = upright_stem(5.0);
         let lean = 20f64.to_radians();
         let right = DVec3::new(lean.cos(), 0.0, lean.sin());
         let coaxial = |length: f64| {
@@ -1649,12 +1649,7 @@ mod tests {
         // ends lie on the stem's two sides, 0.2 apart, near enough for one centre at
         // these radii, but the stem lies between them: at most a suggestion. Arms
         // through the stem meet at its axis.
-        let stem = Primitive::Cylinder(Cylinder {
-            center: DVec3::ZERO,
-            axis: DVec3::Y,
-            length: 100.0,
-            radius: 0.1,
-        });
+        let stem = upright_stem(0.1);
         let modes = |inner: f64| {
             let parts = [
                 stem.clone(),
@@ -1698,12 +1693,7 @@ mod tests {
             })
         };
         vec![
-            Primitive::Cylinder(Cylinder {
-                center: DVec3::ZERO,
-                axis: DVec3::Y,
-                length: 100.0,
-                radius: 5.0,
-            }),
+            upright_stem(5.0),
             arm(DVec3::new(-25.0, -20.0, 0.0), DVec3::NEG_X, 40.0, left),
             arm(DVec3::new(17.5, 25.0, 0.0), DVec3::X, 25.0, right),
         ]
