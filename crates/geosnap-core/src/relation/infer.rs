@@ -589,7 +589,7 @@ impl Inference<'_, '_> {
     /// How far inside its thresholds `p` holds with its members' tilts moved within their
     /// slack ([`Self::within_tilt`]), where `p` is coaxial between repeated parts on
     /// opposite sides of a part both join ([`Self::across_a_hub`]): a menorah's paired
-    /// arms, a valve's two stubs. Such a pair is built on one line, so where its depth
+    /// arms. Such a pair is built on one line, so where its depth
     /// is the snap's guess from ends drawn small it is weighed as a pair that holds as
     /// drawn, not as one at the edge of its thresholds (a suggestion at most). `None`
     /// otherwise, or where it does not hold even so.
