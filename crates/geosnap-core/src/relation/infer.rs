@@ -751,14 +751,14 @@ impl Inference<'_, '_> {
     }
 
     /// Whether the new part's end `a` and `other`'s end `b` face each other across a
-    /// round part both join, on its two sides rather than at its axis: farther apart
+    /// round part both join (`hub`, [`Self::hub_between`]), on its two sides rather than at its axis: farther apart
     /// (in 3D) than its radius. A menorah's arms built out of its stem's sides leave it a
     /// stem's width apart and neither meet nor share a centre; arms built through it
     /// (one U through the stem, their ends hidden inside it) meet at its axis. Where the
     /// stem is thin the two differ by less than the depth a snap guesses, so such ends
     /// are held one centre or one plane by a suggestion at most.
-    fn apart_across_a_hub(&self, other: usize, a: Feature, b: Feature) -> bool {
-        let Some(hub) = self.hub_between(other) else {
+    fn apart_across_a_hub(&self, hub: Option<usize>, other: usize, a: Feature, b: Feature) -> bool {
+        let Some(hub) = hub else {
             return false;
         };
         let radius = self.parts[hub]
@@ -1054,6 +1054,7 @@ impl Inference<'_, '_> {
     /// centre inside the first outline).
     fn circles_and_planes(&mut self, other: usize, coaxial: bool) {
         let (new_part, other_part) = (self.parts[self.new], self.parts[other]);
+        let hub = self.hub_between(other);
         let mut centred = Vec::new();
         for &a in circles(&new_part) {
             for &b in circles(&other_part) {
@@ -1076,7 +1077,7 @@ impl Inference<'_, '_> {
                 }
                 if alignment < 0.0 {
                     let p = self.pair(RelationKind::Concentric, other, a, b);
-                    if self.apart_across_a_hub(other, a, b) {
+                    if self.apart_across_a_hub(hub, other, a, b) {
                         self.propose_at_most_suggested(p);
                     } else {
                         if self.holds(&p) {
@@ -1106,9 +1107,9 @@ impl Inference<'_, '_> {
             // depth is the snap's guess: a suggestion at most.
             let apart = match (p.features[0], p.features[1]) {
                 (Some(x), Some(y)) if p.members[0] == self.new => {
-                    self.apart_across_a_hub(other, x, y)
+                    self.apart_across_a_hub(hub, other, x, y)
                 }
-                (Some(x), Some(y)) => self.apart_across_a_hub(other, y, x),
+                (Some(x), Some(y)) => self.apart_across_a_hub(hub, other, y, x),
                 _ => false,
             };
             if apart {
