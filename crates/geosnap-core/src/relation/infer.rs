@@ -1645,6 +1645,28 @@ mod tests {
     }
 
     #[test]
+    fn staggered_arms_across_a_stem_are_not_made_coaxial() {
+        // Two alike arms out of the stem's sides at heights 8 apart (four arm radii), the
+        // second leaning 20° in depth with its tilt open: repeated across the stem, but
+        // not on one line on the paper, so not coaxial.
+        let stem = upright_stem(5.0);
+        let lean = 20f64.to_radians();
+        let right = DVec3::new(lean.cos(), 0.0, lean.sin());
+        let parts = [
+            stem,
+            rod(DVec3::new(-25.0, 10.0, 0.0), DVec3::NEG_X, 40.0),
+            rod(DVec3::new(5.0, 18.0, 0.0) + right * 20.0, right, 40.0),
+        ];
+        let found = place_all_tilted(&parts, &[[0.0; 2], [0.05; 2], [0.5; 2]]);
+        assert!(
+            found
+                .iter()
+                .all(|f| f.proposal.kind != RelationKind::Coaxial),
+            "{found:#?}"
+        );
+    }
+
+    #[test]
     fn arms_out_of_a_stems_two_sides_do_not_share_a_centre_but_arms_through_it_do() {
         // A thin stem (radius 0.1) with an arm of radius 2 out of each side: their inner
         // ends lie on the stem's two sides, 0.2 apart, near enough for one centre at
