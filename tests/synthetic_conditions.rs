@@ -22,7 +22,10 @@
 //! rows, menorahs and rows of drawers or books, whose parts hide or share pieces of one
 //! another), all parts drawn together
 //! in one view under the same condition and snapped one by one among the clutter of the
-//! others' strokes.
+//! others' strokes, the parts before each placed where they truly lie, as a designer who
+//! drops the parts in order has them (the snap gives up a reading that holds a placed
+//! part, `SnapContext::with_placed`; `GEOSNAP_SYNTH_CONDITION_NO_PLACED` snaps each part
+//! with none placed, to measure what that does).
 //!
 //! A case is judged as `synthetic_snap` judges it (`support::judge`: centre within 3 % of
 //! the size, axis within 5°, radii and lengths within 7 %). For a failed case the snap is
@@ -839,6 +842,11 @@ fn run_job(
                 .iter()
                 .enumerate()
                 .map(|(i, truth)| {
+                    // The parts before it are placed where they truly lie (see `Placed`).
+                    let mut context = context.clone();
+                    if std::env::var_os("GEOSNAP_SYNTH_CONDITION_NO_PLACED").is_none() {
+                        context.set_placed(assembly.parts[..i].iter().cloned());
+                    }
                     let own: Vec<usize> = (0..assembly.strokes.len())
                         .filter(|k| assembly.part_of.get(*k) == Some(&i))
                         .collect();

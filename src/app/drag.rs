@@ -313,7 +313,8 @@ impl GeosnapApp {
         let Some(dragged) = self.dragged_primitive() else {
             return;
         };
-        let (context, strokes_revision) = self.workers.context(&self.editor);
+        let moving = self.drag.as_ref().and_then(|d| d.replacing);
+        let (context, context_revision) = self.workers.context(&self.editor, moving);
         let Some(drag) = self.drag.as_mut() else {
             return;
         };
@@ -323,7 +324,7 @@ impl GeosnapApp {
             generation: drag.generation,
             dragged,
             context,
-            strokes_revision,
+            context_revision,
             point,
         });
     }
@@ -373,7 +374,7 @@ impl GeosnapApp {
         if !drag.over_canvas {
             return;
         }
-        let (context, _) = self.workers.context(&self.editor);
+        let (context, _) = self.workers.context(&self.editor, drag.replacing);
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let replacing = drag.replacing;
@@ -447,7 +448,7 @@ impl GeosnapApp {
         let Some(readings) = self.readings.get(&id).map(Readings::next) else {
             return;
         };
-        let (context, _) = self.workers.context(&self.editor);
+        let (context, _) = self.workers.context(&self.editor, Some(id));
         let document = self.editor.document().clone();
         let settings = self.editor.settings().clone();
         let label = format!(

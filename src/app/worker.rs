@@ -28,10 +28,11 @@ pub struct PreviewRequest {
     pub generation: u64,
     /// The primitive where the cursor put it.
     pub dragged: Primitive,
-    /// The strokes.
+    /// The strokes, with the model's parts placed.
     pub context: Arc<SnapContext>,
-    /// The strokes' revision (a new one starts the session afresh).
-    pub strokes_revision: u64,
+    /// The context's revision (a new one starts the session afresh: the strokes or the
+    /// placed parts changed).
+    pub context_revision: u64,
     /// Whether the drop gives no size or direction (a palette drag the wheel has not
     /// sized or turned): the drawing sizes and turns it (`snap_at`), `dragged` giving
     /// only its kind and the point.
@@ -148,10 +149,10 @@ fn preview_loop(
         };
         let fresh = session
             .as_ref()
-            .is_none_or(|(revision, _)| *revision != request.strokes_revision);
+            .is_none_or(|(revision, _)| *revision != request.context_revision);
         if fresh {
             session = Some((
-                request.strokes_revision,
+                request.context_revision,
                 SnapSession::new((*request.context).clone(), settings.clone()),
             ));
         }
@@ -192,7 +193,17 @@ pub(crate) struct Workers {
     job: Option<Job>,
     /// The snapping context and the strokes' revision it was built from.
     context: (Arc<SnapContext>, u64),
+    /// That context with the model's parts placed (see [`Workers::context`]), what it was
+    /// built for and its revision.
+    placed: Option<(Arc<SnapContext>, PlacedKey, u64)>,
+    /// The revision the next context with parts placed gets.
+    next_revision: u64,
 }
+
+/// What a snapping context with the model's parts placed was built for: the strokes'
+/// revision, the model's revision and the part being moved (not placed: it is the one
+/// snapped).
+type PlacedKey = (u64, u64, Option<PrimitiveId>);
 
 impl std::fmt::Debug for Workers {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -214,6 +225,8 @@ impl Workers {
                 Arc::new(SnapContext::from_sketch(editor.sketch())),
                 editor.strokes_revision(),
             ),
+            placed: None,
+            next_revision: 0,
         }
     }
 
@@ -238,9 +251,16 @@ impl Workers {
         self.job.is_some()
     }
 
-    /// The snapping context of the editor's strokes (rebuilt when they change), with
-    /// the strokes' revision.
-    pub(crate) fn context(&mut self, editor: &Editor) -> (Arc<SnapContext>, u64) {
+    /// The snapping context of the editor's strokes (prepared again when they change)
+    /// with the model's parts placed but `moving` (the part being dragged again, if
+    /// any): a reading that holds a placed part gives way to one that holds none (see
+    /// `SnapContext::with_placed`). With the context's revision, new whenever the strokes,
+    /// the model or the part moving change.
+    pub(crate) fn context(
+        &mut self,
+        editor: &Editor,
+        moving: Option<PrimitiveId>,
+    ) -> (Arc<SnapContext>, u64) {
         let revision = editor.strokes_revision();
         if self.context.1 != revision {
             self.context = (
@@ -248,7 +268,27 @@ impl Workers {
                 revision,
             );
         }
-        (Arc::clone(&self.context.0), revision)
+        let key = (revision, editor.revision(), moving);
+        match &self.placed {
+            Some((context, built, revision)) if *built == key => (Arc::clone(context), *revision),
+            _ => {
+                let parts: Vec<Primitive> = editor
+                    .document()
+                    .primitives()
+                    .filter(|(id, _)| Some(*id) != moving)
+                    .map(|(_, placed)| placed.primitive.clone())
+                    .collect();
+                let context = if parts.is_empty() {
+                    Arc::clone(&self.context.0)
+                } else {
+                    Arc::new((*self.context.0).clone().with_placed(parts))
+                };
+                let revision = self.next_revision;
+                self.next_revision += 1;
+                self.placed = Some((Arc::clone(&context), key, revision));
+                (context, revision)
+            }
+        }
     }
 
     /// Asks the preview thread for a frame.
@@ -814,6 +854,41 @@ mod tests {
     }
 
     #[test]
+    fn the_snapping_context_holds_the_models_parts_but_the_one_moving() {
+        use super::Workers;
+        use crate::app::editor::Editor;
+        use crate::core::model::{Fit, Placed};
+        let sketch = import_svg(VASE_SVG.as_bytes(), &SvgOptions::default())
+            .expect("the sample imports")
+            .sketch;
+        let mut editor = Editor::with_sketch(sketch, None);
+        let mut workers = Workers::start(&editor, Arc::new(|| {}));
+        let (empty, first) = workers.context(&editor, None);
+        assert_eq!(empty.placed().count(), 0);
+        // Asked again for the same model, the same context.
+        assert_eq!(workers.context(&editor, None).1, first);
+        let part = Primitive::from_placement(
+            PrimitiveKind::Cylinder,
+            &Placement::at(DVec2::new(100.0, 100.0)),
+            50.0,
+        );
+        let mut document = Document::new();
+        let id = document.add(Placed {
+            primitive: part.clone(),
+            fit: Fit::default(),
+        });
+        editor.apply_document("place a part", document);
+        let (placed, second) = workers.context(&editor, None);
+        assert_ne!(second, first, "a new model is a new context");
+        assert_eq!(placed.placed().cloned().collect::<Vec<_>>(), vec![part]);
+        assert_eq!(placed.strokes, empty.strokes);
+        // The part being moved is the one snapped, not a placed one.
+        let (moving, third) = workers.context(&editor, Some(id));
+        assert_ne!(third, second);
+        assert_eq!(moving.placed().count(), 0);
+    }
+
+    #[test]
     fn the_previewer_answers_the_newest_request() {
         let (context, dragged) = vase();
         let previewer = Previewer::start(SnapSettings::default(), Arc::new(|| {}));
@@ -822,7 +897,7 @@ mod tests {
                 generation,
                 dragged: dragged.clone(),
                 context: Arc::clone(&context),
-                strokes_revision: 0,
+                context_revision: 0,
                 point: false,
             });
         }

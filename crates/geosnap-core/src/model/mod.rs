@@ -727,7 +727,7 @@ pub fn run_steps_with(
     mut solve: SolveContext<'_>,
     on_step: &mut dyn FnMut(usize, &StepOutcome),
 ) -> (Document, Vec<StepOutcome>) {
-    let context = SnapContext::from_sketch(sketch);
+    let mut context = SnapContext::from_sketch(sketch);
     let default_size = sketch
         .view_box
         .map(|(_, size)| size.max_element())
@@ -743,6 +743,8 @@ pub fn run_steps_with(
         {
             break; // cancelled: no more steps, the outcomes cover those done
         }
+        // A reading that holds a part placed before gives way to one that holds none.
+        context.set_placed(document.primitives().map(|(_, p)| p.primitive.clone()));
         let snapped = snap_step(&context, step, default_size, settings, solve.reborrow());
         let outcome = snapped.map(|(result, dropped)| {
             let confidence = result.confidence(&dropped, &document.owner(), &settings.snap);

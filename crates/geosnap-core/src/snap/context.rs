@@ -3,8 +3,10 @@
 
 use glam::DVec2;
 
+use super::holds::image_box;
 use super::pieces::turn_pieces;
 use crate::geom::projection::view_from_sketch;
+use crate::primitive::Primitive;
 use crate::sketch::{
     classify_sketch, preprocess_report, ClassifyOptions, MergedStroke, PreprocessOptions, Sketch,
     StrokeClass, StrokeId,
@@ -44,6 +46,17 @@ pub struct SnapContext {
     /// constructors keep them in step with `strokes`; a context whose strokes are
     /// changed afterwards is rebuilt with [`SnapContext::of`].
     pub(crate) pieces: Vec<SnapStroke>,
+    /// The parts placed before the one being snapped (see [`SnapContext::with_placed`]).
+    pub(crate) placed: Vec<PlacedPart>,
+}
+
+/// A part placed before the one being snapped, with the box round its image.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PlacedPart {
+    /// The part as it lies.
+    pub(crate) primitive: Primitive,
+    /// Its image's lower and upper corners in the view plane.
+    pub(crate) image: (DVec2, DVec2),
 }
 
 impl SnapContext {
@@ -76,7 +89,54 @@ impl SnapContext {
                     .filter_map(|r| prepare(s.id, s.points[r].to_vec(), s.class))
             })
             .collect();
-        Self { strokes, pieces }
+        Self {
+            strokes,
+            pieces,
+            placed: Vec::new(),
+        }
+    }
+
+    /// This context with `parts` as the parts of the model placed before the one it
+    /// snaps. A reading that holds one of them (its outline encloses the placed part and
+    /// runs along that part's edges on opposite sides, and at some depth the placed part
+    /// lies inside it, see `snap::holds`) reads that part and its neighbours as one: no
+    /// designer models a part as a piece of one placed before, so it gives way to a
+    /// reading that holds none. Non-finite parts are left out.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use geosnap_core::primitive::{Primitive, Sphere};
+    /// use geosnap_core::snap::SnapContext;
+    /// use glam::DVec3;
+    ///
+    /// let placed = Primitive::Sphere(Sphere { center: DVec3::ZERO, radius: 50.0 });
+    /// let context = SnapContext::default().with_placed([placed]);
+    /// assert_eq!(context.placed().count(), 1);
+    /// ```
+    #[must_use]
+    pub fn with_placed(mut self, parts: impl IntoIterator<Item = Primitive>) -> Self {
+        self.set_placed(parts);
+        self
+    }
+
+    /// Sets the parts placed before the one this context snaps (see
+    /// [`SnapContext::with_placed`]), in place of those it had.
+    pub fn set_placed(&mut self, parts: impl IntoIterator<Item = Primitive>) {
+        self.placed = parts
+            .into_iter()
+            .filter(Primitive::is_finite)
+            .filter_map(|primitive| {
+                let image = image_box(&primitive)?;
+                Some(PlacedPart { primitive, image })
+            })
+            .collect();
+    }
+
+    /// The parts placed before the one this context snaps (see
+    /// [`SnapContext::with_placed`]).
+    pub fn placed(&self) -> impl Iterator<Item = &Primitive> {
+        self.placed.iter().map(|p| &p.primitive)
     }
 
     /// Prepares a whole sketch: preprocessing (dots dropped, duplicate strokes merged,

@@ -264,6 +264,9 @@ struct Scored {
     /// The gate the explanation was weighed with: a length of stroke that tells readings
     /// apart.
     gate: f64,
+    /// Whether it holds a part placed before it (see [`holds`]): it reads that part and
+    /// its neighbours as one.
+    holds: bool,
 }
 
 impl Scored {
@@ -290,9 +293,10 @@ impl Scored {
         settings: &SnapSettings,
     ) -> Self {
         let gate = settings.tight_gate * result.primitive.size().min(dropped);
+        let band = swallow_band(&result);
         let explained = explanation(&result.primitive, &result.assignment, gate, hidden);
         result.explained = Some(explained);
-        let band = swallow_band(&result);
+        let holds = holds_placed(context, &result.primitive, band);
         let pieces =
             swallowed::swallowed_pieces(context, &result.primitive, &result.assignment, band);
         let swallowed = swallowed::beyond(&pieces, band);
@@ -315,6 +319,7 @@ impl Scored {
             pieces,
             divisions,
             gate,
+            holds,
         }
     }
 }
@@ -342,6 +347,11 @@ fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
     // A reading the winner divides is contradicted by the drawing (a line runs across
     // it), not a rival reading of it.
     rest.retain(|c| !divides(&best, c));
+    // So is one that holds a placed part, when the winner holds none (see [`better`]):
+    // the model contradicts it, and it is neither offered nor weighed as a rival.
+    if !best.holds {
+        rest.retain(|c| !c.holds);
+    }
     let mut best = best.result;
     rest.sort_by(|a, b| {
         good(&b.result)
@@ -905,6 +915,15 @@ const GOOD_FIT: f64 = 0.05;
 /// takes more strokes by bending itself out of shape loses to one that explains fewer
 /// strokes well.
 ///
+/// Before the explanations, a reading that holds a part placed before it (see
+/// [`holds`]: the placed part is a piece of it, in the image and at some depth) gives
+/// way to one that holds none: no designer models a part as a piece of one placed
+/// before. Two drawers of a chest read as one box explain more than the drawer meant
+/// (the other's outline too); with the other drawer placed, the pair is read against the
+/// model. On the conditions suite (10 cases and 2 assemblies per kind and condition,
+/// the parts before each placed where they lie) rows of drawers went from 17 to 24 of 76
+/// parts, the other kinds as before.
+///
 /// Each reading's band grows with its RMS ([`swallow_band`]). Weighed each within its
 /// own band, a looser reading swallowed less for fitting worse: a brick read with one
 /// of its studs' strokes on an edge (RMS 2.7 % of its size against 1.8 %) left its
@@ -939,6 +958,8 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
         (false, true) => false,
         _ if divides(a, b) => true,
         _ if divides(b, a) => false,
+        // No designer models a part as a piece of one placed before.
+        _ if a.holds != b.holds => b.holds,
         _ => {
             // Explanations within a quarter of the size apart are a tie.
             let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
@@ -970,6 +991,20 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
             ra.rms < closer * rb.rms
         }
     }
+}
+
+/// Whether `reading` holds one of the parts placed before it (see [`holds`]), with
+/// `band` the hand's noise about a curve.
+fn holds_placed(context: &SnapContext, reading: &Primitive, band: f64) -> bool {
+    if context.placed.is_empty() {
+        return false;
+    }
+    let Some(image) = holds::image_box(reading) else {
+        return false;
+    };
+    context.placed.iter().any(|p| {
+        holds::may_hold(image, p.image, band) && holds::holds_within(reading, &p.primitive, band)
+    })
 }
 
 /// Whether `a` is `b` divided where the drawing divides it: `b` holds a line across it
@@ -1506,7 +1541,57 @@ mod tests {
             pieces: vec![(swallowed, f64::INFINITY)],
             divisions: Vec::new(),
             gate: 10.0,
+            holds: false,
         }
+    }
+
+    #[test]
+    fn a_reading_that_holds_a_placed_part_gives_way_to_one_that_holds_none() {
+        // Two drawers read as one box explain far more than the drawer meant, but the
+        // pair holds the drawer placed before.
+        let mut pair = scored(1400.0, 0.0, 1.0);
+        pair.holds = true;
+        let drawer = scored(700.0, 0.0, 1.2);
+        assert!(super::better(&drawer, &pair));
+        assert!(!super::better(&pair, &drawer));
+        // With nothing placed, the reading that explains more wins.
+        pair.holds = false;
+        assert!(super::better(&pair, &drawer));
+    }
+
+    #[test]
+    fn a_reading_holds_a_part_only_once_that_part_is_placed() {
+        use crate::primitive::Cuboid;
+        use glam::DQuat;
+        let turn = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let cuboid = |center: DVec3, size: DVec3| {
+            Primitive::Cuboid(Cuboid {
+                center,
+                rotation: turn,
+                size,
+            })
+        };
+        let up = turn * DVec3::Y;
+        let chest = cuboid(DVec3::new(300.0, -300.0, 0.0), DVec3::new(90.0, 60.0, 60.0));
+        let drawer = cuboid(chest.center() + up * 15.0, DVec3::new(90.0, 30.0, 60.0));
+        let result = super::SnapResult {
+            primitive: chest,
+            assignment: super::Assignment::default(),
+            rms: 1.0,
+            termination: crate::solve::Termination::Converged,
+            evaluations: 0,
+            explained: None,
+            alternatives: Vec::new(),
+            profile: super::Profile::Smooth,
+            multipliers: None,
+        };
+        let settings = SnapSettings::default();
+        let alone = drawn_parts(std::slice::from_ref(&drawer));
+        let free = super::Scored::of(&alone, result.clone(), 90.0, &settings);
+        assert!(!free.holds);
+        let placed = alone.with_placed([drawer]);
+        let held = super::Scored::of(&placed, result, 90.0, &settings);
+        assert!(held.holds);
     }
 
     #[test]
