@@ -23,9 +23,13 @@
 //! another), all parts drawn together
 //! in one view under the same condition and snapped one by one among the clutter of the
 //! others' strokes, the parts before each placed where they truly lie, as a designer who
-//! drops the parts in order has them (the snap gives up a reading that holds a placed
-//! part, `SnapContext::with_placed`; `GEOSNAP_SYNTH_CONDITION_NO_PLACED` snaps each part
-//! with none placed, to measure what that does).
+//! drops the parts in order and puts each wrong snap right has them (the snap gives up a
+//! reading that holds a placed part or reads one again, `SnapContext::with_placed`).
+//! `GEOSNAP_SYNTH_CONDITION_PLACED=snapped` places the snaps as they came out instead,
+//! wrong or not (but for refused ones), owning the strokes they took, as `geosnap run`
+//! builds its model; `none` snaps each part with none placed;
+//! `GEOSNAP_SYNTH_CONDITION_ORDER=shuffled` drops an assembly's parts in an order shuffled
+//! by the drawing's seed (a designer who starts with a leg or a middle drawer).
 //!
 //! A case is judged as `synthetic_snap` judges it (`support::judge`: centre within 3 % of
 //! the size, axis within 5°, radii and lengths within 7 %). For a failed case the snap is
@@ -99,6 +103,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use geosnap::core::geom::projection::{sketch_from_view, view_from_sketch};
+use geosnap::core::model::{Document, Fit};
 use geosnap::core::primitive::{Placement, Primitive, PrimitiveKind};
 use geosnap::core::sketch::{Sketch, Stroke, StrokeClass, StrokeId};
 use geosnap::core::snap::{
@@ -452,19 +457,17 @@ fn where_drawn(points: &[DVec2]) -> String {
     }
 }
 
-/// Whether a snap of `dropped` calls itself doubtful or refused (no snap: refused), and
-/// its confidence's evidence in words, with the snap's `errors` against the truth.
+/// The verdict of a snap of `dropped` (none: no snap), and its confidence's evidence in
+/// words, with the snap's `errors` against the truth.
 fn judged_confidence(
     truth: &Primitive,
     result: Option<&SnapResult>,
     dropped: &Primitive,
     errors: Option<&Errors>,
     placed: &dyn Owner,
-) -> (bool, String) {
+) -> (Option<Verdict>, String) {
     let confidence = result.map(|r| r.confidence(dropped, placed, &SnapSettings::default()));
-    let flagged = confidence
-        .as_ref()
-        .is_none_or(|c| c.verdict != Verdict::Good);
+    let verdict = confidence.as_ref().map(|c| c.verdict);
     let evidence = confidence.as_ref().map_or_else(String::new, |c| {
         let e = &c.evidence;
         let s = e.spread.unwrap_or_default();
@@ -522,7 +525,7 @@ fn judged_confidence(
         ),
         None => evidence,
     };
-    (flagged, evidence)
+    (verdict, evidence)
 }
 
 /// Of a snap started from the truth (`at_truth`, with its `errors`): whether it fails
@@ -602,6 +605,7 @@ fn drop_and_snap(
 
 /// Snaps `truth` dropped as `drops` says and judges it; writes the
 /// analysis into `report` when the case fails or is `shown`, and its overlay into `png`.
+/// Returns the outcome and the snap unless its confidence refused it (what a model keeps).
 #[expect(
     clippy::too_many_arguments,
     reason = "one case's inputs, passed straight on"
@@ -618,7 +622,7 @@ fn judge_part(
     shown: bool,
     png: Option<&Path>,
     report: &mut String,
-) -> Outcome {
+) -> (Outcome, Option<SnapResult>) {
     let mut rng = Rng::new(job.seed() ^ 0xD80F_D80F ^ (part.unwrap_or(0) as u64) << 32);
     let run = |start: &Primitive| -> (Result<SnapResult, String>, Option<Errors>) {
         let result = snap(context, start, &SnapSettings::default()).map_err(|e| e.to_string());
@@ -641,7 +645,11 @@ fn judge_part(
     let from_truth = from_truth.filter(|_| !failed.is_empty());
     let at_truth = from_truth.as_ref().map(|(fails, _)| *fails);
     let snapped = result.as_ref().ok();
-    let (flagged, evidence) = judged_confidence(truth, snapped, &dropped, errors.as_ref(), placed);
+    let (verdict, evidence) = judged_confidence(truth, snapped, &dropped, errors.as_ref(), placed);
+    let flagged = verdict != Some(Verdict::Good);
+    let kept = snapped
+        .filter(|_| verdict.is_some_and(|v| v != Verdict::Refused))
+        .cloned();
     let picture = (!failed.is_empty())
         .then(|| result.as_ref().ok())
         .flatten()
@@ -660,7 +668,7 @@ fn judge_part(
         elapsed,
     };
     if outcome.ok() && !shown && std::env::var_os("GEOSNAP_SYNTH_CONDITION_ALL").is_none() {
-        return outcome;
+        return (outcome, kept);
     }
     let part_name = part.map_or_else(String::new, |p| {
         format!(" part {p} ({})", truth.kind().name())
@@ -714,30 +722,83 @@ fn judge_part(
             }
         }
     }
-    outcome
+    (outcome, kept)
 }
 
-/// The parts of an assembly placed before part `before`, as a designer who drops its
-/// parts in order has them when that part is dropped: each where it truly lies (a part
-/// that snapped wrong was put right before the next was dropped), owning the strokes
-/// drawn for it.
+/// The parts of an assembly placed before a part is dropped, as a designer who puts each
+/// snap right before dropping the next has them ([`Session::Truth`]): each where it truly
+/// lies, owning the strokes drawn for it.
 struct Placed<'a> {
     parts: &'a [Primitive],
     /// The part each stroke (by id) was drawn for.
     part_of: &'a [usize],
-    before: usize,
+    /// Whether each part was dropped before.
+    dropped: &'a [bool],
+}
+
+impl Placed<'_> {
+    fn is_placed(&self, part: usize) -> bool {
+        self.dropped.get(part).copied().unwrap_or(false)
+    }
 }
 
 impl Owner for Placed<'_> {
     fn owner(&self, stroke: StrokeId, _: DVec2) -> Option<u32> {
         let part = *self.part_of.get(stroke.0 as usize)?;
-        (part < self.before).then_some(part as u32)
+        self.is_placed(part).then_some(part as u32)
     }
 
     fn pose(&self, part: u32) -> Option<Primitive> {
         let part = part as usize;
-        (part < self.before).then(|| self.parts[part].clone())
+        self.is_placed(part).then(|| self.parts[part].clone())
     }
+}
+
+/// What an assembly's parts find placed when each is dropped
+/// (`GEOSNAP_SYNTH_CONDITION_PLACED`), and in which order they are dropped
+/// (`GEOSNAP_SYNTH_CONDITION_ORDER`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Session {
+    /// The parts dropped before, each where it truly lies: a designer who puts every wrong
+    /// snap right before the next drop (`truth`, the default).
+    Truth,
+    /// The snaps of the parts dropped before as they came out, wrong or not, but for the
+    /// refused ones, owning the strokes they took: a designer who keeps what the snap
+    /// gives, as `geosnap run` does (`snapped`).
+    Snapped,
+    /// No part placed: each part snapped as the first of a model (`none`).
+    Nothing,
+}
+
+impl Session {
+    /// The session the environment asks for.
+    fn from_env() -> Self {
+        match std::env::var("GEOSNAP_SYNTH_CONDITION_PLACED").as_deref() {
+            Ok("snapped") => Self::Snapped,
+            Ok("none") => Self::Nothing,
+            Ok("truth") | Err(_) => Self::Truth,
+            Ok(other) => panic!("GEOSNAP_SYNTH_CONDITION_PLACED={other}: truth, snapped or none"),
+        }
+    }
+}
+
+/// The order in which an assembly's `n` parts are dropped: the generator's (the object's
+/// main part first), or with `GEOSNAP_SYNTH_CONDITION_ORDER=shuffled` a shuffle fixed by
+/// the drawing's seed (a designer who starts with a leg or a drawer).
+fn drop_order(n: usize, seed: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    match std::env::var("GEOSNAP_SYNTH_CONDITION_ORDER").as_deref() {
+        Ok("shuffled") => {
+            let mut rng = Rng::new(seed ^ 0x5E55_1011);
+            for k in (1..n).rev() {
+                let j = (rng.next_u64() % (k as u64 + 1)) as usize;
+                order.swap(k, j);
+            }
+        }
+        Ok("given") | Err(_) => {}
+        Ok(other) => panic!("GEOSNAP_SYNTH_CONDITION_ORDER={other}: given or shuffled"),
+    }
+    order
 }
 
 /// How many of the strokes a snap took are other parts' (not in `own`), in words.
@@ -815,7 +876,7 @@ fn run_job(
                 class_lines(&mut report, &context, &scene.strokes);
             }
             let all: Vec<usize> = (0..scene.strokes.len()).collect();
-            let outcome = judge_part(
+            let (outcome, _) = judge_part(
                 job,
                 drops,
                 None,
@@ -837,39 +898,60 @@ fn run_job(
                 let _ = writeln!(report, "  {} strokes (drawn as → classified):", job.name());
                 class_lines(&mut report, &context, &assembly.strokes);
             }
-            let outcomes = assembly
-                .parts
-                .iter()
-                .enumerate()
-                .map(|(i, truth)| {
-                    // The parts before it are placed where they truly lie (see `Placed`).
-                    let mut context = context.clone();
-                    if std::env::var_os("GEOSNAP_SYNTH_CONDITION_NO_PLACED").is_none() {
-                        context.set_placed(assembly.parts[..i].iter().cloned());
+            let session = Session::from_env();
+            let n = assembly.parts.len();
+            let mut dropped = vec![false; n];
+            // The model the snaps build up ([`Session::Snapped`]).
+            let mut document = Document::new();
+            let mut outcomes: Vec<Option<Outcome>> = (0..n).map(|_| None).collect();
+            for i in drop_order(n, job.seed()) {
+                let truth = &assembly.parts[i];
+                let mut context = context.clone();
+                match session {
+                    Session::Truth => context.set_placed(
+                        (0..n)
+                            .filter(|&p| dropped[p])
+                            .map(|p| assembly.parts[p].clone()),
+                    ),
+                    Session::Snapped => {
+                        context.set_placed(document.primitives().map(|(_, p)| p.primitive.clone()));
                     }
-                    let own: Vec<usize> = (0..assembly.strokes.len())
-                        .filter(|k| assembly.part_of.get(*k) == Some(&i))
-                        .collect();
-                    judge_part(
-                        job,
-                        drops,
-                        Some(i),
-                        truth,
-                        &context,
-                        &assembly.strokes,
-                        &own,
-                        &Placed {
-                            parts: &assembly.parts,
-                            part_of: &assembly.part_of,
-                            before: i,
-                        },
-                        shown,
-                        png,
-                        &mut report,
-                    )
-                })
-                .collect();
-            (outcomes, report)
+                    Session::Nothing => {}
+                }
+                let own: Vec<usize> = (0..assembly.strokes.len())
+                    .filter(|k| assembly.part_of.get(*k) == Some(&i))
+                    .collect();
+                let truly_placed = Placed {
+                    parts: &assembly.parts,
+                    part_of: &assembly.part_of,
+                    dropped: &dropped,
+                };
+                let snapped_placed = document.owner();
+                let owner: &dyn Owner = match session {
+                    Session::Truth => &truly_placed,
+                    Session::Snapped => &snapped_placed,
+                    Session::Nothing => &nobody,
+                };
+                let (outcome, kept) = judge_part(
+                    job,
+                    drops,
+                    Some(i),
+                    truth,
+                    &context,
+                    &assembly.strokes,
+                    &own,
+                    owner,
+                    shown,
+                    png,
+                    &mut report,
+                );
+                if let Some(result) = kept {
+                    document.add_fitted(&result, Fit::of(&result));
+                }
+                dropped[i] = true;
+                outcomes[i] = Some(outcome);
+            }
+            (outcomes.into_iter().flatten().collect(), report)
         }
     }
 }

@@ -267,6 +267,16 @@ struct Scored {
     /// Whether it holds a part placed before it (see [`holds`]): it reads that part and
     /// its neighbours as one.
     holds: bool,
+    /// Whether it is a part placed before read again ([`repeats_placed`]).
+    repeats: bool,
+}
+
+impl Scored {
+    /// Whether the model contradicts it: it holds a placed part or reads one again. No
+    /// designer models a part twice, or as a piece of one modelled before.
+    fn reads_placed(&self) -> bool {
+        self.holds || self.repeats
+    }
 }
 
 impl Scored {
@@ -297,6 +307,7 @@ impl Scored {
         let explained = explanation(&result.primitive, &result.assignment, gate, hidden);
         result.explained = Some(explained);
         let holds = holds_placed(context, &result.primitive, band);
+        let repeats = repeats_placed(context, &result.primitive, band);
         let pieces =
             swallowed::swallowed_pieces(context, &result.primitive, &result.assignment, band);
         let swallowed = swallowed::beyond(&pieces, band);
@@ -320,6 +331,7 @@ impl Scored {
             divisions,
             gate,
             holds,
+            repeats,
         }
     }
 }
@@ -347,10 +359,11 @@ fn choose(candidates: Vec<Scored>) -> Option<SnapResult> {
     // A reading the winner divides is contradicted by the drawing (a line runs across
     // it), not a rival reading of it.
     rest.retain(|c| !divides(&best, c));
-    // So is one that holds a placed part, when the winner holds none (see [`better`]):
-    // the model contradicts it, and it is neither offered nor weighed as a rival.
-    if !best.holds {
-        rest.retain(|c| !c.holds);
+    // So is one that holds a placed part or reads one again, when the winner does
+    // neither (see [`better`]): the model contradicts it, and it is neither offered nor
+    // weighed as a rival.
+    if !best.reads_placed() {
+        rest.retain(|c| !c.reads_placed());
     }
     let mut best = best.result;
     rest.sort_by(|a, b| {
@@ -916,9 +929,9 @@ const GOOD_FIT: f64 = 0.05;
 /// strokes well.
 ///
 /// Before the explanations, a reading that holds a part placed before it (see
-/// [`holds`]: the placed part is a piece of it, in the image and at some depth) gives
-/// way to one that holds none: no designer models a part as a piece of one placed
-/// before. Two drawers of a chest read as one box explain more than the drawer meant
+/// [`holds`]: the placed part is a piece of it, in the image and at some depth) or reads
+/// one again ([`repeats_placed`]) gives way to one that does neither: no designer models
+/// a part as a piece of one placed before, or twice. Two drawers of a chest read as one box explain more than the drawer meant
 /// (the other's outline too); with the other drawer placed, the pair is read against the
 /// model. On the conditions suite (10 cases and 2 assemblies per kind and condition,
 /// the parts before each placed where they lie) rows of drawers went from 17 to 24 of 76
@@ -958,8 +971,8 @@ fn better_by(a: &Scored, b: &Scored, closer: f64) -> bool {
         (false, true) => false,
         _ if divides(a, b) => true,
         _ if divides(b, a) => false,
-        // No designer models a part as a piece of one placed before.
-        _ if a.holds != b.holds => b.holds,
+        // No designer models a part as a piece of one placed before, or twice.
+        _ if a.reads_placed() != b.reads_placed() => b.reads_placed(),
         _ => {
             // Explanations within a quarter of the size apart are a tie.
             let margin = 0.25 * ra.primitive.size().max(rb.primitive.size());
@@ -1004,6 +1017,25 @@ fn holds_placed(context: &SnapContext, reading: &Primitive, band: f64) -> bool {
     };
     context.placed.iter().any(|p| {
         holds::may_hold(image, p.image, band) && holds::holds_within(reading, &p.primitive, band)
+    })
+}
+
+/// Whether `reading` is one of the parts placed before it read again: its visible outline
+/// within [`confidence::DISTINCT`] of that part's ([`confidence::outline_distance`]; a
+/// pose and its mirror image in depth draw the same picture), with `band` the hand's
+/// noise about a curve. A drop between two drawers, the first placed, is meant for the
+/// second; two parts on one set of strokes are a double the model does not want.
+fn repeats_placed(context: &SnapContext, reading: &Primitive, band: f64) -> bool {
+    if context.placed.is_empty() {
+        return false;
+    }
+    let Some(image) = holds::image_box(reading) else {
+        return false;
+    };
+    context.placed.iter().any(|p| {
+        holds::may_hold(image, p.image, band)
+            && holds::may_hold(p.image, image, band)
+            && confidence::outline_distance(reading, &p.primitive) <= confidence::DISTINCT
     })
 }
 
@@ -1542,6 +1574,7 @@ mod tests {
             divisions: Vec::new(),
             gate: 10.0,
             holds: false,
+            repeats: false,
         }
     }
 
@@ -1592,6 +1625,63 @@ mod tests {
         let placed = alone.with_placed([drawer]);
         let held = super::Scored::of(&placed, result, 90.0, &settings);
         assert!(held.holds);
+    }
+
+    #[test]
+    fn a_reading_of_a_placed_part_again_gives_way_to_one_of_another_part() {
+        // The drawer placed before, read again, explains a little more than the drawer
+        // beside it that the drop meant.
+        let mut again = scored(760.0, 0.0, 1.0);
+        again.repeats = true;
+        let other = scored(700.0, 0.0, 1.1);
+        assert!(super::better(&other, &again));
+        assert!(!super::better(&again, &other));
+        // Between a reading that holds a placed part and one that repeats one, the
+        // model contradicts both: what they explain decides.
+        let mut pair = scored(1400.0, 0.0, 1.0);
+        pair.holds = true;
+        assert!(super::better(&pair, &again));
+    }
+
+    #[test]
+    fn a_reading_repeats_a_placed_part_seen_the_same_but_not_its_neighbour() {
+        use crate::primitive::Cuboid;
+        use glam::DQuat;
+        let turn = DQuat::from_rotation_x(0.5) * DQuat::from_rotation_y(0.6);
+        let up = turn * DVec3::Y;
+        let drawer = |center: DVec3| {
+            Primitive::Cuboid(Cuboid {
+                center,
+                rotation: turn,
+                size: DVec3::new(90.0, 30.0, 60.0),
+            })
+        };
+        let placed = drawer(DVec3::new(300.0, -300.0, 0.0));
+        let below = drawer(placed.center() - up * 30.0);
+        let reading = |primitive: Primitive| super::SnapResult {
+            primitive,
+            assignment: super::Assignment::default(),
+            rms: 1.0,
+            termination: crate::solve::Termination::Converged,
+            evaluations: 0,
+            explained: None,
+            alternatives: Vec::new(),
+            profile: super::Profile::Smooth,
+            multipliers: None,
+        };
+        let settings = SnapSettings::default();
+        let context = drawn_parts(&[placed.clone(), below.clone()]);
+        let model = context.clone().with_placed([placed.clone()]);
+        let scored = |context: &SnapContext, p: &Primitive| {
+            super::Scored::of(context, reading(p.clone()), 90.0, &settings)
+        };
+        assert!(scored(&model, &placed).repeats);
+        assert!(scored(&model, &placed.mirrored_in_depth()).repeats);
+        assert!(
+            !scored(&model, &below).repeats,
+            "the neighbour is another part"
+        );
+        assert!(!scored(&context, &placed).repeats, "nothing placed");
     }
 
     #[test]
