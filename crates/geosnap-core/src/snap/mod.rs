@@ -15,6 +15,7 @@ mod confidence;
 mod context;
 mod copies;
 mod cut;
+mod divisions;
 mod holds;
 pub(crate) mod initial;
 mod objective;
@@ -259,7 +260,7 @@ struct Scored {
     /// another reading beyond one band.
     pieces: Vec<(f64, f64)>,
     /// The lines it swallows that run across it from outline to outline
-    /// ([`swallowed::divisions`]): where two parts read as one meet.
+    /// ([`divisions::divisions`]): where two parts read as one meet.
     divisions: Vec<Vec<DVec2>>,
     /// The gate the explanation was weighed with: a length of stroke that tells readings
     /// apart.
@@ -315,7 +316,7 @@ impl Scored {
         // cheaper test first: searching every reading found the same parts on the
         // conditions suite, give or take one.
         let divisions = if swallowed > 0.0 {
-            swallowed::divisions(
+            divisions::divisions(
                 context,
                 &result.primitive,
                 &result.assignment,
@@ -1040,7 +1041,7 @@ fn repeats_placed(context: &SnapContext, reading: &Primitive, band: f64) -> bool
 }
 
 /// Whether `a` is `b` divided where the drawing divides it: `b` holds a line across it
-/// from outline to outline ([`swallowed::divisions`]); `a` is smaller as drawn (its
+/// from outline to outline ([`divisions::divisions`]); `a` is smaller as drawn (its
 /// visible curves are shorter in all), takes that line as its outline (its visible curves
 /// run along it within its gate on average), runs along `b`'s outline elsewhere
 /// ([`WITHIN_DIVIDED`]), fits about as closely ([`DIVIDED_RMS`]) and holds fewer such

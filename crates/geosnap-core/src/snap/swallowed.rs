@@ -89,36 +89,6 @@ pub(crate) fn beyond(pieces: &[(f64, f64)], band: f64) -> f64 {
         .sum()
 }
 
-/// The lines drawn across `primitive` from one side of its outline to another that it
-/// swallows: the runs [`swallowed`] counts that are straight, at least
-/// [`super::cut::MIN_LINE`] of its size long, and whose two ends each come within
-/// `reach` of one of its visible curves. A designer draws no edge across a part's face
-/// from outline to outline: such a line is where two parts meet (drawers in a chest,
-/// books on a shelf), and the reading that holds it is two parts read as one.
-pub(crate) fn divisions(
-    context: &SnapContext,
-    primitive: &Primitive,
-    assignment: &Assignment,
-    (band, reach): (f64, f64),
-) -> Vec<Vec<DVec2>> {
-    // A line across may run on out of the outline (a hand's overshoot): every line
-    // inside counts, as for a cut.
-    let runs = swallowed_runs(context, primitive, assignment, band, true);
-    if runs.is_empty() {
-        return runs;
-    }
-    let size = primitive.size();
-    let visible = super::cut::visible_curves(primitive);
-    let on_outline = |p: DVec2| visible.iter().any(|c| curve_distance(c, p) <= reach);
-    runs.into_iter()
-        .filter(|run| {
-            super::cut::straight(run).is_some_and(|l| l >= super::cut::MIN_LINE * size)
-                && on_outline(run[0])
-                && on_outline(run[run.len() - 1])
-        })
-        .collect()
-}
-
 /// The drawn stroke pieces `primitive` swallows, as [`swallowed`] counts them: each run
 /// of consecutive swallowed pieces of a stroke as its samples (view space). With
 /// `crossing`, also the pieces within the outline of strokes that leave it, and of
@@ -262,7 +232,7 @@ fn in_triangle(t: &[DVec2; 3], p: DVec2) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::primitive::Cylinder;
     use crate::sketch::{StrokeClass, StrokeId};
@@ -280,13 +250,15 @@ mod tests {
         })
     }
 
-    fn line(from: DVec2, to: DVec2) -> Vec<DVec2> {
+    /// A straight stroke from `from` to `to` (21 points).
+    pub(crate) fn line(from: DVec2, to: DVec2) -> Vec<DVec2> {
         (0..=20)
             .map(|i| from.lerp(to, f64::from(i) / 20.0))
             .collect()
     }
 
-    fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
+    /// A context of silhouette `strokes` given in view-plane points.
+    pub(crate) fn context(strokes: &[Vec<DVec2>]) -> SnapContext {
         // The context takes sketch points (y down); these are view-plane points.
         let sketch: Vec<Vec<DVec2>> = strokes
             .iter()
@@ -300,7 +272,8 @@ mod tests {
         )
     }
 
-    fn nothing(part: &Primitive) -> Assignment {
+    /// An assignment in which `part` takes no stroke.
+    pub(crate) fn nothing(part: &Primitive) -> Assignment {
         Assignment {
             curves: vec![Vec::new(); part.current_shape().curves.len()],
         }
