@@ -1593,6 +1593,21 @@ mod tests {
         assert!(super::better(&pair, &drawer));
     }
 
+    /// A reading of `primitive` that takes no stroke, at an RMS of 1.
+    fn bare_reading(primitive: Primitive) -> super::SnapResult {
+        super::SnapResult {
+            primitive,
+            assignment: super::Assignment::default(),
+            rms: 1.0,
+            termination: crate::solve::Termination::Converged,
+            evaluations: 0,
+            explained: None,
+            alternatives: Vec::new(),
+            profile: super::Profile::Smooth,
+            multipliers: None,
+        }
+    }
+
     #[test]
     fn a_reading_holds_a_part_only_once_that_part_is_placed() {
         use crate::primitive::Cuboid;
@@ -1608,17 +1623,7 @@ mod tests {
         let up = turn * DVec3::Y;
         let chest = cuboid(DVec3::new(300.0, -300.0, 0.0), DVec3::new(90.0, 60.0, 60.0));
         let drawer = cuboid(chest.center() + up * 15.0, DVec3::new(90.0, 30.0, 60.0));
-        let result = super::SnapResult {
-            primitive: chest,
-            assignment: super::Assignment::default(),
-            rms: 1.0,
-            termination: crate::solve::Termination::Converged,
-            evaluations: 0,
-            explained: None,
-            alternatives: Vec::new(),
-            profile: super::Profile::Smooth,
-            multipliers: None,
-        };
+        let result = bare_reading(chest);
         let settings = SnapSettings::default();
         let alone = drawn_parts(std::slice::from_ref(&drawer));
         let free = super::Scored::of(&alone, result.clone(), 90.0, &settings);
@@ -1659,22 +1664,11 @@ mod tests {
         };
         let placed = drawer(DVec3::new(300.0, -300.0, 0.0));
         let below = drawer(placed.center() - up * 30.0);
-        let reading = |primitive: Primitive| super::SnapResult {
-            primitive,
-            assignment: super::Assignment::default(),
-            rms: 1.0,
-            termination: crate::solve::Termination::Converged,
-            evaluations: 0,
-            explained: None,
-            alternatives: Vec::new(),
-            profile: super::Profile::Smooth,
-            multipliers: None,
-        };
         let settings = SnapSettings::default();
         let context = drawn_parts(&[placed.clone(), below.clone()]);
         let model = context.clone().with_placed([placed.clone()]);
         let scored = |context: &SnapContext, p: &Primitive| {
-            super::Scored::of(context, reading(p.clone()), 90.0, &settings)
+            super::Scored::of(context, bare_reading(p.clone()), 90.0, &settings)
         };
         assert!(scored(&model, &placed).repeats);
         assert!(scored(&model, &placed.mirrored_in_depth()).repeats);
